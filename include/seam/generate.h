@@ -1,0 +1,57 @@
+// seam: generated tow geometry for tests, examples and benchmarks.
+//
+// A tow is a tube whose cross-section (elliptical or lenticular) is swept along a crimped
+// (sinusoidal) path, like one yarn of a woven unit cell, closed with flat end caps. The smooth
+// surface is known analytically, so curves sampled on it lie near, not on, the faceted mesh:
+// exactly the situation of the report, where the boundary curve comes from smooth surfaces.
+//
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <seam/io.h>
+
+#include <vector>
+
+namespace seam {
+
+enum class Section { elliptical, lenticular };
+
+struct TowOptions {
+  double length = 10.0;            ///< length of the path along x
+  double half_width = 1.0;         ///< semi-axis of the section along the path's normal in the xy plane
+  double half_height = 0.35;       ///< semi-axis of the section along z (the path's normal in xz);
+                                   ///< a lenticular section needs half_height <= half_width
+  Section section = Section::elliptical;
+  double crimp_amplitude = 0.3;    ///< z amplitude of the sinusoidal path
+  double crimp_wavelength = 10.0;  ///< wavelength of the path
+  int segments_along = 60;         ///< number of rings - 1 along the path
+  int segments_around = 24;        ///< vertices per ring
+  bool capped = true;              ///< close the ends with fan caps (the mesh is then closed)
+  /// Rigid transform applied last: rotation about z then x (radians), then translation.
+  double rotate_z = 0.0, rotate_x = 0.0;
+  Point3d translate = {0.0, 0.0, 0.0};
+};
+
+/// The faceted tow: a closed (if capped) consistently oriented triangle mesh, outward normals.
+/// (segments_along + 1) rings of segments_around vertices, ring i at s = i * length /
+/// segments_along, vertex j at phi = 2 pi j / segments_around (so every vertex lies on the
+/// smooth surface and the facets lie inside it, up to the path's curvature), then, if capped,
+/// the centres of the start and end caps. Triangles: 2 per quad (alternating diagonals), then
+/// 2 * segments_around cap triangles. Throws InvalidInput for invalid options (non-positive
+/// sizes, segments_along < 1, segments_around < 3, non-finite values).
+TriangleSoup make_tow(const TowOptions& options);
+
+/// The point of the smooth tow surface at path parameter s in [0, length] and angle phi.
+/// phi = 0 is the +y side of the section (before the transform), phi = pi/2 its top (towards +z).
+/// Elliptical: (a cos phi, b sin phi); lenticular: x = a cos phi and the lens profile
+/// |y| = sqrt(R^2 - x^2) - (R - b), R = (a^2 + b^2) / (2 b), with the sign of sin phi.
+Point3d tow_surface_point(const TowOptions& options, double s, double phi);
+
+/// A dense closed curve on the smooth tow surface, going once around it: at angle phi it sits
+/// at path parameter s_center + tilt * cos(phi) (a tilted ring). `samples` distinct points;
+/// the polyline returned is closed (last point equals first). Sample k is at phi = 2 pi k / samples.
+/// Throws InvalidInput if samples < 3 or [s_center - |tilt|, s_center + |tilt|] leaves [0, length].
+std::vector<Point3d> make_ring_curve(const TowOptions& options, double s_center, double tilt,
+                                     int samples);
+
+}  // namespace seam

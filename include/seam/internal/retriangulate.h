@@ -1,0 +1,56 @@
+// seam internal, pipeline step 5: re-triangulate one face with its constraints (report: the
+// Triangle sub-meshing step; here CGAL's constrained Delaunay triangulation and mesher).
+//
+// The face is mapped to 2D by an affine map onto its own plane: X = (p - a).u,
+// Y = (p - a).v / L with u = b - a, v = n x u, n the face normal and L a double close to |n|.
+// The map is exact and invertible over the rationals, and close to a similarity (so Delaunay
+// refinement sees the true angles, up to the rounding of L); a Steiner point (X, Y) lifts back to
+// a + u X/|u|^2 + v Y L/|v|^2, which lies exactly in the face's plane under the exact kernel.
+// Input points are never lifted: the patch refers to them by id.
+//
+// Constraints: the three edges split at their points, and the curve segments inside the face.
+// Refinement: CGAL::Delaunay_mesher_no_edge_refinement_2, whose points must fall strictly inside
+// a triangle of the domain and must not encroach on a constrained edge, so no point is ever put
+// on an edge of the face or on the curve. Criteria: the smallest angle at least min_angle_deg,
+// and, when max_area > 0, the area at most max_area. At most max_steiner points. If the refined
+// triangulation fails a check (possible under the float kernel), the unrefined one is used.
+//
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <seam/internal/surface_point.h>
+
+#include <array>
+
+namespace seam::internal {
+
+/// One face to re-triangulate. Ids are output vertex indices.
+template <class K> struct FaceConstraints {
+  std::array<std::size_t, 3> corner_ids;
+  std::array<typename K::Point_3, 3> corners;  ///< in the face's orientation
+  /// Points strictly inside edge i (from corner i to corner (i+1)%3), in order from corner i.
+  std::array<std::vector<std::pair<std::size_t, typename K::Point_3>>, 3> edge_points;
+  std::vector<std::pair<std::size_t, typename K::Point_3>> interior_points;
+  std::vector<std::pair<std::size_t, std::size_t>> segments;  ///< curve segments inside the face
+};
+
+/// The patch replacing a face: triangles in the face's orientation. A vertex reference r >= 0 is
+/// an output vertex id; r < 0 means steiner_points[-r - 1].
+template <class K> struct FacePatch {
+  std::vector<typename K::Point_3> steiner_points;
+  std::vector<std::array<long, 3>> triangles;
+  bool refinement_undone = false;
+};
+
+struct RetriangulateOptions {
+  double min_angle_deg = 20.0;
+  double max_area = 0.0;
+  std::size_t max_steiner = 256;
+};
+
+/// Throws InvalidInput when curve segments cross each other inside the face, InternalError when
+/// the constraints are inconsistent (rounded arithmetic).
+template <class K>
+FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const RetriangulateOptions& options);
+
+}  // namespace seam::internal

@@ -1,0 +1,37 @@
+// seam internal, pipeline steps 2-3: locate curve nodes on the mesh and follow the curve across
+// it, constructing the crossing points on the mesh edges.
+//
+// Locate: each node is projected onto the closest face (AABB tree on double coordinates finds
+// the face; the projection onto that face's triangle is then constructed in the kernel), and
+// classified as lying at a vertex, inside an edge or inside a face (exact under Epeck).
+//
+// Cross: between two consecutive located nodes P and Q the curve follows the section of the mesh
+// by the plane through P and Q that contains the local surface normal n. The walk goes from
+// face to face; each step exits the current face where the plane meets its boundary: at a
+// vertex (the vertex lies on the plane: exact orientation test) or inside an edge (its end points
+// lie strictly on opposite sides), and that crossing point is constructed as the exact
+// intersection of the edge with the plane. It stops in the first face that contains Q. Paths
+// through vertices, along edges and through saddles need no tolerance: at each point the walk
+// takes, among the plane's exits from the incident faces not yet used, the one heading most
+// directly towards Q. If the walk fails (mesh boundary, a face lying in the plane) it is retried
+// with the normal of Q's face and with the sum of both normals; then InternalError.
+//
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <seam/internal/surface_point.h>
+
+namespace seam::internal {
+
+struct TraceReport {
+  double locate_seconds = 0, cross_seconds = 0;
+  std::size_t retries = 0;  ///< segments that needed a second cutting plane
+};
+
+/// Follows each curve on the mesh. Throws InvalidInput when a node is farther than
+/// max_distance from the surface or a curve has no length on the surface.
+template <class K>
+std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<Polyline<K>>& curves,
+                                         double max_distance, TraceReport& report);
+
+}  // namespace seam::internal

@@ -1,0 +1,74 @@
+// seam: reading and validating triangle meshes and polylines, writing results atomically.
+//
+// Everything here works on plain double coordinates (what files hold); conversion to a kernel
+// is exact (a double is representable in every kernel), see mesh_from_soup / soup_from_mesh.
+//
+// Every reader throws seam::InvalidInput (the content is wrong) or seam::IOError (the file
+// cannot be opened or read) with a one-line message that starts with the file name, e.g.
+//   "tow_a.off: face 17 has a vertex index 90 out of range (mesh has 64 vertices)".
+//
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <seam/errors.h>
+#include <seam/types.h>
+
+#include <array>
+#include <cstddef>
+#include <functional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace seam {
+
+using Point3d = std::array<double, 3>;
+
+/// A triangle mesh as read from or written to a file.
+struct TriangleSoup {
+  std::vector<Point3d> points;
+  std::vector<std::array<std::size_t, 3>> triangles;
+};
+
+/// Reads a triangle mesh, format chosen by extension (case-insensitive): .off, .obj, .ply,
+/// .stl (ASCII or binary). Identical points of an STL file are merged. Then validates it with
+/// validate_triangle_mesh(). Throws InvalidInput / IOError with a message naming `path`.
+TriangleSoup read_triangle_mesh(const std::string& path);
+
+/// Checks that `soup` is a valid oriented 2-manifold triangle mesh (with or without boundary):
+/// at least one triangle; finite coordinates; indices in range; no repeated index in a
+/// triangle; no zero-area (collinear, exact test) triangle; every edge used by at most two
+/// triangles, in opposite directions (consistent orientation); every vertex's triangles form
+/// one fan (no non-manifold vertex); no unreferenced vertex is an error either (they are
+/// dropped by mesh_from_soup). `name` starts every message.
+void validate_triangle_mesh(const TriangleSoup& soup, const std::string& name);
+
+/// Reads polylines in CGAL's text format: one polyline per non-empty line,
+/// "n x1 y1 z1 ... xn yn zn". Lines starting with '#' are comments. Errors (naming the file
+/// and line): wrong count, fewer than 2 points, non-numeric or non-finite values, no polyline.
+std::vector<std::vector<Point3d>> read_polylines(const std::string& path);
+
+/// Writes `soup` by extension (.off, .obj, .ply, .stl; OFF and OBJ with 17 significant digits,
+/// so that doubles round-trip bit-exactly). Atomic: writes a temporary file in the same
+/// directory and renames it; on any failure no file is left and IOError is thrown.
+void write_triangle_mesh(const TriangleSoup& soup, const std::string& path);
+
+/// Writes polylines in the format read_polylines reads, 17 significant digits. Atomic.
+void write_polylines(const std::vector<std::vector<Point3d>>& polylines, const std::string& path);
+
+/// Writes a text file atomically: `write` fills the stream of a temporary file in the same
+/// directory, which is then renamed to `path`. On failure removes the temporary file and throws.
+void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write);
+
+/// Builds a Surface_mesh from a validated soup (exact conversion of the coordinates).
+/// Unreferenced points are dropped. Throws InvalidInput if a face cannot be added.
+template <class K> Mesh<K> mesh_from_soup(const TriangleSoup& soup, const std::string& name);
+
+/// The mesh's vertices (rounded to double, exact for points that came from doubles) and faces.
+template <class K> TriangleSoup soup_from_mesh(const Mesh<K>& mesh);
+
+/// Conversion of polylines between double triples and kernel points.
+template <class K> std::vector<Polyline<K>> to_kernel(const std::vector<std::vector<Point3d>>& polylines);
+template <class K> std::vector<std::vector<Point3d>> to_doubles(const std::vector<Polyline<K>>& polylines);
+
+}  // namespace seam

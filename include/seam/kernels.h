@@ -1,0 +1,66 @@
+// seam: the three CGAL kernels every algorithm is compiled for.
+//
+//   Exact    (CGAL::Epeck)  exact predicates and exact constructions (lazy GMP rationals).
+//                           Every constructed point (crossing point, Steiner point) is exact.
+//   Filtered (CGAL::Epick)  exact predicates on double coordinates, rounded constructions.
+//   Float    (CGAL::Simple_cartesian<double>)  nothing exact: plain double arithmetic.
+//
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Simple_cartesian.h>
+
+#include <string>
+#include <type_traits>
+
+namespace seam {
+
+using Exact = CGAL::Exact_predicates_exact_constructions_kernel;
+using Filtered = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Float = CGAL::Simple_cartesian<double>;
+
+enum class KernelKind { exact, filtered, float_ };
+
+/// "exact", "filtered" or "float".
+inline const char* kernel_name(KernelKind k) {
+  switch (k) {
+    case KernelKind::exact: return "exact";
+    case KernelKind::filtered: return "filtered";
+    case KernelKind::float_: return "float";
+  }
+  return "?";
+}
+
+template <class K> struct kernel_traits;
+template <> struct kernel_traits<Exact> {
+  static constexpr KernelKind kind = KernelKind::exact;
+  static constexpr bool exact_constructions = true;
+};
+template <> struct kernel_traits<Filtered> {
+  static constexpr KernelKind kind = KernelKind::filtered;
+  static constexpr bool exact_constructions = false;
+};
+template <> struct kernel_traits<Float> {
+  static constexpr KernelKind kind = KernelKind::float_;
+  static constexpr bool exact_constructions = false;
+};
+
+/// Calls f(K{}) with the kernel named by `kind`; in a generic lambda, `using K = decltype(k);`.
+template <class F> decltype(auto) with_kernel(KernelKind kind, F&& f) {
+  switch (kind) {
+    case KernelKind::filtered: return f(Filtered{});
+    case KernelKind::float_: return f(Float{});
+    case KernelKind::exact: break;
+  }
+  return f(Exact{});
+}
+
+/// For kernels with lazy exact numbers: replace the expression tree behind `x` by its exact
+/// value, so that kept points do not pin ever-growing trees. A no-op for the other kernels.
+template <class T> inline void make_exact(T& x) {
+  if constexpr (std::is_same_v<typename CGAL::Kernel_traits<T>::Kernel, Exact>) CGAL::exact(x);
+}
+
+}  // namespace seam

@@ -1,0 +1,80 @@
+// seam: triangle quality measurements (rounded to double: they are reports, not decisions).
+//
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <seam/types.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace seam {
+
+/// Smallest interior angle of the triangle (p, q, r) in degrees; 0 for a degenerate one.
+template <class Point> double min_angle_deg(const Point& p, const Point& q, const Point& r) {
+  const double P[3] = {CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())};
+  const double Q[3] = {CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z())};
+  const double R[3] = {CGAL::to_double(r.x()), CGAL::to_double(r.y()), CGAL::to_double(r.z())};
+  auto angle = [](const double* a, const double* b, const double* c) {  // at a
+    double u[3], v[3], uu = 0, vv = 0, uv = 0;
+    for (int i = 0; i < 3; ++i) {
+      u[i] = b[i] - a[i];
+      v[i] = c[i] - a[i];
+      uu += u[i] * u[i];
+      vv += v[i] * v[i];
+      uv += u[i] * v[i];
+    }
+    if (uu <= 0 || vv <= 0) return 0.0;
+    // atan2(|u x v|, u.v) is accurate for tiny angles, unlike acos.
+    const double cx = u[1] * v[2] - u[2] * v[1], cy = u[2] * v[0] - u[0] * v[2], cz = u[0] * v[1] - u[1] * v[0];
+    return std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), uv) * 180.0 / M_PI;
+  };
+  return std::min({angle(P, Q, R), angle(Q, R, P), angle(R, P, Q)});
+}
+
+struct NewFaceQuality {
+  std::size_t new_faces = 0;
+  double min_angle_deg = 0;  ///< smallest angle among new faces (0 when there are none)
+  std::size_t below_10 = 0, below_20 = 0;
+  /// Below 10 degrees although the input face it came from has no angle that small.
+  std::size_t below_10_unforced = 0;
+  /// Below 20 degrees although the input face it came from has no angle that small.
+  std::size_t below_20_unforced = 0;
+};
+
+/// Quality of the faces marked new (new_face_property). `source_min_angle[i]`, when given, is
+/// the smallest angle of input face i (for the "unforced" counts).
+template <class K>
+NewFaceQuality new_face_quality(const Mesh<K>& mesh, const std::vector<double>* source_min_angle = nullptr) {
+  NewFaceQuality q;
+  // CGAL 5.5: property_map() returns (map, found).
+  const auto [is_new, has_new] = mesh.template property_map<typename Mesh<K>::Face_index, bool>(new_face_property);
+  const auto [source, has_source] =
+      mesh.template property_map<typename Mesh<K>::Face_index, std::uint32_t>(source_face_property);
+  if (!has_new) return q;
+  double worst = 180;
+  for (auto f : mesh.faces()) {
+    if (!is_new[f]) continue;
+    auto h = mesh.halfedge(f);
+    const double a = seam::min_angle_deg(mesh.point(mesh.source(h)), mesh.point(mesh.target(h)),
+                                         mesh.point(mesh.target(mesh.next(h))));
+    ++q.new_faces;
+    worst = std::min(worst, a);
+    double forced = 180;
+    if (source_min_angle && has_source && source[f] < source_min_angle->size()) forced = (*source_min_angle)[source[f]];
+    if (a < 10) {
+      ++q.below_10;
+      if (a < forced) ++q.below_10_unforced;
+    }
+    if (a < 20) {
+      ++q.below_20;
+      if (a < forced) ++q.below_20_unforced;
+    }
+  }
+  q.min_angle_deg = q.new_faces ? worst : 0;
+  return q;
+}
+
+}  // namespace seam

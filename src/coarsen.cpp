@@ -1,0 +1,198 @@
+// seam, pipeline step 4: coarsening. See seam/internal/coarsen.h.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/internal/coarsen.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace seam::internal {
+
+namespace {
+
+template <class P> std::array<double, 3> dbl(const P& p) {
+  return {CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())};
+}
+
+/// Squared distance from p to the segment [a, b] (to a when a == b), in doubles: used only to
+/// choose which node to keep, never to decide topology.
+double squared_distance_to_segment(const std::array<double, 3>& p, const std::array<double, 3>& a,
+                                   const std::array<double, 3>& b) {
+  double ab[3], ap[3], ab2 = 0, t = 0;
+  for (int i = 0; i < 3; ++i) {
+    ab[i] = b[i] - a[i];
+    ap[i] = p[i] - a[i];
+    ab2 += ab[i] * ab[i];
+    t += ab[i] * ap[i];
+  }
+  t = ab2 > 0 ? std::clamp(t / ab2, 0.0, 1.0) : 0.0;
+  double d2 = 0;
+  for (int i = 0; i < 3; ++i) d2 += (ap[i] - t * ab[i]) * (ap[i] - t * ab[i]);
+  return d2;
+}
+
+template <class K> bool on_edge(const Mesh<K>& mesh, typename MeshTypes<K>::H h, const SurfacePoint<K>& x) {
+  switch (x.where) {
+    case Where::vertex: return x.v == mesh.source(h) || x.v == mesh.target(h);
+    case Where::edge: return x.e == mesh.edge(h);
+    case Where::face: return false;
+  }
+  return false;
+}
+
+}  // namespace
+
+template <class K>
+bool on_common_edge(const Mesh<K>& mesh, typename MeshTypes<K>::F f, const SurfacePoint<K>& a,
+                    const SurfacePoint<K>& b) {
+  for (auto h : CGAL::halfedges_around_face(mesh.halfedge(f), mesh))
+    if (on_edge<K>(mesh, h, a) && on_edge<K>(mesh, h, b)) return true;
+  return false;
+}
+
+template <class K>
+bool CurvePoints<K>::Less::operator()(const SurfacePoint<K>& a, const SurfacePoint<K>& b) const {
+  if (a.where != b.where) return a.where < b.where;
+  switch (a.where) {
+    case Where::vertex: return a.v < b.v;
+    case Where::edge:
+      if (a.e != b.e) return a.e < b.e;
+      break;
+    case Where::face:
+      if (a.f != b.f) return a.f < b.f;
+      break;
+  }
+  return CGAL::compare_xyz(a.p, b.p) == CGAL::SMALLER;
+}
+
+template <class K> std::size_t CurvePoints<K>::id(const SurfacePoint<K>& sp) {
+  auto [it, inserted] = index_.try_emplace(sp, points.size());
+  if (inserted) points.push_back(sp);
+  return it->second;
+}
+
+template <class K>
+CoarsenOutput<K> coarsen_curves(const Mesh<K>& mesh, const std::vector<TracedCurve<K>>& traced, double curve_tol) {
+  CoarsenOutput<K> out;
+  for (const TracedCurve<K>& tc : traced) {
+    const auto& pts = tc.points;
+    const std::size_t n = pts.size();
+    const bool closed = tc.closed;
+    std::vector<std::array<double, 3>> xyz(n);
+    for (std::size_t i = 0; i < n; ++i) xyz[i] = dbl(pts[i].p);
+    std::vector<char> kept(n, 0);
+    for (std::size_t i = 0; i < n; ++i) kept[i] = pts[i].where != Where::face;
+    if (!closed && n > 0) kept.front() = kept.back() = 1;
+
+    auto farthest = [&](std::size_t a, std::size_t b, std::size_t skip) {
+      // index strictly between a and b (cyclic) farthest from segment [a, b]; n if none
+      std::size_t best = n;
+      double best_d = -1;
+      for (std::size_t i = (a + 1) % n; i != b; i = (i + 1) % n) {
+        if (i == skip) continue;
+        double d = squared_distance_to_segment(xyz[i], xyz[a], xyz[b]);
+        if (d > best_d) best_d = d, best = i;
+      }
+      return std::make_pair(best, best_d);
+    };
+
+    if (closed && std::none_of(kept.begin(), kept.end(), [](char k) { return k != 0; })) {
+      // A closed curve inside one face: keep node 0, the node farthest from it and the node
+      // farthest from the line through both.
+      kept[0] = 1;
+      auto [i1, d1] = farthest(0, 0, n);
+      if (i1 < n) {
+        kept[i1] = 1;
+        std::size_t best = n;
+        double best_d = -1;
+        for (std::size_t i = 1; i < n; ++i) {
+          if (i == i1) continue;
+          // distance to the line through 0 and i1 (not the segment)
+          double ab[3], ap[3], ab2 = 0, t = 0, d2 = 0;
+          for (int k = 0; k < 3; ++k) {
+            ab[k] = xyz[i1][k] - xyz[0][k];
+            ap[k] = xyz[i][k] - xyz[0][k];
+            ab2 += ab[k] * ab[k];
+            t += ab[k] * ap[k];
+          }
+          t = ab2 > 0 ? t / ab2 : 0;
+          for (int k = 0; k < 3; ++k) d2 += (ap[k] - t * ab[k]) * (ap[k] - t * ab[k]);
+          if (d2 > best_d) best_d = d2, best = i;
+        }
+        if (best < n) kept[best] = 1;
+      }
+    }
+
+    // Refine each run between two kept points: recursion on (a, b), cyclic indices.
+    std::vector<std::pair<std::size_t, std::size_t>> stack;
+    {
+      std::vector<std::size_t> k;
+      for (std::size_t i = 0; i < n; ++i)
+        if (kept[i]) k.push_back(i);
+      for (std::size_t j = 0; j + 1 < k.size(); ++j) stack.emplace_back(k[j], k[j + 1]);
+      if (closed && !k.empty()) stack.emplace_back(k.back(), k.front());
+    }
+    while (!stack.empty()) {
+      auto [a, b] = stack.back();
+      stack.pop_back();
+      if ((a + 1) % n == b) continue;  // no interior node
+      const auto f = pts[(a + 1) % n].f;
+      std::size_t keep = n;
+      if (pts[a].same_as(pts[b])) {
+        // A loop from a point back to itself: keep the two nodes farthest apart from it.
+        auto [i1, d1] = farthest(a, b, n);
+        auto [i2, d2] = farthest(a, b, i1);
+        if (i1 < n) kept[i1] = 1;
+        if (i2 < n) kept[i2] = 1;
+        std::size_t lo = std::min((i1 + n - a) % n, (i2 + n - a) % n), hi = std::max((i1 + n - a) % n, (i2 + n - a) % n);
+        if (i2 < n) {
+          std::size_t m1 = (a + lo) % n, m2 = (a + hi) % n;
+          stack.emplace_back(a, m1);
+          stack.emplace_back(m1, m2);
+          stack.emplace_back(m2, b);
+        } else if (i1 < n) {
+          stack.emplace_back(a, i1);
+          stack.emplace_back(i1, b);
+        }
+        continue;
+      }
+      auto [i, d] = farthest(a, b, n);
+      if (on_common_edge<K>(mesh, f, pts[a], pts[b]) || (curve_tol > 0 && d > curve_tol * curve_tol)) keep = i;
+      if (keep < n) {
+        kept[keep] = 1;
+        stack.emplace_back(a, keep);
+        stack.emplace_back(keep, b);
+      }
+    }
+
+    // Emit the kept points and the face of each segment.
+    CoarseCurve<K> cc;
+    cc.closed = closed;
+    std::vector<std::size_t> k;
+    for (std::size_t i = 0; i < n; ++i)
+      if (kept[i]) k.push_back(i);
+    for (std::size_t j = 0; j < k.size(); ++j) {
+      cc.ids.push_back(out.points.id(pts[k[j]]));
+      const bool last = j + 1 == k.size();
+      if (last && !closed) break;
+      const std::size_t a = k[j], b = last ? k.front() : k[j + 1];
+      // face of the step leaving a (the same face holds the whole run when it has nodes)
+      const auto f = tc.step_face[a];
+      const bool along_edge = (a + 1) % n == b && on_common_edge<K>(mesh, f, pts[a], pts[b]);
+      cc.segment_face.push_back(along_edge ? Mesh<K>::null_face() : f);
+    }
+    out.curves.push_back(std::move(cc));
+  }
+  return out;
+}
+
+#define SEAM_INSTANTIATE(K)                                                                                        \
+  template struct CurvePoints<K>;                                                                                 \
+  template CoarsenOutput<K> coarsen_curves<K>(const Mesh<K>&, const std::vector<TracedCurve<K>>&, double);        \
+  template bool on_common_edge<K>(const Mesh<K>&, typename MeshTypes<K>::F, const SurfacePoint<K>&,               \
+                                  const SurfacePoint<K>&);
+SEAM_INSTANTIATE(Exact)
+SEAM_INSTANTIATE(Filtered)
+SEAM_INSTANTIATE(Float)
+#undef SEAM_INSTANTIATE
+
+}  // namespace seam::internal

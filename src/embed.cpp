@@ -1,0 +1,284 @@
+// seam::embed: the pipeline, step by step. See seam/embed.h.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/embed.h>
+#include <seam/internal/coarsen.h>
+#include <seam/internal/snap.h>
+#include <seam/internal/splice.h>
+#include <seam/internal/trace.h>
+#include <seam/quality.h>
+
+#include <CGAL/AABB_segment_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+namespace seam {
+
+template <class K> double mean_edge_length(const Mesh<K>& mesh) {
+  double sum = 0;
+  std::size_t count = 0;
+  for (auto e : mesh.edges()) {
+    sum += std::sqrt(CGAL::to_double(CGAL::squared_distance(mesh.point(mesh.vertex(e, 0)), mesh.point(mesh.vertex(e, 1)))));
+    ++count;
+  }
+  return count ? sum / double(count) : 0.0;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+/// Largest distance from a node of one polyline set to the nearest segment of the other, both
+/// ways (rounded; a measurement for the report).
+template <class K>
+double polyline_deviation(const std::vector<Polyline<K>>& a, const std::vector<Polyline<K>>& b) {
+  using DK = CGAL::Exact_predicates_inexact_constructions_kernel;
+  auto dp = [](const typename K::Point_3& p) {
+    return DK::Point_3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+  };
+  auto one_way = [&](const std::vector<Polyline<K>>& from, const std::vector<Polyline<K>>& to) {
+    std::vector<DK::Segment_3> segments;
+    for (const auto& c : to)
+      for (std::size_t i = 0; i + 1 < c.size(); ++i)
+        if (dp(c[i]) != dp(c[i + 1])) segments.emplace_back(dp(c[i]), dp(c[i + 1]));
+    if (segments.empty()) return 0.0;
+    using Prim = CGAL::AABB_segment_primitive<DK, std::vector<DK::Segment_3>::const_iterator>;
+    CGAL::AABB_tree<CGAL::AABB_traits<DK, Prim>> tree(segments.cbegin(), segments.cend());
+    tree.accelerate_distance_queries();
+    double worst = 0;
+    for (const auto& c : from)
+      for (const auto& p : c) worst = std::max(worst, std::sqrt(tree.squared_distance(dp(p))));
+    return worst;
+  };
+  return std::max(one_way(a, b), one_way(b, a));
+}
+
+}  // namespace
+
+template <class K>
+EmbedResult<K> embed(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, const EmbedOptions& options) {
+  using namespace internal;
+  using T = MeshTypes<K>;
+  using V = typename T::V;
+  using E = typename T::E;
+  using F = typename T::F;
+  using Point = typename K::Point_3;
+
+  EmbedResult<K> result;
+  EmbedStats& st = result.stats;
+  st.kernel = kernel_name(kernel_traits<K>::kind);
+
+  // ---- options and preconditions
+  if (!CGAL::is_triangle_mesh(mesh) || mesh.is_empty()) throw InvalidInput("the mesh is not a triangle mesh");
+  if (mesh.has_garbage()) mesh.collect_garbage();
+  auto finite_nonneg = [](double x) { return std::isfinite(x); };
+  if (!finite_nonneg(options.snap_tol) || !finite_nonneg(options.max_distance) ||
+      !(options.curve_tol >= 0) || !std::isfinite(options.curve_tol) || !(options.min_angle_deg >= 0) ||
+      !(options.min_angle_deg <= 60) || !(options.max_area >= 0) || !std::isfinite(options.max_area))
+    throw InvalidInput("option out of range (snap-tol, max-distance, curve-tol, max-area must be finite; "
+                       "min-angle in [0, 60])");
+  for (std::size_t c = 0; c < curves.size(); ++c) {
+    if (curves[c].size() < 2) {
+      std::ostringstream msg;
+      msg << "curve " << c << " has fewer than 2 points";
+      throw InvalidInput(msg.str());
+    }
+  }
+  st.input_vertices = mesh.number_of_vertices();
+  st.input_faces = mesh.number_of_faces();
+  st.mean_edge_length = mean_edge_length<K>(mesh);
+  st.snap_tol = options.snap_tol < 0 ? 0.1 * st.mean_edge_length : options.snap_tol;
+  st.max_distance = options.max_distance < 0 ? 1.0 * st.mean_edge_length : options.max_distance;
+  st.curves = curves.size();
+  for (const auto& c : curves) st.curve_nodes_in += is_closed(c) ? c.size() - 1 : c.size();
+
+  // ---- 1. snap
+  auto t = Clock::now();
+  const auto snap = snap_vertices<K>(mesh, curves, st.snap_tol);
+  st.vertices_snapped = snap.snapped;
+  st.snaps_refused = snap.refused;
+  st.max_snap_move = snap.max_move;
+  st.stage_seconds["snap"] = seconds_since(t);
+
+  // ---- 2, 3. locate and cross
+  TraceReport trace_report;
+  const auto traced = trace_curves<K>(mesh, curves, st.max_distance, trace_report);
+  st.stage_seconds["locate"] = trace_report.locate_seconds;
+  st.stage_seconds["cross"] = trace_report.cross_seconds;
+
+  // ---- 4. coarsen
+  t = Clock::now();
+  CoarsenOutput<K> coarse = coarsen_curves<K>(mesh, traced, options.curve_tol);
+  st.stage_seconds["coarsen"] = seconds_since(t);
+
+  // ---- 5. re-triangulate: gather each face's constraints, then triangulate it
+  t = Clock::now();
+  const std::size_t nv = mesh.number_of_vertices();
+  const auto& cps = coarse.points.points;
+  std::vector<std::size_t> out_id(cps.size());
+  std::vector<Point> new_points;
+  std::map<E, std::vector<std::size_t>> edge_points;  // curve point ids inside each edge
+  std::map<F, std::vector<std::size_t>> face_points;
+  std::map<F, std::vector<std::pair<std::size_t, std::size_t>>> face_segments;
+  for (std::size_t i = 0; i < cps.size(); ++i) {
+    const auto& sp = cps[i];
+    if (sp.where == Where::vertex) {
+      out_id[i] = std::size_t(sp.v);
+      ++st.curve_vertices_at_mesh_vertices;
+      continue;
+    }
+    out_id[i] = nv + new_points.size();
+    new_points.push_back(sp.p);
+    if (sp.where == Where::edge) {
+      edge_points[sp.e].push_back(i);
+      ++st.crossing_points;
+    } else {
+      face_points[sp.f].push_back(i);
+    }
+  }
+  // Along each edge, order the points from the source of its halfedge 0 (exact comparison).
+  for (auto& [e, ids] : edge_points) {
+    const Point& s = mesh.point(mesh.source(mesh.halfedge(e, 0)));
+    std::sort(ids.begin(), ids.end(), [&](std::size_t x, std::size_t y) {
+      return CGAL::compare_distance_to_point(s, cps[x].p, cps[y].p) == CGAL::SMALLER;
+    });
+  }
+  for (const auto& cc : coarse.curves) {
+    const std::size_t ns = cc.segment_face.size();
+    for (std::size_t j = 0; j < ns; ++j) {
+      const F f = cc.segment_face[j];
+      if (f == Mesh<K>::null_face()) continue;
+      std::size_t a = cc.ids[j], b = cc.ids[(j + 1) % cc.ids.size()];
+      if (a > b) std::swap(a, b);
+      auto& segs = face_segments[f];
+      if (std::find(segs.begin(), segs.end(), std::make_pair(a, b)) == segs.end()) segs.emplace_back(a, b);
+    }
+  }
+  std::set<F> crossed;
+  for (const auto& [e, ids] : edge_points)
+    for (int i = 0; i < 2; ++i)
+      if (!mesh.is_border(mesh.halfedge(e, i))) crossed.insert(mesh.face(mesh.halfedge(e, i)));
+  for (const auto& [f, ids] : face_points) crossed.insert(f);
+  for (const auto& [f, segs] : face_segments) crossed.insert(f);
+  st.faces_crossed = crossed.size();
+
+  RetriangulateOptions ropt;
+  ropt.min_angle_deg = options.min_angle_deg;
+  ropt.max_area = options.max_area;
+  ropt.max_steiner = options.max_steiner_per_face;
+  std::map<F, FacePatch<K>> patches;
+  std::vector<double> source_min_angle(st.input_faces, 180.0);
+  st.min_angle_deg_input = 180;
+  for (F f : crossed) {
+    FaceConstraints<K> fc;
+    auto h = mesh.halfedge(f);
+    for (int i = 0; i < 3; ++i, h = mesh.next(h)) {
+      const V s = mesh.source(h);
+      fc.corner_ids[i] = std::size_t(s);
+      fc.corners[i] = mesh.point(s);
+      auto it = edge_points.find(mesh.edge(h));
+      if (it != edge_points.end()) {
+        std::vector<std::size_t> ids = it->second;
+        if (mesh.halfedge(mesh.edge(h), 0) != h) std::reverse(ids.begin(), ids.end());
+        for (std::size_t id : ids) fc.edge_points[i].emplace_back(out_id[id], cps[id].p);
+      }
+    }
+    if (auto it = face_points.find(f); it != face_points.end())
+      for (std::size_t id : it->second) fc.interior_points.emplace_back(out_id[id], cps[id].p);
+    if (auto it = face_segments.find(f); it != face_segments.end())
+      for (auto [a, b] : it->second) fc.segments.emplace_back(out_id[a], out_id[b]);
+    try {
+      patches.emplace(f, retriangulate_face<K>(fc, ropt));
+    } catch (const InvalidInput& e) {
+      std::ostringstream msg;
+      msg << e.what() << " (input face " << std::size_t(f) << ")";
+      throw InvalidInput(msg.str());
+    }
+    source_min_angle[std::size_t(f)] = min_angle_deg(fc.corners[0], fc.corners[1], fc.corners[2]);
+    st.min_angle_deg_input = std::min(st.min_angle_deg_input, source_min_angle[std::size_t(f)]);
+  }
+  if (crossed.empty()) st.min_angle_deg_input = 0;
+  for (const auto& [f, patch] : patches) {
+    st.steiner_points += patch.steiner_points.size();
+    st.faces_added += patch.triangles.size();
+    st.faces_refinement_fallback += patch.refinement_undone ? 1 : 0;
+  }
+  st.stage_seconds["retriangulate"] = seconds_since(t);
+
+  // Input edges joining two curve vertices that are mesh vertices (segments along an edge).
+  std::map<std::pair<V, V>, E> input_edge_between;
+  for (const auto& cc : coarse.curves)
+    for (std::size_t j = 0; j < cc.segment_face.size(); ++j) {
+      if (cc.segment_face[j] != Mesh<K>::null_face()) continue;
+      const auto& a = cps[cc.ids[j]];
+      const auto& b = cps[cc.ids[(j + 1) % cc.ids.size()]];
+      if (a.where != Where::vertex || b.where != Where::vertex) continue;
+      const auto h = mesh.halfedge(a.v, b.v);
+      if (h == Mesh<K>::null_halfedge()) throw InternalError("a curve segment along an edge has no edge");
+      input_edge_between[{a.v, b.v}] = mesh.edge(h);
+    }
+
+  // ---- 6. splice
+  t = Clock::now();
+  Mesh<K> out = splice_patches<K>(mesh, new_points, patches);
+  mesh = std::move(out);
+  st.output_vertices = mesh.number_of_vertices();
+  st.output_faces = mesh.number_of_faces();
+  st.stage_seconds["splice"] = seconds_since(t);
+
+  auto mesh_edge_between = [&](V x, V y) { return input_edge_between.at(std::make_pair(x, y)); };
+  // ---- the embedded curves, as mesh vertices (along an edge, through the points on it)
+  for (const auto& cc : coarse.curves) {
+    std::vector<V> vs;
+    const std::size_t nseg = cc.segment_face.size();
+    for (std::size_t j = 0; j < cc.ids.size(); ++j) {
+      vs.push_back(V(static_cast<typename V::size_type>(out_id[cc.ids[j]])));
+      if (j >= nseg || cc.segment_face[j] != Mesh<K>::null_face()) continue;
+      // A segment along an input edge: insert the points of that edge that lie between its ends.
+      const auto& a = cps[cc.ids[j]];
+      const auto& b = cps[cc.ids[(j + 1) % cc.ids.size()]];
+      const E along = a.where == Where::edge   ? a.e
+                       : b.where == Where::edge ? b.e
+                                                : mesh_edge_between(a.v, b.v);
+      std::vector<std::size_t> between;
+      if (auto it = edge_points.find(along); it != edge_points.end())
+        for (std::size_t id : it->second)
+          if (CGAL::collinear_are_strictly_ordered_along_line(a.p, cps[id].p, b.p)) between.push_back(id);
+      std::sort(between.begin(), between.end(), [&](std::size_t x, std::size_t y) {
+        return CGAL::compare_distance_to_point(a.p, cps[x].p, cps[y].p) == CGAL::SMALLER;
+      });
+      for (std::size_t id : between) vs.push_back(V(static_cast<typename V::size_type>(out_id[id])));
+    }
+    if (cc.closed && !vs.empty()) vs.push_back(vs.front());
+    Polyline<K> pl;
+    for (V v : vs) pl.push_back(mesh.point(v));
+    st.curve_nodes_out += cc.closed ? vs.size() - 1 : vs.size();
+    result.curve_vertices.push_back(std::move(vs));
+    result.curves.push_back(std::move(pl));
+  }
+
+  // ---- quality of the new faces and distance to the input curves (rounded measurements)
+  const auto quality = new_face_quality<K>(mesh, &source_min_angle);
+  st.min_angle_deg_new = quality.min_angle_deg;
+  st.new_faces_below_10 = quality.below_10;
+  st.new_faces_below_20 = quality.below_20;
+  st.new_faces_below_10_unforced = quality.below_10_unforced;
+  st.max_curve_deviation = polyline_deviation<K>(curves, result.curves);
+  return result;
+}
+
+#define SEAM_INSTANTIATE(K)                                                                                \
+  template EmbedResult<K> embed<K>(Mesh<K>&, const std::vector<Polyline<K>>&, const EmbedOptions&);       \
+  template double mean_edge_length<K>(const Mesh<K>&);
+SEAM_INSTANTIATE(Exact)
+SEAM_INSTANTIATE(Filtered)
+SEAM_INSTANTIATE(Float)
+#undef SEAM_INSTANTIATE
+
+}  // namespace seam

@@ -1,0 +1,166 @@
+// seam: generated tow geometry (see generate.h).
+//
+// The smooth surface is P(s, phi) = X(c(s) + u(phi) B + v(phi) N(s)) where
+//   c(s) = (s, 0, A sin(2 pi s / lambda))   the crimped path (in the xz plane),
+//   T(s) = c'(s) / |c'(s)|,  B = (0, 1, 0),  N(s) = T(s) x B   (so N = +z for a straight path),
+//   (u, v) the section point at angle phi, X the rigid transform (rotate_z, rotate_x, translate).
+// Since the path is planar, (T, B, N) is a rotation-minimising frame: the sections do not twist.
+//
+// The mesh has segments_along + 1 rings of segments_around vertices (ring i at s_i = i * length /
+// segments_along, vertex j at phi_j = 2 pi j / segments_around), every vertex exactly on the
+// smooth surface. Quads are split along alternating diagonals (checkerboard). With caps, one
+// centre vertex per end (on the path) and a fan of triangles close the tube.
+//
+// Orientation: dP/dphi x dP/ds points outwards (B x N = T, the section runs counter-clockwise
+// about T), so the quad (i,j) (i,j+1) (i+1,j+1) (i+1,j) is counter-clockwise seen from outside.
+//
+// SPDX-License-Identifier: GPL-3.0-or-later
+
+#include <seam/generate.h>
+
+#include <cmath>
+#include <cstddef>
+#include <string>
+
+namespace seam {
+namespace {
+
+constexpr double two_pi = 6.283185307179586476925286766559;
+
+Point3d add(const Point3d& p, const Point3d& q) { return {p[0] + q[0], p[1] + q[1], p[2] + q[2]}; }
+Point3d scale(double t, const Point3d& p) { return {t * p[0], t * p[1], t * p[2]}; }
+Point3d cross(const Point3d& p, const Point3d& q) {
+  return {p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0]};
+}
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw InvalidInput("tow options: " + what);
+}
+
+void validate(const TowOptions& o) {
+  require(std::isfinite(o.length) && o.length > 0, "length must be positive and finite");
+  require(std::isfinite(o.half_width) && o.half_width > 0, "half_width must be positive and finite");
+  require(std::isfinite(o.half_height) && o.half_height > 0,
+          "half_height must be positive and finite");
+  require(o.section != Section::lenticular || o.half_height <= o.half_width,
+          "a lenticular section needs half_height <= half_width");
+  require(std::isfinite(o.crimp_amplitude), "crimp_amplitude must be finite");
+  require(std::isfinite(o.crimp_wavelength) && o.crimp_wavelength > 0,
+          "crimp_wavelength must be positive and finite");
+  require(o.segments_along >= 1, "segments_along must be at least 1");
+  require(o.segments_around >= 3, "segments_around must be at least 3");
+  require(std::isfinite(o.rotate_z) && std::isfinite(o.rotate_x), "rotations must be finite");
+  require(std::isfinite(o.translate[0]) && std::isfinite(o.translate[1]) &&
+              std::isfinite(o.translate[2]),
+          "translate must be finite");
+}
+
+/// Section point (u along B, v along N) at angle phi.
+std::array<double, 2> section_point(const TowOptions& o, double phi) {
+  const double a = o.half_width, b = o.half_height;
+  const double c = std::cos(phi), s = std::sin(phi);
+  if (o.section == Section::elliptical) return {a * c, b * s};
+  // Lens: two circular arcs of radius R through (+-a, 0) and (0, +-b).
+  const double x = a * c;
+  const double R = (a * a + b * b) / (2.0 * b);
+  double h = std::sqrt(std::fmax(0.0, R * R - x * x)) - (R - b);
+  h = std::fmax(0.0, h);  // rounding near the tips
+  return {x, s < 0 ? -h : h};
+}
+
+/// The untransformed point of the tube at path parameter s with section coordinates (u, v).
+Point3d tube_point(const TowOptions& o, double s, double u, double v) {
+  const double k = two_pi / o.crimp_wavelength;
+  const double A = o.crimp_amplitude;
+  const Point3d c = {s, 0.0, A * std::sin(k * s)};
+  const double dz = A * k * std::cos(k * s);
+  const double len = std::sqrt(1.0 + dz * dz);
+  const Point3d T = {1.0 / len, 0.0, dz / len};
+  const Point3d B = {0.0, 1.0, 0.0};
+  const Point3d N = cross(T, B);  // (-dz, 0, 1) / len
+  return add(c, add(scale(u, B), scale(v, N)));
+}
+
+/// Rotation about z by rotate_z, then about x by rotate_x, then translation.
+Point3d transform(const TowOptions& o, const Point3d& p) {
+  const double cz = std::cos(o.rotate_z), sz = std::sin(o.rotate_z);
+  const double cx = std::cos(o.rotate_x), sx = std::sin(o.rotate_x);
+  const Point3d q = {cz * p[0] - sz * p[1], sz * p[0] + cz * p[1], p[2]};
+  const Point3d r = {q[0], cx * q[1] - sx * q[2], sx * q[1] + cx * q[2]};
+  return add(r, o.translate);
+}
+
+}  // namespace
+
+Point3d tow_surface_point(const TowOptions& options, double s, double phi) {
+  validate(options);
+  const auto uv = section_point(options, phi);
+  return transform(options, tube_point(options, s, uv[0], uv[1]));
+}
+
+TriangleSoup make_tow(const TowOptions& options) {
+  validate(options);
+  const std::size_t along = static_cast<std::size_t>(options.segments_along);
+  const std::size_t around = static_cast<std::size_t>(options.segments_around);
+
+  TriangleSoup soup;
+  soup.points.reserve((along + 1) * around + 2);
+  soup.triangles.reserve(2 * along * around + (options.capped ? 2 * around : 0));
+
+  std::vector<std::array<double, 2>> section(around);
+  for (std::size_t j = 0; j < around; ++j)
+    section[j] = section_point(options, two_pi * static_cast<double>(j) / static_cast<double>(around));
+
+  for (std::size_t i = 0; i <= along; ++i) {
+    // The last ring sits exactly at s = length.
+    const double s = i == along ? options.length
+                                : options.length * static_cast<double>(i) / static_cast<double>(along);
+    for (std::size_t j = 0; j < around; ++j)
+      soup.points.push_back(transform(options, tube_point(options, s, section[j][0], section[j][1])));
+  }
+  auto vid = [around](std::size_t i, std::size_t j) { return i * around + j % around; };
+
+  for (std::size_t i = 0; i < along; ++i) {
+    for (std::size_t j = 0; j < around; ++j) {
+      const std::size_t q0 = vid(i, j), q1 = vid(i, j + 1), q2 = vid(i + 1, j + 1), q3 = vid(i + 1, j);
+      if ((i + j) % 2 == 0) {
+        soup.triangles.push_back({q0, q1, q2});
+        soup.triangles.push_back({q0, q2, q3});
+      } else {
+        soup.triangles.push_back({q0, q1, q3});
+        soup.triangles.push_back({q1, q2, q3});
+      }
+    }
+  }
+
+  if (options.capped) {
+    const std::size_t c0 = soup.points.size();
+    soup.points.push_back(transform(options, tube_point(options, 0.0, 0.0, 0.0)));
+    const std::size_t c1 = soup.points.size();
+    soup.points.push_back(transform(options, tube_point(options, options.length, 0.0, 0.0)));
+    for (std::size_t j = 0; j < around; ++j) {
+      soup.triangles.push_back({c0, vid(0, j + 1), vid(0, j)});            // outward normal -T
+      soup.triangles.push_back({c1, vid(along, j), vid(along, j + 1)});    // outward normal +T
+    }
+  }
+  return soup;
+}
+
+std::vector<Point3d> make_ring_curve(const TowOptions& options, double s_center, double tilt,
+                                     int samples) {
+  validate(options);
+  require(samples >= 3, "a ring curve needs at least 3 samples");
+  require(std::isfinite(s_center) && std::isfinite(tilt), "ring centre and tilt must be finite");
+  require(s_center - std::fabs(tilt) >= 0.0 && s_center + std::fabs(tilt) <= options.length,
+          "the ring curve (s_center +- |tilt|) must stay within [0, length]");
+  std::vector<Point3d> curve;
+  curve.reserve(static_cast<std::size_t>(samples) + 1);
+  for (int k = 0; k < samples; ++k) {
+    const double phi = two_pi * static_cast<double>(k) / static_cast<double>(samples);
+    curve.push_back(tow_surface_point(options, s_center + tilt * std::cos(phi), phi));
+  }
+  curve.push_back(curve.front());
+  return curve;
+}
+
+}  // namespace seam

@@ -1,0 +1,1253 @@
+// seam: reading and validating triangle meshes and polylines, writing results atomically.
+//
+// The readers are hand-written (OFF, OBJ, STL, PLY) so that every error names the file and the
+// precise problem, and so that no input, however broken, can crash, hang or make them allocate
+// more memory than the file's size justifies: every count read from a file is capped by the
+// number of bytes left before memory is reserved for it.
+//
+// Numbering in messages: vertices and faces are numbered from 0 in the order of the file (the
+// indices of the resulting TriangleSoup); vertex indices are quoted as written in the file
+// (1-based for OBJ). Syntax errors also give the 1-based line number.
+//
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/io.h>
+#include <seam/kernels.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <locale>
+#include <string_view>
+#include <system_error>
+#include <unordered_map>
+#include <utility>
+
+#include <locale.h>  // newlocale, strtod_l (POSIX / glibc)
+#include <unistd.h>  // getpid
+
+namespace seam {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// ------------------------------------------------------------------ messages
+
+[[noreturn]] void invalid(const std::string& name, const std::string& what) {
+  throw InvalidInput(name + ": " + what);
+}
+
+std::string errno_text(int e) {
+  return e != 0 ? std::generic_category().message(e) : std::string("unknown error");
+}
+
+/// A piece of the file quoted in a one-line message: at most 40 characters, control and
+/// non-ASCII bytes shown as \xNN.
+std::string quote(std::string_view s) {
+  constexpr std::size_t max_chars = 40;
+  std::string out = "'";
+  const std::size_t n = std::min(s.size(), max_chars);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      static const char hex[] = "0123456789abcdef";
+      out += "\\x";
+      out += hex[c >> 4];
+      out += hex[c & 15];
+    }
+  }
+  if (s.size() > max_chars) out += "...";
+  out += "'";
+  return out;
+}
+
+std::string line_prefix(std::size_t line) { return "line " + std::to_string(line) + ": "; }
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+bool iequals(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i])))
+      return false;
+  return true;
+}
+
+// ------------------------------------------------------------------ numbers
+
+/// Parses the whole token as a double, independently of the global locale. Accepts a leading
+/// '+', and "inf"/"nan" (the callers reject non-finite values with their own message). A value
+/// too large for a double becomes infinite, a value too small becomes 0 or subnormal.
+bool parse_double(std::string_view t, double& out) {
+  const char* b = t.data();
+  const char* e = b + t.size();
+  if (b != e && *b == '+') {
+    ++b;
+    if (b == e || *b == '+' || *b == '-') return false;
+  }
+  if (b == e) return false;
+  const auto r = std::from_chars(b, e, out, std::chars_format::general);
+  if (r.ptr != e) return false;
+  if (r.ec == std::errc()) return true;
+  if (r.ec != std::errc::result_out_of_range) return false;
+  // Overflow or underflow: let strtod in the "C" locale round it (HUGE_VAL, 0 or subnormal).
+  static const locale_t c_locale = newlocale(LC_ALL_MASK, "C", locale_t(nullptr));
+  if (c_locale == locale_t(nullptr)) return false;
+  const std::string s(b, e);
+  char* end = nullptr;
+  out = strtod_l(s.c_str(), &end, c_locale);
+  return end == s.c_str() + s.size();
+}
+
+/// Parses the whole token as a (possibly signed) decimal integer.
+bool parse_integer(std::string_view t, long long& out) {
+  const char* b = t.data();
+  const char* e = b + t.size();
+  if (b != e && *b == '+') {
+    ++b;
+    if (b == e || *b == '-') return false;
+  }
+  if (b == e) return false;
+  const auto r = std::from_chars(b, e, out, 10);
+  return r.ec == std::errc() && r.ptr == e;
+}
+
+bool parse_unsigned(std::string_view t, unsigned long long& out) {
+  const char* b = t.data();
+  const char* e = b + t.size();
+  if (b != e && *b == '+') ++b;
+  if (b == e || *b == '-') return false;
+  const auto r = std::from_chars(b, e, out, 10);
+  return r.ec == std::errc() && r.ptr == e;
+}
+
+bool finite3(const Point3d& p) {
+  return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+}
+
+// ------------------------------------------------------------------ text
+
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
+
+/// Splits a line into whitespace-separated tokens.
+void split(std::string_view line, std::vector<std::string_view>& tokens) {
+  tokens.clear();
+  std::size_t i = 0;
+  const std::size_t n = line.size();
+  while (i < n) {
+    while (i < n && is_space(line[i])) ++i;
+    if (i == n) break;
+    const std::size_t start = i;
+    while (i < n && !is_space(line[i])) ++i;
+    tokens.push_back(line.substr(start, i - start));
+  }
+}
+
+bool is_blank(std::string_view line) {
+  for (char c : line)
+    if (!is_space(c)) return false;
+  return true;
+}
+
+/// The lines of a text, with '#' comments (to the end of the line) removed.
+class Lines {
+ public:
+  explicit Lines(std::string_view text, bool strip_comments = true)
+      : text_(text), strip_comments_(strip_comments) {}
+
+  /// The next line (without its '\n' and comment); false at the end of the text.
+  bool next(std::string_view& line) {
+    if (pos_ >= text_.size()) return false;
+    std::size_t end = text_.find('\n', pos_);
+    if (end == std::string_view::npos) end = text_.size();
+    line = text_.substr(pos_, end - pos_);
+    pos_ = end + 1;
+    ++number_;
+    if (strip_comments_) {
+      const std::size_t hash = line.find('#');
+      if (hash != std::string_view::npos) line = line.substr(0, hash);
+    }
+    return true;
+  }
+
+  /// The next line that is not blank once its comment is removed.
+  bool next_nonblank(std::string_view& line) {
+    while (next(line))
+      if (!is_blank(line)) return true;
+    return false;
+  }
+
+  std::size_t number() const { return number_; }     ///< 1-based number of the last line read
+  std::size_t offset() const { return std::min(pos_, text_.size()); }  ///< byte after it
+
+ private:
+  std::string_view text_;
+  bool strip_comments_;
+  std::size_t pos_ = 0;
+  std::size_t number_ = 0;
+};
+
+void reject_binary(std::string_view text, const std::string& name, const char* format) {
+  if (text.find('\0') != std::string_view::npos)
+    invalid(name, std::string("file contains binary data (not a text ") + format + " file)");
+}
+
+// ------------------------------------------------------------------ files
+
+std::string read_file(const std::string& path) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (!ec) {
+    if (fs::is_directory(st)) throw IOError(path + ": is a directory");
+    if (fs::exists(st) && !fs::is_regular_file(st)) throw IOError(path + ": is not a regular file");
+  }
+  errno = 0;
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (f == nullptr) throw IOError(path + ": cannot open file (" + errno_text(errno) + ")");
+  std::string data;
+  char buffer[1 << 16];
+  for (;;) {
+    const std::size_t got = std::fread(buffer, 1, sizeof buffer, f);
+    data.append(buffer, got);
+    if (got < sizeof buffer) break;
+  }
+  const int error = std::ferror(f) ? errno : 0;
+  const bool failed = std::ferror(f) != 0;
+  std::fclose(f);
+  if (failed) throw IOError(path + ": cannot read file (" + errno_text(error) + ")");
+  return data;
+}
+
+/// The lower-case extension of `path` (".off"), empty if it has none.
+std::string extension_of(const std::string& path) { return lower(fs::path(path).extension().string()); }
+
+[[noreturn]] void unknown_format(const std::string& path, const std::string& ext) {
+  if (ext.empty())
+    invalid(path, "unknown mesh format (no file extension; expected .off, .obj, .ply or .stl)");
+  invalid(path, "unknown mesh format " + quote(ext) + " (expected .off, .obj, .ply or .stl)");
+}
+
+void check_empty(std::string_view data, const std::string& name) {
+  if (data.empty()) invalid(name, "file is empty");
+}
+
+/// A capacity to reserve for `count` items that each take at least `min_bytes` of `bytes`.
+std::size_t capped(unsigned long long count, std::size_t bytes, std::size_t min_bytes) {
+  const unsigned long long cap = bytes / std::max<std::size_t>(min_bytes, 1) + 1;
+  return static_cast<std::size_t>(std::min(count, cap));
+}
+
+// ------------------------------------------------------------------ OFF
+
+/// "OFF", "COFF", "NOFF", "STCNOFF", ... (letters before OFF from "STCN4n").
+bool is_off_keyword(std::string_view t) {
+  if (t.size() < 3 || !iequals(t.substr(t.size() - 3), "OFF")) return false;
+  for (char c : t.substr(0, t.size() - 3))
+    if (std::strchr("STCN4n", c) == nullptr) return false;
+  return true;
+}
+
+TriangleSoup parse_off(std::string_view text, const std::string& name) {
+  check_empty(text, name);
+  reject_binary(text, name, "OFF");
+  Lines lines(text);
+  std::string_view line;
+  std::vector<std::string_view> tok;
+  if (!lines.next_nonblank(line)) invalid(name, "file has no content (only blank lines and comments)");
+  split(line, tok);
+  std::size_t first = 0;
+  if (is_off_keyword(tok[0])) {
+    const std::string_view prefix = tok[0].substr(0, tok[0].size() - 3);
+    if (prefix.find('4') != std::string_view::npos || prefix.find('n') != std::string_view::npos)
+      invalid(name, "OFF files with 4 or n dimensions (" + quote(tok[0]) + ") are not supported");
+    if (tok.size() > 1 && iequals(tok[1], "BINARY")) invalid(name, "binary OFF files are not supported");
+    first = 1;
+    if (tok.size() == 1) {
+      if (!lines.next_nonblank(line))
+        invalid(name, "unexpected end of file (missing the vertex and face counts)");
+      split(line, tok);
+      first = 0;
+    }
+  } else {
+    long long dummy = 0;
+    if (!parse_integer(tok[0], dummy))
+      invalid(name, "not an OFF file (expected an 'OFF' header, found " + quote(tok[0]) + ")");
+  }
+  if (tok.size() < first + 2)
+    invalid(name, line_prefix(lines.number()) + "expected the vertex and face counts");
+  unsigned long long nv = 0, nf = 0;
+  if (!parse_unsigned(tok[first], nv))
+    invalid(name, line_prefix(lines.number()) + "vertex count " + quote(tok[first]) + " is not a valid count");
+  if (!parse_unsigned(tok[first + 1], nf))
+    invalid(name, line_prefix(lines.number()) + "face count " + quote(tok[first + 1]) + " is not a valid count");
+
+  TriangleSoup soup;
+  // A vertex line takes at least 6 bytes ("0 0 0\n"), a face line at least 8 ("3 0 1 2\n").
+  soup.points.reserve(capped(nv, text.size(), 6));
+  soup.triangles.reserve(capped(nf, text.size(), 8));
+  for (unsigned long long i = 0; i < nv; ++i) {
+    if (!lines.next_nonblank(line))
+      invalid(name, "unexpected end of file after " + std::to_string(i) + " of " + std::to_string(nv) + " vertices");
+    split(line, tok);
+    if (tok.size() < 3)
+      invalid(name, line_prefix(lines.number()) + "vertex " + std::to_string(i) + " has " +
+                        std::to_string(tok.size()) + " coordinates, expected 3");
+    Point3d p{};
+    for (int c = 0; c < 3; ++c)
+      if (!parse_double(tok[c], p[c]))
+        invalid(name, line_prefix(lines.number()) + "vertex " + std::to_string(i) + ": " + quote(tok[c]) +
+                          " is not a number");
+    if (!finite3(p)) invalid(name, "vertex " + std::to_string(i) + " has a non-finite coordinate");
+    soup.points.push_back(p);
+  }
+  for (unsigned long long f = 0; f < nf; ++f) {
+    if (!lines.next_nonblank(line))
+      invalid(name, "unexpected end of file after " + std::to_string(f) + " of " + std::to_string(nf) + " faces");
+    split(line, tok);
+    long long k = 0;
+    if (!parse_integer(tok[0], k))
+      invalid(name, line_prefix(lines.number()) + "face " + std::to_string(f) +
+                        ": expected its number of vertices, found " + quote(tok[0]));
+    if (k != 3)
+      invalid(name, "face " + std::to_string(f) + " has " + std::to_string(k) +
+                        " vertices; only triangles are supported");
+    if (tok.size() < 4)
+      invalid(name, line_prefix(lines.number()) + "face " + std::to_string(f) + " lists " +
+                        std::to_string(tok.size() - 1) + " of its 3 vertex indices");
+    std::array<std::size_t, 3> t{};
+    for (int c = 0; c < 3; ++c) {
+      long long index = 0;
+      if (!parse_integer(tok[1 + c], index))
+        invalid(name, line_prefix(lines.number()) + "face " + std::to_string(f) + ": " + quote(tok[1 + c]) +
+                          " is not a vertex index");
+      if (index < 0 || static_cast<unsigned long long>(index) >= nv)
+        invalid(name, "face " + std::to_string(f) + " has a vertex index " + std::to_string(index) +
+                          " out of range (mesh has " + std::to_string(nv) + " vertices)");
+      t[c] = static_cast<std::size_t>(index);
+    }
+    soup.triangles.push_back(t);
+  }
+  return soup;
+}
+
+// ------------------------------------------------------------------ OBJ
+
+TriangleSoup parse_obj(std::string_view text, const std::string& name) {
+  check_empty(text, name);
+  reject_binary(text, name, "OBJ");
+  Lines lines(text);
+  std::string_view line;
+  std::vector<std::string_view> tok;
+  TriangleSoup soup;
+  std::vector<std::size_t> face_line;  // line of each face, for range errors found at the end
+  while (lines.next(line)) {
+    split(line, tok);
+    if (tok.empty()) continue;
+    const std::size_t ln = lines.number();
+    if (tok[0] == "v") {
+      const std::size_t i = soup.points.size();
+      if (tok.size() < 4)
+        invalid(name, line_prefix(ln) + "vertex " + std::to_string(i) + " has " + std::to_string(tok.size() - 1) +
+                          " coordinates, expected 3");
+      Point3d p{};
+      for (int c = 0; c < 3; ++c)
+        if (!parse_double(tok[1 + c], p[c]))
+          invalid(name, line_prefix(ln) + "vertex " + std::to_string(i) + ": " + quote(tok[1 + c]) +
+                            " is not a number");
+      if (!finite3(p)) invalid(name, line_prefix(ln) + "vertex " + std::to_string(i) + " has a non-finite coordinate");
+      soup.points.push_back(p);
+    } else if (tok[0] == "f") {
+      const std::size_t f = soup.triangles.size();
+      if (tok.size() != 4)
+        invalid(name, line_prefix(ln) + "face " + std::to_string(f) + " has " + std::to_string(tok.size() - 1) +
+                          " vertices; only triangles are supported");
+      std::array<std::size_t, 3> t{};
+      for (int c = 0; c < 3; ++c) {
+        std::string_view entry = tok[1 + c];
+        const std::string_view v = entry.substr(0, entry.find('/'));
+        long long index = 0;
+        if (!parse_integer(v, index))
+          invalid(name, line_prefix(ln) + "face " + std::to_string(f) + ": " + quote(entry) +
+                            " is not a vertex index");
+        if (index == 0)
+          invalid(name, line_prefix(ln) + "face " + std::to_string(f) +
+                            " has a vertex index 0 (OBJ indices start at 1)");
+        if (index < 0) {  // relative to the vertices defined so far
+          const long long resolved = static_cast<long long>(soup.points.size()) + index;
+          if (resolved < 0)
+            invalid(name, line_prefix(ln) + "face " + std::to_string(f) + " has a vertex index " +
+                              std::to_string(index) + " out of range (only " + std::to_string(soup.points.size()) +
+                              " vertices are defined before it)");
+          t[c] = static_cast<std::size_t>(resolved);
+        } else {
+          t[c] = static_cast<std::size_t>(index - 1);  // checked once all vertices are read
+        }
+      }
+      soup.triangles.push_back(t);
+      face_line.push_back(ln);
+    }
+    // vn, vt, vp, l, p, g, o, s, usemtl, mtllib, ...: ignored
+  }
+  if (soup.triangles.empty()) {
+    if (soup.points.empty()) invalid(name, "no vertices or faces found (not an OBJ file?)");
+    invalid(name, "file has no faces");
+  }
+  const std::size_t nv = soup.points.size();
+  for (std::size_t f = 0; f < soup.triangles.size(); ++f)
+    for (std::size_t index : soup.triangles[f])
+      if (index >= nv)
+        invalid(name, line_prefix(face_line[f]) + "face " + std::to_string(f) + " has a vertex index " +
+                          std::to_string(index + 1) + " out of range (mesh has " + std::to_string(nv) +
+                          " vertices)");
+  return soup;
+}
+
+// ------------------------------------------------------------------ STL
+
+/// Merges points with equal coordinates (-0.0 and 0.0 are equal).
+class PointMerger {
+ public:
+  explicit PointMerger(TriangleSoup& soup) : soup_(soup) {}
+
+  std::size_t add(Point3d p) {
+    for (double& x : p) x += 0.0;  // -0.0 -> +0.0
+    const auto [it, inserted] = index_.try_emplace(p, soup_.points.size());
+    if (inserted) soup_.points.push_back(p);
+    return it->second;
+  }
+
+ private:
+  struct Hash {
+    std::size_t operator()(const Point3d& p) const {
+      std::uint64_t h = 0x9e3779b97f4a7c15ull;
+      for (double x : p) {
+        std::uint64_t bits = 0;
+        std::memcpy(&bits, &x, sizeof bits);
+        h ^= bits + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+      }
+      return static_cast<std::size_t>(h);
+    }
+  };
+  TriangleSoup& soup_;
+  std::unordered_map<Point3d, std::size_t, Hash> index_;
+};
+
+std::uint32_t read_u32_le(const unsigned char* p) {
+  return std::uint32_t(p[0]) | (std::uint32_t(p[1]) << 8) | (std::uint32_t(p[2]) << 16) | (std::uint32_t(p[3]) << 24);
+}
+
+float read_f32_le(const unsigned char* p) {
+  const std::uint32_t bits = read_u32_le(p);
+  float f;
+  std::memcpy(&f, &bits, sizeof f);
+  return f;
+}
+
+TriangleSoup parse_binary_stl(std::string_view data, const std::string& name, std::size_t count) {
+  TriangleSoup soup;
+  soup.triangles.reserve(count);
+  PointMerger merger(soup);
+  const auto* bytes = reinterpret_cast<const unsigned char*>(data.data());
+  for (std::size_t f = 0; f < count; ++f) {
+    const unsigned char* rec = bytes + 84 + 50 * f + 12;  // skip the normal
+    std::array<std::size_t, 3> t{};
+    for (int c = 0; c < 3; ++c) {
+      Point3d p{read_f32_le(rec + 12 * c), read_f32_le(rec + 12 * c + 4), read_f32_le(rec + 12 * c + 8)};
+      if (!finite3(p)) invalid(name, "facet " + std::to_string(f) + " has a non-finite coordinate");
+      t[c] = merger.add(p);
+    }
+    soup.triangles.push_back(t);
+  }
+  return soup;
+}
+
+/// Whitespace-separated tokens of a whole text, with line numbers.
+class TokenStream {
+ public:
+  explicit TokenStream(std::string_view text) : text_(text) {}
+
+  bool next(std::string_view& token) {
+    skip_space();
+    if (pos_ >= text_.size()) return false;
+    const std::size_t start = pos_;
+    while (pos_ < text_.size() && !is_space(text_[pos_]) && text_[pos_] != '\n') ++pos_;
+    token = text_.substr(start, pos_ - start);
+    token_line_ = line_;
+    return true;
+  }
+
+  void skip_rest_of_line() {
+    while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
+  }
+
+  std::size_t line() const { return token_line_; }      ///< line of the last token read
+  std::size_t current_line() const { return line_; }
+  std::size_t offset() const { return pos_; }
+
+ private:
+  void skip_space() {
+    while (pos_ < text_.size() && (is_space(text_[pos_]) || text_[pos_] == '\n')) {
+      if (text_[pos_] == '\n') ++line_;
+      ++pos_;
+    }
+  }
+  std::string_view text_;
+  std::size_t pos_ = 0;
+  std::size_t line_ = 1;
+  std::size_t token_line_ = 1;
+};
+
+TriangleSoup parse_ascii_stl(std::string_view text, const std::string& name) {
+  TokenStream ts(text);
+  std::string_view tok;
+  TriangleSoup soup;
+  PointMerger merger(soup);
+  std::size_t facet = 0;
+
+  // Reads the next token and checks it is `keyword` (case-insensitive).
+  const auto expect = [&](const char* keyword) {
+    if (!ts.next(tok))
+      invalid(name, "unexpected end of file in facet " + std::to_string(facet) + " (expected '" + keyword + "')");
+    if (!iequals(tok, keyword))
+      invalid(name, line_prefix(ts.line()) + "expected '" + keyword + "', found " + quote(tok));
+  };
+
+  if (!ts.next(tok) || !iequals(tok, "solid")) invalid(name, "not an ASCII STL file (no 'solid' header)");
+  ts.skip_rest_of_line();  // the solid's name
+  for (;;) {
+    if (!ts.next(tok)) invalid(name, "unexpected end of file after " + std::to_string(facet) + " facets (expected 'endsolid')");
+    if (iequals(tok, "endsolid")) {
+      ts.skip_rest_of_line();
+      // Another solid may follow; anything else after 'endsolid' is ignored.
+      const TokenStream save = ts;
+      if (ts.next(tok) && iequals(tok, "solid")) {
+        ts.skip_rest_of_line();
+        continue;
+      }
+      ts = save;
+      break;
+    }
+    if (!iequals(tok, "facet"))
+      invalid(name, line_prefix(ts.line()) + "expected 'facet' or 'endsolid', found " + quote(tok));
+    expect("normal");
+    for (int c = 0; c < 3; ++c)  // the normal is recomputed from the vertices, its values are not used
+      if (!ts.next(tok)) invalid(name, "unexpected end of file in facet " + std::to_string(facet));
+    expect("outer");
+    expect("loop");
+    std::array<std::size_t, 3> t{};
+    std::size_t k = 0;
+    for (;;) {
+      if (!ts.next(tok)) invalid(name, "unexpected end of file in facet " + std::to_string(facet));
+      if (iequals(tok, "endloop")) break;
+      if (!iequals(tok, "vertex"))
+        invalid(name, line_prefix(ts.line()) + "expected 'vertex' or 'endloop', found " + quote(tok));
+      Point3d p{};
+      for (int c = 0; c < 3; ++c) {
+        if (!ts.next(tok)) invalid(name, "unexpected end of file in facet " + std::to_string(facet));
+        if (!parse_double(tok, p[c]))
+          invalid(name, line_prefix(ts.line()) + "facet " + std::to_string(facet) + ": " + quote(tok) +
+                            " is not a number");
+      }
+      if (!finite3(p)) invalid(name, "facet " + std::to_string(facet) + " has a non-finite coordinate");
+      if (k < 3) t[k] = merger.add(p);
+      ++k;
+    }
+    if (k != 3)
+      invalid(name, "facet " + std::to_string(facet) + " has " + std::to_string(k) +
+                        " vertices; only triangles are supported");
+    expect("endfacet");
+    soup.triangles.push_back(t);
+    ++facet;
+  }
+  return soup;
+}
+
+TriangleSoup parse_stl(std::string_view data, const std::string& name) {
+  check_empty(data, name);
+  if (data.size() >= 84) {
+    const std::uint32_t count = read_u32_le(reinterpret_cast<const unsigned char*>(data.data()) + 80);
+    if (static_cast<std::uint64_t>(data.size()) == 84 + 50 * static_cast<std::uint64_t>(count))
+      return parse_binary_stl(data, name, count);
+  }
+  std::size_t i = 0;
+  while (i < data.size() && (is_space(data[i]) || data[i] == '\n')) ++i;
+  if (!iequals(data.substr(i, std::min<std::size_t>(5, data.size() - i)), "solid")) {
+    if (data.size() < 84)
+      invalid(name, "not an STL file (no 'solid' header, and " + std::to_string(data.size()) +
+                        " bytes is too short for a binary STL)");
+    const std::uint32_t count = read_u32_le(reinterpret_cast<const unsigned char*>(data.data()) + 80);
+    invalid(name, "not an STL file (no 'solid' header, and its size of " + std::to_string(data.size()) +
+                      " bytes does not match the " +
+                      std::to_string(84 + 50 * static_cast<std::uint64_t>(count)) +
+                      " bytes of a binary STL with " + std::to_string(count) + " triangles)");
+  }
+  return parse_ascii_stl(data, name);
+}
+
+// ------------------------------------------------------------------ PLY
+
+enum class PlyType { i8, u8, i16, u16, i32, u32, f32, f64 };
+
+bool ply_type(std::string_view s, PlyType& t) {
+  static const std::pair<const char*, PlyType> names[] = {
+      {"char", PlyType::i8},    {"int8", PlyType::i8},     {"uchar", PlyType::u8},   {"uint8", PlyType::u8},
+      {"short", PlyType::i16},  {"int16", PlyType::i16},   {"ushort", PlyType::u16}, {"uint16", PlyType::u16},
+      {"int", PlyType::i32},    {"int32", PlyType::i32},   {"uint", PlyType::u32},   {"uint32", PlyType::u32},
+      {"float", PlyType::f32},  {"float32", PlyType::f32}, {"double", PlyType::f64}, {"float64", PlyType::f64}};
+  for (const auto& [n, type] : names)
+    if (s == n) {
+      t = type;
+      return true;
+    }
+  return false;
+}
+
+std::size_t ply_size(PlyType t) {
+  switch (t) {
+    case PlyType::i8: case PlyType::u8: return 1;
+    case PlyType::i16: case PlyType::u16: return 2;
+    case PlyType::i32: case PlyType::u32: case PlyType::f32: return 4;
+    case PlyType::f64: return 8;
+  }
+  return 1;
+}
+
+struct PlyProperty {
+  std::string name;
+  bool is_list = false;
+  PlyType count_type = PlyType::u8;
+  PlyType type = PlyType::f32;
+};
+
+struct PlyElement {
+  std::string name;
+  unsigned long long count = 0;
+  std::vector<PlyProperty> properties;
+};
+
+enum class PlyFormat { ascii, binary_le, binary_be };
+
+/// Reads the values of a PLY body, ASCII or binary.
+class PlyBody {
+ public:
+  enum Status { ok, eof, bad };
+
+  PlyBody(std::string_view data, PlyFormat format, std::size_t first_line)
+      : data_(data), format_(format), tokens_(data), first_line_(first_line) {}
+
+  Status read(PlyType t, double& v) {
+    if (format_ == PlyFormat::ascii) {
+      if (!tokens_.next(token_)) return eof;
+      return parse_double(token_, v) ? ok : bad;
+    }
+    const std::size_t n = ply_size(t);
+    if (data_.size() - pos_ < n) return eof;
+    unsigned char b[8];
+    std::memcpy(b, data_.data() + pos_, n);
+    pos_ += n;
+    if (format_ == PlyFormat::binary_be) std::reverse(b, b + n);  // to little endian
+    std::uint64_t u = 0;
+    for (std::size_t i = 0; i < n; ++i) u |= std::uint64_t(b[i]) << (8 * i);
+    switch (t) {
+      case PlyType::i8: v = static_cast<std::int8_t>(u); break;
+      case PlyType::u8: v = static_cast<std::uint8_t>(u); break;
+      case PlyType::i16: v = static_cast<std::int16_t>(u); break;
+      case PlyType::u16: v = static_cast<std::uint16_t>(u); break;
+      case PlyType::i32: v = static_cast<std::int32_t>(u); break;
+      case PlyType::u32: v = static_cast<std::uint32_t>(u); break;
+      case PlyType::f32: {
+        const auto bits = static_cast<std::uint32_t>(u);
+        float f;
+        std::memcpy(&f, &bits, sizeof f);
+        v = f;
+        break;
+      }
+      case PlyType::f64: std::memcpy(&v, &u, sizeof v); break;
+    }
+    return ok;
+  }
+
+  /// Skips `n` values of type t; false at the end of the data (or on a bad ASCII value).
+  Status skip(PlyType t, unsigned long long n) {
+    if (format_ != PlyFormat::ascii) {
+      const unsigned long long bytes = n * ply_size(t);
+      if (n > data_.size() || data_.size() - pos_ < bytes) return eof;
+      pos_ += static_cast<std::size_t>(bytes);
+      return ok;
+    }
+    double v = 0;
+    for (unsigned long long i = 0; i < n; ++i) {
+      const Status s = read(t, v);
+      if (s != ok) return s;
+    }
+    return ok;
+  }
+
+  std::size_t remaining() const {
+    return format_ == PlyFormat::ascii ? data_.size() - tokens_.offset() : data_.size() - pos_;
+  }
+  bool ascii() const { return format_ == PlyFormat::ascii; }
+  /// "line N: " for ASCII bodies, "" for binary ones.
+  std::string where() const {
+    return ascii() ? line_prefix(first_line_ + tokens_.line() - 1) : std::string();
+  }
+  std::string_view token() const { return token_; }
+
+ private:
+  std::string_view data_;
+  PlyFormat format_;
+  std::size_t pos_ = 0;
+  TokenStream tokens_;
+  std::string_view token_;
+  std::size_t first_line_;
+};
+
+TriangleSoup parse_ply(std::string_view data, const std::string& name) {
+  check_empty(data, name);
+  Lines lines(data, /*strip_comments=*/false);
+  std::string_view line;
+  std::vector<std::string_view> tok;
+  if (!lines.next(line) || (line != "ply" && line != "ply\r")) invalid(name, "not a PLY file (missing 'ply' header)");
+  bool have_format = false;
+  PlyFormat format = PlyFormat::ascii;
+  std::vector<PlyElement> elements;
+  for (;;) {
+    if (!lines.next(line)) invalid(name, "unexpected end of file in the PLY header (missing 'end_header')");
+    split(line, tok);
+    const std::string where = line_prefix(lines.number());
+    if (tok.empty()) continue;
+    if (tok[0] == "end_header") break;
+    if (tok[0] == "comment" || tok[0] == "obj_info") continue;
+    if (tok[0] == "format") {
+      if (tok.size() < 2) invalid(name, where + "'format' needs a value");
+      if (tok[1] == "ascii") format = PlyFormat::ascii;
+      else if (tok[1] == "binary_little_endian") format = PlyFormat::binary_le;
+      else if (tok[1] == "binary_big_endian") format = PlyFormat::binary_be;
+      else invalid(name, where + "unknown PLY format " + quote(tok[1]));
+      have_format = true;
+    } else if (tok[0] == "element") {
+      if (tok.size() != 3) invalid(name, where + "expected 'element <name> <count>'");
+      PlyElement e;
+      e.name = std::string(tok[1]);
+      if (!parse_unsigned(tok[2], e.count))
+        invalid(name, where + "element " + quote(tok[1]) + " has an invalid count " + quote(tok[2]));
+      for (const PlyElement& other : elements)
+        if (other.name == e.name) invalid(name, where + "element " + quote(tok[1]) + " is declared twice");
+      elements.push_back(std::move(e));
+    } else if (tok[0] == "property") {
+      if (elements.empty()) invalid(name, where + "'property' before any 'element'");
+      PlyProperty p;
+      if (tok.size() == 5 && tok[1] == "list") {
+        p.is_list = true;
+        if (!ply_type(tok[2], p.count_type)) invalid(name, where + "unknown property type " + quote(tok[2]));
+        if (!ply_type(tok[3], p.type)) invalid(name, where + "unknown property type " + quote(tok[3]));
+        p.name = std::string(tok[4]);
+      } else if (tok.size() == 3) {
+        if (!ply_type(tok[1], p.type)) invalid(name, where + "unknown property type " + quote(tok[1]));
+        p.name = std::string(tok[2]);
+      } else {
+        invalid(name, where + "expected 'property <type> <name>' or 'property list <type> <type> <name>'");
+      }
+      elements.back().properties.push_back(std::move(p));
+    } else {
+      invalid(name, where + "unexpected " + quote(tok[0]) + " in the PLY header");
+    }
+  }
+  if (!have_format) invalid(name, "the PLY header has no 'format' line");
+
+  const PlyElement* vertex_element = nullptr;
+  const PlyElement* face_element = nullptr;
+  for (const PlyElement& e : elements) {
+    if (e.name == "vertex") vertex_element = &e;
+    if (e.name == "face") face_element = &e;
+  }
+  if (vertex_element == nullptr) invalid(name, "the PLY header declares no 'vertex' element");
+  if (face_element == nullptr) invalid(name, "the PLY header declares no 'face' element (point clouds are not supported)");
+  int xyz[3] = {-1, -1, -1};
+  for (std::size_t i = 0; i < vertex_element->properties.size(); ++i) {
+    const PlyProperty& p = vertex_element->properties[i];
+    for (int c = 0; c < 3; ++c)
+      if (!p.is_list && p.name == std::string(1, char('x' + c))) xyz[c] = static_cast<int>(i);
+  }
+  for (int c = 0; c < 3; ++c)
+    if (xyz[c] < 0) invalid(name, "the PLY vertex element has no '" + std::string(1, char('x' + c)) + "' property");
+  int indices = -1;
+  for (std::size_t i = 0; i < face_element->properties.size(); ++i) {
+    const PlyProperty& p = face_element->properties[i];
+    if (p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) indices = static_cast<int>(i);
+  }
+  if (indices < 0) invalid(name, "the PLY face element has no 'vertex_indices' list property");
+
+  PlyBody body(data.substr(lines.offset()), format, lines.number() + 1);
+  TriangleSoup soup;
+  for (const PlyElement& e : elements) {
+    const bool is_vertex = &e == vertex_element;
+    const bool is_face = &e == face_element;
+    const std::string plural = is_vertex ? "vertices" : is_face ? "faces" : "entries of element " + quote(e.name);
+    std::size_t min_bytes = 0;
+    for (const PlyProperty& p : e.properties)
+      min_bytes += body.ascii() ? 2 : ply_size(p.is_list ? p.count_type : p.type);
+    if (is_vertex) soup.points.reserve(capped(e.count, body.remaining(), min_bytes));
+    if (is_face) soup.triangles.reserve(capped(e.count, body.remaining(), min_bytes));
+    for (unsigned long long i = 0; i < e.count; ++i) {
+      const auto fail = [&](PlyBody::Status s) {
+        if (s == PlyBody::eof)
+          invalid(name, "unexpected end of file after " + std::to_string(i) + " of " + std::to_string(e.count) + " " + plural);
+        invalid(name, body.where() + quote(body.token()) + " is not a number");
+      };
+      Point3d point{};
+      std::array<std::size_t, 3> triangle{};
+      for (std::size_t k = 0; k < e.properties.size(); ++k) {
+        const PlyProperty& p = e.properties[k];
+        double v = 0;
+        if (!p.is_list) {
+          if (const auto s = body.read(p.type, v); s != PlyBody::ok) fail(s);
+          if (is_vertex)
+            for (int c = 0; c < 3; ++c)
+              if (xyz[c] == static_cast<int>(k)) point[c] = v;
+          continue;
+        }
+        if (const auto s = body.read(p.count_type, v); s != PlyBody::ok) fail(s);
+        if (!(v >= 0 && v <= 4294967295.0 && v == std::floor(v)))
+          invalid(name, body.where() + std::string(is_face ? "face " : "entry ") + std::to_string(i) +
+                            " has an invalid list length " + quote(body.ascii() ? body.token() : std::to_string(v)));
+        const auto n = static_cast<unsigned long long>(v);
+        if (!is_face || static_cast<int>(k) != indices) {
+          if (const auto s = body.skip(p.type, n); s != PlyBody::ok) fail(s);
+          continue;
+        }
+        if (n != 3)
+          invalid(name, "face " + std::to_string(i) + " has " + std::to_string(n) + " vertices; only triangles are supported");
+        for (int c = 0; c < 3; ++c) {
+          if (const auto s = body.read(p.type, v); s != PlyBody::ok) fail(s);
+          if (v != std::floor(v) || !std::isfinite(v))
+            invalid(name, body.where() + "face " + std::to_string(i) + " has a vertex index that is not an integer");
+          if (v < 0 || v >= 18446744073709551615.0)
+            invalid(name, "face " + std::to_string(i) + " has a vertex index " + std::to_string(static_cast<long long>(v)) +
+                              " out of range (mesh has " + std::to_string(vertex_element->count) + " vertices)");
+          triangle[c] = static_cast<std::size_t>(v);
+        }
+      }
+      if (is_vertex) {
+        if (!finite3(point)) invalid(name, "vertex " + std::to_string(i) + " has a non-finite coordinate");
+        soup.points.push_back(point);
+      }
+      if (is_face) soup.triangles.push_back(triangle);
+    }
+  }
+  const std::size_t nv = soup.points.size();
+  for (std::size_t f = 0; f < soup.triangles.size(); ++f)
+    for (std::size_t index : soup.triangles[f])
+      if (index >= nv)
+        invalid(name, "face " + std::to_string(f) + " has a vertex index " + std::to_string(index) +
+                          " out of range (mesh has " + std::to_string(nv) + " vertices)");
+  return soup;
+}
+
+// ------------------------------------------------------------------ validation helpers
+
+class UnionFind {
+ public:
+  explicit UnionFind(std::size_t n) : parent_(n) {
+    for (std::size_t i = 0; i < n; ++i) parent_[i] = i;
+  }
+  std::size_t find(std::size_t x) {
+    while (parent_[x] != x) {
+      parent_[x] = parent_[parent_[x]];
+      x = parent_[x];
+    }
+    return x;
+  }
+  void unite(std::size_t a, std::size_t b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+  }
+
+ private:
+  std::vector<std::size_t> parent_;
+};
+
+std::string edge_text(std::size_t a, std::size_t b) {
+  return "(" + std::to_string(a) + ", " + std::to_string(b) + ")";
+}
+
+// ------------------------------------------------------------------ writing
+
+void check_indices(const TriangleSoup& soup, const std::string& name) {
+  const std::size_t nv = soup.points.size();
+  for (std::size_t f = 0; f < soup.triangles.size(); ++f)
+    for (std::size_t index : soup.triangles[f])
+      if (index >= nv)
+        invalid(name, "face " + std::to_string(f) + " has a vertex index " + std::to_string(index) +
+                          " out of range (mesh has " + std::to_string(nv) + " vertices)");
+}
+
+void write_point(std::ostream& out, const Point3d& p) { out << p[0] << ' ' << p[1] << ' ' << p[2]; }
+
+void write_off(std::ostream& out, const TriangleSoup& soup) {
+  out << "OFF\n" << soup.points.size() << ' ' << soup.triangles.size() << " 0\n";
+  for (const Point3d& p : soup.points) {
+    write_point(out, p);
+    out << '\n';
+  }
+  for (const auto& t : soup.triangles) out << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+}
+
+void write_obj(std::ostream& out, const TriangleSoup& soup) {
+  out << "# written by seam\n";
+  for (const Point3d& p : soup.points) {
+    out << "v ";
+    write_point(out, p);
+    out << '\n';
+  }
+  for (const auto& t : soup.triangles) out << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
+}
+
+void write_ply(std::ostream& out, const TriangleSoup& soup) {
+  out << "ply\nformat ascii 1.0\ncomment written by seam\n"
+      << "element vertex " << soup.points.size() << '\n'
+      << "property double x\nproperty double y\nproperty double z\n"
+      << "element face " << soup.triangles.size() << '\n'
+      << "property list uchar int vertex_indices\nend_header\n";
+  for (const Point3d& p : soup.points) {
+    write_point(out, p);
+    out << '\n';
+  }
+  for (const auto& t : soup.triangles) out << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+}
+
+void write_stl(std::ostream& out, const TriangleSoup& soup) {
+  out << "solid seam\n";
+  for (const auto& t : soup.triangles) {
+    const Point3d& a = soup.points[t[0]];
+    const Point3d& b = soup.points[t[1]];
+    const Point3d& c = soup.points[t[2]];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    Point3d n{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (len > 0 && std::isfinite(len))
+      for (double& x : n) x /= len;
+    else
+      n = {0.0, 0.0, 0.0};
+    out << "  facet normal ";
+    write_point(out, n);
+    out << "\n    outer loop\n";
+    for (const Point3d* p : {&a, &b, &c}) {
+      out << "      vertex ";
+      write_point(out, *p);
+      out << '\n';
+    }
+    out << "    endloop\n  endfacet\n";
+  }
+  out << "endsolid seam\n";
+}
+
+}  // namespace
+
+// ================================================================== public functions
+
+TriangleSoup read_triangle_mesh(const std::string& path) {
+  const std::string ext = extension_of(path);
+  if (ext != ".off" && ext != ".obj" && ext != ".ply" && ext != ".stl") unknown_format(path, ext);
+  const std::string data = read_file(path);
+  TriangleSoup soup;
+  if (ext == ".off") soup = parse_off(data, path);
+  else if (ext == ".obj") soup = parse_obj(data, path);
+  else if (ext == ".ply") soup = parse_ply(data, path);
+  else soup = parse_stl(data, path);
+  validate_triangle_mesh(soup, path);
+  return soup;
+}
+
+void validate_triangle_mesh(const TriangleSoup& soup, const std::string& name) {
+  const std::size_t nv = soup.points.size();
+  const std::size_t nf = soup.triangles.size();
+  if (nf == 0) invalid(name, "mesh has no triangles");
+  for (std::size_t i = 0; i < nv; ++i)
+    if (!finite3(soup.points[i])) invalid(name, "vertex " + std::to_string(i) + " has a non-finite coordinate");
+
+  // Per face: indices in range, no repeated vertex, non-zero area (exact test).
+  for (std::size_t f = 0; f < nf; ++f) {
+    const auto& t = soup.triangles[f];
+    for (std::size_t index : t)
+      if (index >= nv)
+        invalid(name, "face " + std::to_string(f) + " has a vertex index " + std::to_string(index) +
+                          " out of range (mesh has " + std::to_string(nv) + " vertices)");
+    for (int a = 0; a < 3; ++a)
+      for (int b = a + 1; b < 3; ++b)
+        if (t[a] == t[b]) invalid(name, "face " + std::to_string(f) + " repeats vertex " + std::to_string(t[a]));
+    using P = Filtered::Point_3;
+    const auto point = [&](std::size_t i) { return P(soup.points[i][0], soup.points[i][1], soup.points[i][2]); };
+    if (CGAL::collinear(point(t[0]), point(t[1]), point(t[2])))
+      invalid(name, "face " + std::to_string(f) + " has zero area (its vertices are collinear)");
+  }
+
+  // Edges: at most two faces each, in opposite directions.
+  struct HalfEdge {
+    std::size_t lo, hi, face;
+    bool forward;  // the face goes lo -> hi
+  };
+  std::vector<HalfEdge> edges;
+  edges.reserve(3 * nf);
+  for (std::size_t f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t u = soup.triangles[f][k], v = soup.triangles[f][(k + 1) % 3];
+      edges.push_back({std::min(u, v), std::max(u, v), f, u < v});
+    }
+  std::sort(edges.begin(), edges.end(), [](const HalfEdge& a, const HalfEdge& b) {
+    return std::tie(a.lo, a.hi, a.face) < std::tie(b.lo, b.hi, b.face);
+  });
+  // Corners (3 f + k) around the same vertex, joined through the edges shared by two faces.
+  UnionFind fans(3 * nf);
+  const auto corner = [&](std::size_t f, std::size_t v) {
+    const auto& t = soup.triangles[f];
+    return 3 * f + (t[0] == v ? 0 : t[1] == v ? 1 : 2);
+  };
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i + 1;
+    while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
+    const HalfEdge& a = edges[i];
+    if (j - i > 2)
+      invalid(name, "edge " + edge_text(a.lo, a.hi) + " is shared by " + std::to_string(j - i) +
+                        " faces (non-manifold)");
+    if (j - i == 2) {
+      const HalfEdge& b = edges[i + 1];
+      if (a.forward == b.forward)
+        invalid(name, "faces " + std::to_string(a.face) + " and " + std::to_string(b.face) + " use edge " +
+                          (a.forward ? edge_text(a.lo, a.hi) : edge_text(a.hi, a.lo)) +
+                          " in the same direction (inconsistent orientation)");
+      fans.unite(corner(a.face, a.lo), corner(b.face, a.lo));
+      fans.unite(corner(a.face, a.hi), corner(b.face, a.hi));
+    }
+    i = j;
+  }
+  // Every vertex's corners must form one fan.
+  std::vector<std::pair<std::size_t, std::size_t>> vertex_fan;  // (vertex, fan root)
+  vertex_fan.reserve(3 * nf);
+  for (std::size_t f = 0; f < nf; ++f)
+    for (std::size_t k = 0; k < 3; ++k) vertex_fan.emplace_back(soup.triangles[f][k], fans.find(3 * f + k));
+  std::sort(vertex_fan.begin(), vertex_fan.end());
+  vertex_fan.erase(std::unique(vertex_fan.begin(), vertex_fan.end()), vertex_fan.end());
+  for (std::size_t i = 0; i < vertex_fan.size();) {
+    std::size_t j = i + 1;
+    while (j < vertex_fan.size() && vertex_fan[j].first == vertex_fan[i].first) ++j;
+    if (j - i > 1)
+      invalid(name, "vertex " + std::to_string(vertex_fan[i].first) + " is non-manifold (its faces form " +
+                        std::to_string(j - i) + " separate fans)");
+    i = j;
+  }
+}
+
+std::vector<std::vector<Point3d>> read_polylines(const std::string& path) {
+  const std::string data = read_file(path);
+  if (data.empty()) invalid(path, "file is empty (no polyline found)");
+  reject_binary(data, path, "polyline");
+  Lines lines(data);
+  std::string_view line;
+  std::vector<std::string_view> tok;
+  std::vector<std::vector<Point3d>> result;
+  while (lines.next_nonblank(line)) {
+    split(line, tok);
+    const std::string where = line_prefix(lines.number());
+    unsigned long long n = 0;
+    if (!parse_unsigned(tok[0], n)) {
+      double d = 0;
+      if (parse_double(tok[0], d))
+        invalid(path, where + "the point count " + quote(tok[0]) + " is not a non-negative integer");
+      invalid(path, where + quote(tok[0]) + " is not a number");
+    }
+    if (n < 2) invalid(path, where + "polyline needs at least 2 points");
+    const std::size_t found = tok.size() - 1;
+    if (n > found || 3 * n != found) {
+      const unsigned long long max = std::numeric_limits<unsigned long long>::max();
+      invalid(path, where + "expected " + (n <= max / 3 ? std::to_string(3 * n) : std::to_string(n) + " x 3") +
+                        " coordinates after the count " + std::to_string(n) + ", found " + std::to_string(found));
+    }
+    std::vector<Point3d> polyline(n);
+    for (std::size_t i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) {
+        const std::string_view t = tok[1 + 3 * i + c];
+        if (!parse_double(t, polyline[i][c])) invalid(path, where + quote(t) + " is not a number");
+        if (!std::isfinite(polyline[i][c])) invalid(path, where + "non-finite coordinate");
+      }
+    result.push_back(std::move(polyline));
+  }
+  if (result.empty()) invalid(path, "no polyline found");
+  return result;
+}
+
+void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
+  static std::atomic<unsigned long> counter{0};
+  const std::string tmp = path + ".tmp." + std::to_string(static_cast<long>(::getpid())) + "." +
+                          std::to_string(counter.fetch_add(1));
+  const auto fail = [&](const std::string& reason) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw IOError(path + ": cannot write (" + reason + ")");
+  };
+  std::ofstream out;
+  errno = 0;
+  out.open(tmp, std::ios::out | std::ios::binary | std::ios::trunc);
+  if (!out) fail(errno_text(errno));
+  out.imbue(std::locale::classic());
+  try {
+    write(out);
+  } catch (...) {
+    out.close();
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw;
+  }
+  errno = 0;
+  out.flush();
+  if (!out) fail(errno_text(errno));
+  out.close();
+  if (!out) fail(errno_text(errno));
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) fail(ec.message());
+}
+
+void write_triangle_mesh(const TriangleSoup& soup, const std::string& path) {
+  const std::string ext = extension_of(path);
+  void (*writer)(std::ostream&, const TriangleSoup&) = nullptr;
+  if (ext == ".off") writer = write_off;
+  else if (ext == ".obj") writer = write_obj;
+  else if (ext == ".ply") writer = write_ply;
+  else if (ext == ".stl") writer = write_stl;
+  else unknown_format(path, ext);
+  check_indices(soup, path);
+  write_file_atomically(path, [&](std::ostream& out) {
+    out << std::setprecision(17);
+    writer(out, soup);
+  });
+}
+
+void write_polylines(const std::vector<std::vector<Point3d>>& polylines, const std::string& path) {
+  write_file_atomically(path, [&](std::ostream& out) {
+    out << std::setprecision(17);
+    for (const auto& polyline : polylines) {
+      out << polyline.size();
+      for (const Point3d& p : polyline) out << ' ' << p[0] << ' ' << p[1] << ' ' << p[2];
+      out << '\n';
+    }
+  });
+}
+
+// ================================================================== kernel conversions
+
+template <class K> Mesh<K> mesh_from_soup(const TriangleSoup& soup, const std::string& name) {
+  using Point = typename K::Point_3;
+  using VI = typename Mesh<K>::Vertex_index;
+  const std::size_t n = soup.points.size();
+  std::vector<char> used(n, 0);
+  for (std::size_t f = 0; f < soup.triangles.size(); ++f) {
+    const auto& t = soup.triangles[f];
+    for (std::size_t index : t) {
+      if (index >= n)
+        invalid(name, "face " + std::to_string(f) + " has a vertex index " + std::to_string(index) +
+                          " out of range (mesh has " + std::to_string(n) + " vertices)");
+      used[index] = 1;
+    }
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
+      invalid(name, "face " + std::to_string(f) + " repeats vertex " + std::to_string(t[0] == t[1] ? t[0] : t[2]));
+  }
+  const auto nv = static_cast<std::size_t>(std::count(used.begin(), used.end(), 1));
+  Mesh<K> mesh;
+  mesh.reserve(static_cast<typename Mesh<K>::size_type>(nv),
+               static_cast<typename Mesh<K>::size_type>(nv + soup.triangles.size()),
+               static_cast<typename Mesh<K>::size_type>(soup.triangles.size()));
+  std::vector<VI> vertex(n);
+  for (std::size_t i = 0; i < n; ++i)
+    if (used[i]) vertex[i] = mesh.add_vertex(Point(soup.points[i][0], soup.points[i][1], soup.points[i][2]));
+  for (std::size_t f = 0; f < soup.triangles.size(); ++f) {
+    const auto& t = soup.triangles[f];
+    if (mesh.add_face(vertex[t[0]], vertex[t[1]], vertex[t[2]]) == Mesh<K>::null_face())
+      invalid(name, "face " + std::to_string(f) + " cannot be added (non-manifold configuration)");
+  }
+  return mesh;
+}
+
+template <class K> TriangleSoup soup_from_mesh(const Mesh<K>& mesh) {
+  TriangleSoup soup;
+  constexpr std::size_t none = std::numeric_limits<std::size_t>::max();
+  std::vector<std::size_t> index(mesh.num_vertices(), none);  // also counts removed vertices
+  soup.points.reserve(mesh.number_of_vertices());
+  for (auto v : mesh.vertices()) {
+    index[static_cast<std::size_t>(v)] = soup.points.size();
+    const auto& p = mesh.point(v);
+    soup.points.push_back({CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())});
+  }
+  soup.triangles.reserve(mesh.number_of_faces());
+  for (auto f : mesh.faces()) {
+    std::array<std::size_t, 3> t{};
+    std::size_t k = 0;
+    const auto h0 = mesh.halfedge(f);
+    auto h = h0;
+    do {
+      if (k < 3) t[k] = index[static_cast<std::size_t>(mesh.target(h))];
+      ++k;
+      h = mesh.next(h);
+    } while (h != h0 && k <= 3);
+    if (k != 3)
+      throw InvalidInput("soup_from_mesh: face " + std::to_string(static_cast<std::size_t>(f)) +
+                         " is not a triangle");
+    soup.triangles.push_back(t);
+  }
+  return soup;
+}
+
+template <class K> std::vector<Polyline<K>> to_kernel(const std::vector<std::vector<Point3d>>& polylines) {
+  std::vector<Polyline<K>> result;
+  result.reserve(polylines.size());
+  for (const auto& polyline : polylines) {
+    Polyline<K> out;
+    out.reserve(polyline.size());
+    for (const Point3d& p : polyline) out.emplace_back(p[0], p[1], p[2]);
+    result.push_back(std::move(out));
+  }
+  return result;
+}
+
+template <class K> std::vector<std::vector<Point3d>> to_doubles(const std::vector<Polyline<K>>& polylines) {
+  std::vector<std::vector<Point3d>> result;
+  result.reserve(polylines.size());
+  for (const auto& polyline : polylines) {
+    std::vector<Point3d> out;
+    out.reserve(polyline.size());
+    for (const auto& p : polyline) out.push_back({CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())});
+    result.push_back(std::move(out));
+  }
+  return result;
+}
+
+#define SEAM_INSTANTIATE_IO(K)                                                                     \
+  template Mesh<K> mesh_from_soup<K>(const TriangleSoup&, const std::string&);                     \
+  template TriangleSoup soup_from_mesh<K>(const Mesh<K>&);                                         \
+  template std::vector<Polyline<K>> to_kernel<K>(const std::vector<std::vector<Point3d>>&);        \
+  template std::vector<std::vector<Point3d>> to_doubles<K>(const std::vector<Polyline<K>>&);
+
+SEAM_INSTANTIATE_IO(Exact)
+SEAM_INSTANTIATE_IO(Filtered)
+SEAM_INSTANTIATE_IO(Float)
+
+#undef SEAM_INSTANTIATE_IO
+
+}  // namespace seam

@@ -1,0 +1,304 @@
+// seam, pipeline steps 2-3: locate curve nodes and follow the curve across the mesh.
+// See seam/internal/trace.h for the method and what is exact.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/internal/trace.h>
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace seam::internal {
+
+namespace {
+
+using DK = CGAL::Exact_predicates_inexact_constructions_kernel;  // the AABB search runs on doubles
+using DTriangle = DK::Triangle_3;
+using DIterator = std::vector<DTriangle>::const_iterator;
+using DPrimitive = CGAL::AABB_triangle_primitive<DK, DIterator>;
+using DTree = CGAL::AABB_tree<CGAL::AABB_traits<DK, DPrimitive>>;
+
+template <class P> DK::Point_3 to_dpoint(const P& p) {
+  return DK::Point_3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+}
+
+template <class K> class Tracer {
+  using T = MeshTypes<K>;
+  using V = typename T::V;
+  using E = typename T::E;
+  using F = typename T::F;
+  using Point = typename K::Point_3;
+  using Vector = typename K::Vector_3;
+  using FT = typename K::FT;
+  using SP = SurfacePoint<K>;
+
+ public:
+  explicit Tracer(const Mesh<K>& mesh) : m_(mesh) {
+    triangles_.reserve(mesh.number_of_faces());
+    for (F f : mesh.faces()) {
+      auto h = mesh.halfedge(f);
+      triangles_.emplace_back(to_dpoint(mesh.point(mesh.source(h))), to_dpoint(mesh.point(mesh.target(h))),
+                              to_dpoint(mesh.point(mesh.target(mesh.next(h)))));
+    }
+    tree_.insert(triangles_.begin(), triangles_.end());
+    tree_.build();
+    tree_.accelerate_distance_queries();
+  }
+
+  /// Projects q onto the closest face and classifies the projection. `distance` gets the
+  /// (rounded) distance from q to the surface.
+  SP locate(const Point& q, double& distance) const {
+    const auto dq = to_dpoint(q);
+    const auto [dp, it] = tree_.closest_point_and_primitive(dq);
+    distance = std::sqrt(CGAL::to_double(CGAL::squared_distance(dq, dp)));
+    const F f(static_cast<typename F::size_type>(it - triangles_.begin()));
+    auto h = m_.halfedge(f);
+    const V va = m_.source(h), vb = m_.target(h), vc = m_.target(m_.next(h));
+    const Point &a = m_.point(va), &b = m_.point(vb), &c = m_.point(vc);
+    // The closest point of the triangle, constructed in the kernel (exact under Epeck).
+    Point p = typename K::Construct_projected_point_3()(typename K::Triangle_3(a, b, c), q);
+    make_exact(p);
+    SP sp;
+    sp.p = p;
+    if (p == a || p == b || p == c) {
+      sp.where = Where::vertex;
+      sp.v = (p == a) ? va : (p == b) ? vb : vc;
+      sp.p = m_.point(sp.v);
+      return sp;
+    }
+    const std::pair<V, V> sides[3] = {{va, vb}, {vb, vc}, {vc, va}};
+    for (const auto& [s, t] : sides) {
+      if (CGAL::collinear(m_.point(s), m_.point(t), p)) {
+        sp.where = Where::edge;
+        sp.e = m_.edge(m_.halfedge(s, t));
+        return sp;
+      }
+    }
+    sp.where = Where::face;
+    sp.f = f;
+    return sp;
+  }
+
+  /// Unnormalised outward normal of face f (exact under Epeck).
+  Vector face_normal(F f) const {
+    auto h = m_.halfedge(f);
+    const Point& a = m_.point(m_.source(h));
+    return CGAL::cross_product(m_.point(m_.target(h)) - a, m_.point(m_.target(m_.next(h))) - a);
+  }
+
+  Vector normal_at(const SP& sp) const {
+    Vector n = CGAL::NULL_VECTOR;
+    for (F f : incident_faces<K>(m_, sp)) n = n + face_normal(f);
+    return n;
+  }
+
+  /// Appends the path from P (excluded) to Q (included) to `points`/`faces`. False on failure.
+  bool walk(const SP& P, const SP& Q, const Vector& n, std::vector<SP>& points, std::vector<F>& faces) const {
+    const Point R = P.p + n;
+    if (n == CGAL::NULL_VECTOR || CGAL::collinear(P.p, Q.p, R)) return false;
+    // Side of the cutting plane through P, Q and R, cached per vertex (exact predicate).
+    std::unordered_map<std::size_t, CGAL::Orientation> side_cache;
+    auto side = [&](V w) {
+      auto [it, inserted] = side_cache.try_emplace(std::size_t(w), CGAL::COPLANAR);
+      if (inserted) it->second = CGAL::orientation(P.p, Q.p, R, m_.point(w));
+      return it->second;
+    };
+    const Vector plane_normal = CGAL::cross_product(Q.p - P.p, R - P.p);
+
+    auto common_face = [&](const SP& x) -> F {
+      for (F f : incident_faces<K>(m_, x))
+        if (face_contains<K>(m_, f, Q)) return f;
+      return Mesh<K>::null_face();
+    };
+
+    SP cur = P, prev = P;
+    bool has_prev = false;
+    std::unordered_set<std::size_t> used;
+    const std::size_t limit = m_.number_of_faces() + 8;
+    for (std::size_t step = 0; step < limit; ++step) {
+      if (F g = common_face(cur); g != Mesh<K>::null_face()) {
+        points.push_back(Q);
+        faces.push_back(g);
+        return true;
+      }
+      const Vector to_q = Q.p - cur.p;
+      bool found = false;
+      SP best;
+      F best_face;
+      FT best_score = 0;
+      for (F f : incident_faces<K>(m_, cur)) {
+        if (used.count(std::size_t(f))) continue;
+        for (auto h : CGAL::halfedges_around_face(m_.halfedge(f), m_)) {
+          const V s = m_.source(h), t = m_.target(h);
+          const E e = m_.edge(h);
+          SP cand;
+          const CGAL::Orientation ss = side(s), st = side(t);
+          if (st == CGAL::COPLANAR) {
+            cand.where = Where::vertex;
+            cand.v = t;
+            cand.p = m_.point(t);
+            if (cur.where == Where::vertex && cur.v == t) continue;
+          } else if (ss != CGAL::COPLANAR && ss != st) {
+            if (cur.where == Where::edge && cur.e == e) continue;
+            // Exact intersection of edge (s, t) with the plane: s + (t - s) * ds / (ds - dt).
+            const Point &ps = m_.point(s), &pt = m_.point(t);
+            const FT ds = plane_normal * (ps - P.p), dt = plane_normal * (pt - P.p);
+            Point x = ps + (pt - ps) * (ds / (ds - dt));
+            make_exact(x);
+            cand.where = Where::edge;
+            cand.e = e;
+            cand.p = x;
+          } else {
+            continue;
+          }
+          if (has_prev && cand.same_as(prev)) continue;
+          const Vector d = cand.p - cur.p;
+          const FT dd = d * d;
+          if (CGAL::is_zero(dd)) continue;
+          const FT dot = d * to_q;
+          const FT score = (CGAL::is_negative(dot) ? -dot * dot : dot * dot) / dd;  // signed cos^2 * |to_q|^2
+          if (!found || score > best_score) {
+            found = true;
+            best = cand;
+            best_face = f;
+            best_score = score;
+          }
+        }
+      }
+      if (!found) return false;
+      points.push_back(best);
+      faces.push_back(best_face);
+      used.insert(std::size_t(best_face));
+      prev = cur;
+      has_prev = true;
+      cur = best;
+    }
+    return false;
+  }
+
+  /// Path from P to Q, trying the normals of P's faces, of Q's faces and their sum.
+  bool connect(const SP& P, const SP& Q, std::vector<SP>& points, std::vector<F>& faces, std::size_t& retries) const {
+    for (F f : incident_faces<K>(m_, P))
+      if (face_contains<K>(m_, f, Q)) {
+        points.push_back(Q);
+        faces.push_back(f);
+        return true;
+      }
+    const Vector np = normal_at(P), nq = normal_at(Q);
+    const Vector normals[3] = {np, nq, np + nq};
+    for (int i = 0; i < 3; ++i) {
+      const std::size_t n0 = points.size();
+      if (walk(P, Q, normals[i], points, faces)) {
+        if (i > 0) ++retries;
+        return true;
+      }
+      points.resize(n0);
+      faces.resize(n0);
+    }
+    return false;
+  }
+
+ private:
+  const Mesh<K>& m_;
+  std::vector<DTriangle> triangles_;
+  DTree tree_;
+};
+
+template <class P> std::string describe_point(const P& p) {
+  std::ostringstream out;
+  out.precision(17);
+  out << "(" << CGAL::to_double(p.x()) << ", " << CGAL::to_double(p.y()) << ", " << CGAL::to_double(p.z()) << ")";
+  return out.str();
+}
+
+}  // namespace
+
+template <class K>
+std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<Polyline<K>>& curves,
+                                         double max_distance, TraceReport& report) {
+  using Clock = std::chrono::steady_clock;
+  auto t0 = Clock::now();
+  Tracer<K> tracer(mesh);
+
+  // Locate every node.
+  std::vector<std::vector<SurfacePoint<K>>> located(curves.size());
+  for (std::size_t c = 0; c < curves.size(); ++c) {
+    const auto& curve = curves[c];
+    const std::size_t n = is_closed(curve) ? curve.size() - 1 : curve.size();
+    located[c].reserve(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      double distance = 0;
+      located[c].push_back(tracer.locate(curve[i], distance));
+      if (!(distance <= max_distance)) {
+        std::ostringstream msg;
+        msg << "curve " << c << " node " << i << " " << describe_point(curve[i]) << " is " << distance
+            << " from the surface (max distance " << max_distance << ")";
+        throw InvalidInput(msg.str());
+      }
+    }
+  }
+  auto t1 = Clock::now();
+
+  // Follow each curve from node to node.
+  std::vector<TracedCurve<K>> traced(curves.size());
+  for (std::size_t c = 0; c < curves.size(); ++c) {
+    const auto& nodes = located[c];
+    TracedCurve<K>& tc = traced[c];
+    tc.closed = is_closed(curves[c]);
+    const std::size_t n = nodes.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      if (tc.points.empty()) {
+        tc.points.push_back(nodes[i]);
+        tc.input_node.push_back(long(i));
+        continue;
+      }
+      if (tc.points.back().same_as(nodes[i])) continue;  // duplicate node on the surface
+      const std::size_t before = tc.points.size();
+      if (!tracer.connect(tc.points.back(), nodes[i], tc.points, tc.step_face, report.retries)) {
+        std::ostringstream msg;
+        msg << "could not follow curve " << c << " on the surface from node " << (i - 1) << " to node " << i;
+        throw InternalError(msg.str());
+      }
+      tc.input_node.resize(tc.points.size(), -1);
+      tc.input_node.back() = long(i);
+      (void)before;
+    }
+    if (tc.closed && tc.points.size() > 1) {
+      // Close the loop back to the first point.
+      if (!tc.points.back().same_as(tc.points.front())) {
+        const auto first = tc.points.front();
+        if (!tracer.connect(tc.points.back(), first, tc.points, tc.step_face, report.retries)) {
+          std::ostringstream msg;
+          msg << "could not close curve " << c << " on the surface";
+          throw InternalError(msg.str());
+        }
+        tc.input_node.resize(tc.points.size(), -1);
+        tc.input_node.back() = 0;
+      }
+      // Drop the repeated first point: the loop is implied by `closed`.
+      tc.points.pop_back();
+      tc.input_node.pop_back();
+      // step_face keeps the closing step: size == points.size() for a closed curve.
+    }
+    if (tc.points.size() < 2) {
+      std::ostringstream msg;
+      msg << "curve " << c << " has no length on the surface (all its nodes project to one point)";
+      throw InvalidInput(msg.str());
+    }
+  }
+  auto t2 = Clock::now();
+  report.locate_seconds = std::chrono::duration<double>(t1 - t0).count();
+  report.cross_seconds = std::chrono::duration<double>(t2 - t1).count();
+  return traced;
+}
+
+template std::vector<TracedCurve<Exact>> trace_curves<Exact>(const Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double, TraceReport&);
+template std::vector<TracedCurve<Filtered>> trace_curves<Filtered>(const Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double, TraceReport&);
+template std::vector<TracedCurve<Float>> trace_curves<Float>(const Mesh<Float>&, const std::vector<Polyline<Float>>&, double, TraceReport&);
+
+}  // namespace seam::internal

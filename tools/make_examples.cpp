@@ -1,0 +1,54 @@
+// make_examples: writes the example input files of seam from the generated tow geometry.
+//
+//   examples/tow.off               an elliptical crimped tow (seam::make_tow, 60 x 24 segments)
+//   examples/ring.polylines.txt    a tilted ring curve on its smooth surface (1999 samples)
+//
+// Usage (from the repository root):  make_examples [output-directory]   (default: examples)
+//
+// Not part of the CMake build; build it by hand from the repository root, e.g.
+//   g++ -std=c++17 -O2 -Iinclude tools/make_examples.cpp src/generate.cpp src/io.cpp -o /tmp/make_examples -lgmp -lmpfr
+//
+// SPDX-License-Identifier: GPL-3.0-or-later
+
+#include <seam/generate.h>
+
+#include <exception>
+#include <iostream>
+#include <string>
+#include <vector>
+
+int main(int argc, char** argv) {
+  if (argc > 2) {
+    std::cerr << "usage: " << argv[0] << " [output-directory]\n";
+    return 2;
+  }
+  const std::string dir = argc == 2 ? argv[1] : "examples";
+  try {
+    seam::TowOptions tow;  // defaults: length 10, semi-axes 1 x 0.35, crimp 0.3 over 10
+    tow.section = seam::Section::elliptical;
+    tow.segments_along = 60;
+    tow.segments_around = 24;
+    const seam::TriangleSoup mesh = seam::make_tow(tow);
+
+    // Stations are 10/60 apart: s = 4.9 +- 0.4 is on none of them, so the curve crosses faces.
+    // 1999 samples (prime, coprime with 24): apart from the first one (phi = 0), no sample is at
+    // the angle of a ring of vertices, where it would lie on (near s = 5, where the path is
+    // straight, exactly on, up to rounding) a mesh edge along the path.
+    const double s_center = 4.9, tilt = 0.4;
+    const int samples = 1999;
+    const std::vector<std::vector<seam::Point3d>> curves = {
+        seam::make_ring_curve(tow, s_center, tilt, samples)};
+
+    const std::string mesh_path = dir + "/tow.off";
+    const std::string curve_path = dir + "/ring.polylines.txt";
+    seam::write_triangle_mesh(mesh, mesh_path);  // 17 significant digits, atomic
+    seam::write_polylines(curves, curve_path);
+    std::cout << mesh_path << ": " << mesh.points.size() << " vertices, " << mesh.triangles.size()
+              << " triangles\n"
+              << curve_path << ": 1 closed polyline, " << curves[0].size() << " points\n";
+  } catch (const std::exception& e) {
+    std::cerr << "make_examples: " << e.what() << '\n';
+    return 1;
+  }
+  return 0;
+}
