@@ -3,9 +3,6 @@
 #include <seam/internal/retriangulate.h>
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
-#include <CGAL/Delaunay_mesh_face_base_2.h>
-#include <CGAL/Delaunay_mesh_vertex_base_2.h>
-#include <CGAL/Delaunay_mesher_no_edge_refinement_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <cmath>
@@ -18,68 +15,127 @@ namespace seam::internal {
 
 namespace {
 
-/// Delaunay refinement criteria: smallest angle (as sin^2) and largest area. The area test uses
-/// rounded values: it only decides which triangles to split further.
-template <class CDT> class AngleAreaCriteria {
- public:
-  using Face_handle = typename CDT::Face_handle;
-  struct Quality {
-    double sine2 = 1;      // squared sine of the smallest angle
-    double area_ratio = 0;  // area / max_area (0 when unbounded)
-    // q1 < q2: q1 is refined first. Oversized faces first, then the worst shaped.
-    bool operator<(const Quality& q) const {
-      if (area_ratio > 1 || q.area_ratio > 1) return area_ratio > q.area_ratio;
-      return sine2 < q.sine2;
-    }
-  };
-
-  class Is_bad {
-   public:
-    Is_bad(double sine2_bound, double max_area) : B_(sine2_bound), max_area_(max_area) {}
-    CGAL::Mesh_2::Face_badness operator()(const Quality& q) const {
-      if (q.area_ratio > 1) return CGAL::Mesh_2::IMPERATIVELY_BAD;
-      if (q.sine2 < B_) return CGAL::Mesh_2::BAD;
-      return CGAL::Mesh_2::NOT_BAD;
-    }
-    CGAL::Mesh_2::Face_badness operator()(const Face_handle& fh, Quality& q) const {
-      const auto& pa = fh->vertex(0)->point();
-      const auto& pb = fh->vertex(1)->point();
-      const auto& pc = fh->vertex(2)->point();
-      const double area = std::abs(CGAL::to_double(CGAL::area(pa, pb, pc)));
-      const double a = CGAL::to_double(CGAL::squared_distance(pb, pc));
-      const double b = CGAL::to_double(CGAL::squared_distance(pc, pa));
-      const double c = CGAL::to_double(CGAL::squared_distance(pa, pb));
-      // sin^2 of the angle opposite the shortest side: (2 area)^2 / (product of the two others)
-      const double four_area2 = 4 * area * area;
-      if (a < b)
-        q.sine2 = a < c ? four_area2 / (b * c) : four_area2 / (a * b);
-      else
-        q.sine2 = b < c ? four_area2 / (a * c) : four_area2 / (a * b);
-      q.area_ratio = max_area_ > 0 ? area / max_area_ : 0;
-      return operator()(q);
-    }
-
-   private:
-    double B_, max_area_;
-  };
-
-  AngleAreaCriteria(double min_angle_deg, double max_area)
-      : B_(std::pow(std::sin(min_angle_deg * M_PI / 180.0), 2)), max_area_(max_area) {}
-  Is_bad is_bad_object() const { return Is_bad(B_, max_area_); }
-
- private:
-  double B_, max_area_;
-};
-
 template <class K> struct Cdt {
-  using Vb0 = CGAL::Triangulation_vertex_base_with_info_2<long, K>;
-  using Vb = CGAL::Delaunay_mesh_vertex_base_2<K, Vb0>;
-  using Fb = CGAL::Delaunay_mesh_face_base_2<K>;
+  using Vb = CGAL::Triangulation_vertex_base_with_info_2<long, K>;
+  using Fb = CGAL::Constrained_triangulation_face_base_2<K>;
   using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
   using type = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::Exact_predicates_tag>;
 };
 
 constexpr long kNoId = std::numeric_limits<long>::min();
+
+/// Faces of the CDT outside the region bounded by the constraints: reachable from the infinite
+/// face without crossing a constraint.
+template <class CDT> std::set<const void*> outside_faces(const CDT& cdt) {
+  std::set<const void*> outside{&*cdt.infinite_face()};
+  std::vector<typename CDT::Face_handle> queue{cdt.infinite_face()};
+  while (!queue.empty()) {
+    auto fh = queue.back();
+    queue.pop_back();
+    for (int i = 0; i < 3; ++i) {
+      auto nb = fh->neighbor(i);
+      if (fh->is_constrained(i) || outside.count(&*nb)) continue;
+      outside.insert(&*nb);
+      queue.push_back(nb);
+    }
+  }
+  return outside;
+}
+
+template <class P> std::array<double, 2> xy(const P& p) { return {CGAL::to_double(p.x()), CGAL::to_double(p.y())}; }
+
+double angle_at(const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& c) {
+  const double ux = b[0] - a[0], uy = b[1] - a[1], vx = c[0] - a[0], vy = c[1] - a[1];
+  return std::atan2(std::abs(ux * vy - uy * vx), ux * vx + uy * vy) * 180.0 / M_PI;
+}
+
+template <class CDT> double min_angle_in_domain(const CDT& cdt) {
+  const auto outside = outside_faces(cdt);
+  double worst = 180;
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+    if (outside.count(&*f)) continue;
+    const auto a = xy(f->vertex(0)->point()), b = xy(f->vertex(1)->point()), c = xy(f->vertex(2)->point());
+    worst = std::min({worst, angle_at(a, b, c), angle_at(b, c, a), angle_at(c, a, b)});
+  }
+  return worst;
+}
+
+/// Delaunay refinement that never splits a constrained edge (the face's edges and the curve).
+/// CGAL's Delaunay_mesher_no_edge_refinement_2 rejects every point that encroaches on a
+/// constrained edge, and in a face bounded by constraints on all sides every circumcenter does,
+/// so it inserts nothing. Here each bad triangle (smallest angle below the bound, or area above
+/// max_area) gets an off-center (Ungor): on the bisector of its shortest edge pq, at the apex of
+/// the equilateral triangle on pq, or the circumcenter when that is closer to pq. The point is
+/// inserted only when it falls strictly inside a triangle of the domain, so never on a
+/// constraint. Angles forced by two constraints meeting at a vertex are left alone. The point's
+/// coordinates are rounded to double (the lift to 3D is exact, see the header).
+template <class CDT>
+void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, std::size_t max_steiner) {
+  using Point2 = typename CDT::Point;
+  using FT = typename CDT::Geom_traits::FT;
+  std::set<std::array<const void*, 3>> given_up;
+  auto key = [](typename CDT::Face_handle f) {
+    std::array<const void*, 3> k{&*f->vertex(0), &*f->vertex(1), &*f->vertex(2)};
+    std::sort(k.begin(), k.end());
+    return k;
+  };
+  for (std::size_t inserted = 0; inserted < max_steiner;) {
+    const auto outside = outside_faces(cdt);
+    typename CDT::Face_handle worst;
+    double worst_angle = 180, worst_area_ratio = 0;
+    for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+      if (outside.count(&*f) || given_up.count(key(f))) continue;
+      const auto a = xy(f->vertex(0)->point()), b = xy(f->vertex(1)->point()), c = xy(f->vertex(2)->point());
+      const double angle = std::min({angle_at(a, b, c), angle_at(b, c, a), angle_at(c, a, b)});
+      const double area = 0.5 * std::abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+      const double ratio = max_area > 0 ? area / max_area : 0;
+      const bool bad = angle < min_angle_deg || ratio > 1;
+      if (!bad) continue;
+      const bool worse = worst == typename CDT::Face_handle()
+                             ? true
+                             : (ratio > 1 || worst_area_ratio > 1) ? ratio > worst_area_ratio : angle < worst_angle;
+      if (worse) worst = f, worst_angle = angle, worst_area_ratio = ratio;
+    }
+    if (worst == typename CDT::Face_handle()) return;
+
+    // Shortest edge pq, opposite vertex r.
+    std::array<std::array<double, 2>, 3> v;
+    for (int i = 0; i < 3; ++i) v[i] = xy(worst->vertex(i)->point());
+    int r = 0;
+    double shortest = std::numeric_limits<double>::max();
+    for (int i = 0; i < 3; ++i) {
+      const auto &p = v[(i + 1) % 3], &q = v[(i + 2) % 3];
+      const double len = std::hypot(q[0] - p[0], q[1] - p[1]);
+      if (len < shortest) shortest = len, r = i;
+    }
+    const auto &p = v[(r + 1) % 3], &q = v[(r + 2) % 3], &o = v[r];
+    const bool angle_bad = worst_angle < min_angle_deg;
+    // The small angle sits at r, between edges rp and rq: forced when both are constraints.
+    if (angle_bad && worst_area_ratio <= 1 && worst->is_constrained((r + 1) % 3) && worst->is_constrained((r + 2) % 3)) {
+      given_up.insert(key(worst));
+      continue;
+    }
+    const auto cc = xy(CGAL::circumcenter(worst->vertex(0)->point(), worst->vertex(1)->point(), worst->vertex(2)->point()));
+    const double mx = 0.5 * (p[0] + q[0]), my = 0.5 * (p[1] + q[1]);
+    double nx = -(q[1] - p[1]), ny = q[0] - p[0];  // normal of pq, towards r
+    if (nx * (o[0] - mx) + ny * (o[1] - my) < 0) nx = -nx, ny = -ny;
+    const double nlen = std::hypot(nx, ny);
+    const double h = shortest * std::sqrt(3.0) / 2;
+    std::array<double, 2> cand{mx + nx / nlen * h, my + ny / nlen * h};
+    if (std::hypot(cc[0] - mx, cc[1] - my) < h) cand = cc;
+    const Point2 P{FT{cand[0]}, FT{cand[1]}};
+    typename CDT::Locate_type lt;
+    int li;
+    auto fh = cdt.locate(P, lt, li, worst);
+    if (lt != CDT::FACE || cdt.is_infinite(fh) || outside.count(&*fh)) {
+      given_up.insert(key(worst));
+      continue;
+    }
+    cdt.insert(P, fh);
+    ++inserted;
+  }
+}
+
 
 }  // namespace
 
@@ -169,18 +225,11 @@ FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const Retriangul
       input_vertices.insert(&*vit);
 
     const double max_area_2d = options.max_area > 0 ? options.max_area * CGAL::to_double(uu) : 0.0;
-    using Criteria = AngleAreaCriteria<CDT>;
-    CGAL::Delaunay_mesher_no_edge_refinement_2<CDT, Criteria> mesher(
-        refined, Criteria(std::min(options.min_angle_deg, 60.0), max_area_2d));
-    mesher.init();  // no seeds: the whole triangle (the convex hull) is the domain
-    const std::size_t n0 = refined.number_of_vertices();
-    std::size_t steps = 0;
-    while (!mesher.is_refinement_done() && refined.number_of_vertices() - n0 < options.max_steiner &&
-           steps < 16 * options.max_steiner) {
-      mesher.step_by_step_refine_mesh();
-      ++steps;
-    }
-    if (check(refined, refined_constraints)) {
+    const double before = min_angle_in_domain(refined);
+    refine_without_splitting(refined, std::min(options.min_angle_deg, 60.0), max_area_2d, options.max_steiner);
+    const double after = min_angle_in_domain(refined);
+    // Keep the refinement when it did not make the worst angle worse (or an area bound asks for it).
+    if (check(refined, refined_constraints) && (after >= before || max_area_2d > 0)) {
       for (auto vit = refined.finite_vertices_begin(); vit != refined.finite_vertices_end(); ++vit)
         if (!input_vertices.count(&*vit)) vit->info() = kNoId;
       cdt = std::move(refined);
@@ -197,7 +246,11 @@ FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const Retriangul
     patch.steiner_points.push_back(to_3d(vit->point()));
     steiner_ref[&*vit] = -long(patch.steiner_points.size());
   }
+  // The patch is the region bounded by the constraints. Under rounded kernels a crossing point
+  // may fall just inside its edge, leaving a sliver between the edge and the convex hull.
+  const auto outside = outside_faces(cdt);
   for (auto fit = cdt.finite_faces_begin(); fit != cdt.finite_faces_end(); ++fit) {
+    if (outside.count(&*fit)) continue;
     std::array<long, 3> tri;
     for (int i = 0; i < 3; ++i) {
       auto vh = fit->vertex(i);

@@ -9,11 +9,15 @@
 // Input points are never lifted: the patch refers to them by id.
 //
 // Constraints: the three edges split at their points, and the curve segments inside the face.
-// Refinement: CGAL::Delaunay_mesher_no_edge_refinement_2, whose points must fall strictly inside
-// a triangle of the domain and must not encroach on a constrained edge, so no point is ever put
-// on an edge of the face or on the curve. Criteria: the smallest angle at least min_angle_deg,
-// and, when max_area > 0, the area at most max_area. At most max_steiner points. If the refined
-// triangulation fails a check (possible under the float kernel), the unrefined one is used.
+// Refinement: Delaunay refinement by off-centers that never splits a constrained edge: every
+// new point falls strictly inside a triangle of the domain, so no point is ever put on an edge of
+// the face or on the curve. (CGAL::Delaunay_mesher_no_edge_refinement_2 was the first choice, but
+// it refuses every point that encroaches on a constrained edge, and inside a face bounded by
+// constraints on all sides that is every circumcenter: it inserts nothing.) Criteria: smallest
+// angle at least min_angle_deg, and, when max_area > 0, area at most max_area; at most
+// max_steiner points. Angles forced by two constraints meeting at a vertex are left alone. The
+// refinement is kept only if every constraint is still an edge and the worst angle did not get
+// worse (or an area bound was asked for).
 //
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
