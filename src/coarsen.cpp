@@ -81,6 +81,19 @@ CoarsenOutput<K> coarsen_curves(const Mesh<K>& mesh, const std::vector<TracedCur
     for (std::size_t i = 0; i < n; ++i) xyz[i] = dbl(pts[i].p);
     std::vector<char> kept(n, 0);
     for (std::size_t i = 0; i < n; ++i) kept[i] = pts[i].where != Where::face;
+    // A point inside an edge with both neighbours on that same edge is not a crossing: the
+    // curve runs along the edge there. Drop it (the edge is not split).
+    auto on_edge_e = [&](const SurfacePoint<K>& x, typename MeshTypes<K>::E e) {
+      if (x.where == Where::edge) return x.e == e;
+      if (x.where == Where::vertex) return x.v == mesh.vertex(e, 0) || x.v == mesh.vertex(e, 1);
+      return false;
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+      if (pts[i].where != Where::edge || (!closed && (i == 0 || i + 1 == n)) || n < 3) continue;
+      const auto& before = pts[(i + n - 1) % n];
+      const auto& after = pts[(i + 1) % n];
+      if (on_edge_e(before, pts[i].e) && on_edge_e(after, pts[i].e)) kept[i] = 0;
+    }
     if (!closed && n > 0) kept.front() = kept.back() = 1;
 
     auto farthest = [&](std::size_t a, std::size_t b, std::size_t skip) {
@@ -135,6 +148,7 @@ CoarsenOutput<K> coarsen_curves(const Mesh<K>& mesh, const std::vector<TracedCur
       auto [a, b] = stack.back();
       stack.pop_back();
       if ((a + 1) % n == b) continue;  // no interior node
+      if (pts[(a + 1) % n].where != Where::face) continue;  // dropped points along an edge
       const auto f = pts[(a + 1) % n].f;
       std::size_t keep = n;
       if (pts[a].same_as(pts[b])) {
@@ -177,7 +191,8 @@ CoarsenOutput<K> coarsen_curves(const Mesh<K>& mesh, const std::vector<TracedCur
       const std::size_t a = k[j], b = last ? k.front() : k[j + 1];
       // face of the step leaving a (the same face holds the whole run when it has nodes)
       const auto f = tc.step_face[a];
-      const bool along_edge = (a + 1) % n == b && on_common_edge<K>(mesh, f, pts[a], pts[b]);
+      const bool run_on_edges = (a + 1) % n != b && pts[(a + 1) % n].where == Where::edge;
+      const bool along_edge = run_on_edges || ((a + 1) % n == b && on_common_edge<K>(mesh, f, pts[a], pts[b]));
       cc.segment_face.push_back(along_edge ? Mesh<K>::null_face() : f);
     }
     out.curves.push_back(std::move(cc));

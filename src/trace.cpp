@@ -150,9 +150,18 @@ template <class K> class Tracer {
             const FT ds = plane_normal * (ps - P.p), dt = plane_normal * (pt - P.p);
             Point x = ps + (pt - ps) * (ds / (ds - dt));
             make_exact(x);
-            cand.where = Where::edge;
-            cand.e = e;
-            cand.p = x;
+            if (x == ps || x == pt) {
+              // Only with rounded constructions: the crossing rounded onto an end point of the
+              // edge. Take that vertex, so that no two curve points coincide.
+              cand.where = Where::vertex;
+              cand.v = (x == ps) ? s : t;
+              cand.p = m_.point(cand.v);
+              if (cur.where == Where::vertex && cur.v == cand.v) continue;
+            } else {
+              cand.where = Where::edge;
+              cand.e = e;
+              cand.p = x;
+            }
           } else {
             continue;
           }
@@ -182,7 +191,8 @@ template <class K> class Tracer {
   }
 
   /// Path from P to Q, trying the normals of P's faces, of Q's faces and their sum.
-  bool connect(const SP& P, const SP& Q, std::vector<SP>& points, std::vector<F>& faces, std::size_t& retries) const {
+  /// P and Q are taken by value: P is usually points.back(), which the walk reallocates.
+  bool connect(const SP P, const SP Q, std::vector<SP>& points, std::vector<F>& faces, std::size_t& retries) const {
     for (F f : incident_faces<K>(m_, P))
       if (face_contains<K>(m_, f, Q)) {
         points.push_back(Q);
