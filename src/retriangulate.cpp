@@ -213,11 +213,11 @@ FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const Retriangul
     throw InternalError(msg.str() + " (rounded arithmetic)");
   }
 
-  FacePatch<K> patch;
+  bool patch_refinement_undone = false, refined_ok = false;
+  CDT refined;
   const bool refine = options.min_angle_deg > 0 || options.max_area > 0;
   if (refine && options.max_steiner > 0) {
     // Refine a second copy; keep it only if every constraint survived as an edge.
-    CDT refined;
     std::vector<std::pair<VH, VH>> refined_constraints;
     build(refined, refined_constraints);
     std::set<const void*> input_vertices;
@@ -232,31 +232,58 @@ FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const Retriangul
     if (check(refined, refined_constraints) && (after >= before || max_area_2d > 0)) {
       for (auto vit = refined.finite_vertices_begin(); vit != refined.finite_vertices_end(); ++vit)
         if (!input_vertices.count(&*vit)) vit->info() = kNoId;
-      cdt = std::move(refined);
+      refined_ok = true;
     } else {
-      patch.refinement_undone = true;
+      patch_refinement_undone = true;
     }
   }
 
-  // Number the Steiner points and emit the triangles (CDT faces are counterclockwise in the
-  // frame, which is the face's own orientation).
-  std::map<const void*, long> steiner_ref;
-  for (auto vit = cdt.finite_vertices_begin(); vit != cdt.finite_vertices_end(); ++vit) {
-    if (vit->info() != kNoId) continue;
-    patch.steiner_points.push_back(to_3d(vit->point()));
-    steiner_ref[&*vit] = -long(patch.steiner_points.size());
-  }
-  // The patch is the region bounded by the constraints. Under rounded kernels a crossing point
-  // may fall just inside its edge, leaving a sliver between the edge and the convex hull.
-  const auto outside = outside_faces(cdt);
-  for (auto fit = cdt.finite_faces_begin(); fit != cdt.finite_faces_end(); ++fit) {
-    if (outside.count(&*fit)) continue;
-    std::array<long, 3> tri;
-    for (int i = 0; i < 3; ++i) {
-      auto vh = fit->vertex(i);
-      tri[i] = vh->info() != kNoId ? vh->info() : steiner_ref.at(&*vh);
+  // Emit a triangulation as a patch: number its Steiner points, keep the faces inside the
+  // constraints (under rounded kernels a crossing point may fall just inside its edge, leaving a
+  // sliver between the edge and the convex hull), in the face's orientation (counterclockwise in
+  // the frame).
+  std::map<long, Point3> input_point;
+  for (const auto& [id, p] : points) input_point[id] = p;
+  auto emit = [&](CDT& tr, FacePatch<K>& patch) {
+    std::map<const void*, long> steiner_ref;
+    for (auto vit = tr.finite_vertices_begin(); vit != tr.finite_vertices_end(); ++vit) {
+      if (vit->info() != kNoId) continue;
+      patch.steiner_points.push_back(to_3d(vit->point()));
+      steiner_ref[&*vit] = -long(patch.steiner_points.size());
     }
-    patch.triangles.push_back(tri);
+    const auto outside = outside_faces(tr);
+    for (auto fit = tr.finite_faces_begin(); fit != tr.finite_faces_end(); ++fit) {
+      if (outside.count(&*fit)) continue;
+      std::array<long, 3> tri;
+      for (int i = 0; i < 3; ++i) {
+        auto vh = fit->vertex(i);
+        tri[i] = vh->info() != kNoId ? vh->info() : steiner_ref.at(&*vh);
+      }
+      patch.triangles.push_back(tri);
+    }
+    // Every new triangle must be non-degenerate and oriented like the face in 3D. Always true
+    // under the exact kernel; checked because rounded constructions can break it.
+    auto point_of = [&](long r) -> const Point3& {
+      return r >= 0 ? input_point.at(r) : patch.steiner_points[std::size_t(-r - 1)];
+    };
+    for (const auto& t : patch.triangles) {
+      const Point3 &p0 = point_of(t[0]), &p1 = point_of(t[1]), &p2 = point_of(t[2]);
+      if (CGAL::collinear(p0, p1, p2) || !CGAL::is_positive(CGAL::cross_product(p1 - p0, p2 - p0) * n)) return false;
+    }
+    return true;
+  };
+  FacePatch<K> patch;
+  if (refined_ok) {
+    if (emit(refined, patch)) return patch;
+    patch = FacePatch<K>();
+    patch_refinement_undone = true;
+  }
+  patch.refinement_undone = patch_refinement_undone;
+  if (!emit(cdt, patch)) {
+    std::ostringstream msg;
+    msg << "rounded arithmetic produced a flat or flipped triangle in the face with corners " << face.corner_ids[0]
+        << ", " << face.corner_ids[1] << ", " << face.corner_ids[2];
+    throw InternalError(msg.str());
   }
   return patch;
 }

@@ -79,6 +79,47 @@ template <class K> class Tracer {
         return sp;
       }
     }
+    if constexpr (!kernel_traits<K>::exact_constructions) {
+      // Rounded constructions: a projection onto the boundary of the triangle comes back a
+      // rounding error off it, so the exact tests above miss it. Classify by barycentric
+      // coordinates instead, with a relative tolerance of 1e-9 (a node that close to an edge is
+      // put on it; this is the only tolerance, and it exists only without exact constructions).
+      const double A[3] = {CGAL::to_double(a.x()), CGAL::to_double(a.y()), CGAL::to_double(a.z())};
+      const double B[3] = {CGAL::to_double(b.x()), CGAL::to_double(b.y()), CGAL::to_double(b.z())};
+      const double C[3] = {CGAL::to_double(c.x()), CGAL::to_double(c.y()), CGAL::to_double(c.z())};
+      const double P[3] = {CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())};
+      auto cross_norm = [](const double* o, const double* u, const double* w) {
+        const double x1 = u[0] - o[0], y1 = u[1] - o[1], z1 = u[2] - o[2];
+        const double x2 = w[0] - o[0], y2 = w[1] - o[1], z2 = w[2] - o[2];
+        const double cx = y1 * z2 - z1 * y2, cy = z1 * x2 - x1 * z2, cz = x1 * y2 - y1 * x2;
+        return std::sqrt(cx * cx + cy * cy + cz * cz);
+      };
+      const double area = cross_norm(A, B, C);
+      const double la = cross_norm(P, B, C) / area, lb = cross_norm(P, C, A) / area, lc = cross_norm(P, A, B) / area;
+      const double eps = 1e-9;
+      const int small = (la < eps) + (lb < eps) + (lc < eps);
+      if (small >= 2) {
+        sp.where = Where::vertex;
+        sp.v = la >= eps ? va : lb >= eps ? vb : vc;
+        sp.p = m_.point(sp.v);
+        return sp;
+      }
+      if (small == 1) {
+        const V s = la < eps ? vb : lb < eps ? vc : va;
+        const V t = la < eps ? vc : lb < eps ? va : vb;
+        sp.where = Where::edge;
+        sp.e = m_.edge(m_.halfedge(s, t));
+        // the projection onto the edge's line (rounded)
+        const auto& ps = m_.point(s);
+        const auto& pt = m_.point(t);
+        sp.p = ps + (pt - ps) * (((p - ps) * (pt - ps)) / (pt - ps).squared_length());
+        if (sp.p == ps || sp.p == pt) {
+          sp.where = Where::vertex;
+          sp.v = sp.p == ps ? s : t;
+        }
+        return sp;
+      }
+    }
     sp.where = Where::face;
     sp.f = f;
     return sp;
