@@ -18,25 +18,19 @@ python3 - "$out/report.json" <<'PY'
 import json
 import sys
 
-with open(sys.argv[1]) as f:
-    report = json.load(f)
-
-# The report format is still being designed: print the keys we know about, if any, else all.
-known = [
-    "kernel", "status", "input", "output",
-    "input_faces", "output_faces", "input_vertices", "output_vertices",
-    "new_faces", "new_vertices", "curves", "curve_points", "curve_edges",
-    "snapped", "max_snap_distance", "max_deviation", "timings", "time_seconds",
-]
-shown = [k for k in known if isinstance(report, dict) and k in report]
-if shown:
-    width = max(len(k) for k in shown)
-    for k in shown:
-        v = report[k]
-        text = json.dumps(v) if isinstance(v, (dict, list)) else str(v)
-        print(f"  {k:<{width}}  {text}")
-else:
-    print(json.dumps(report, indent=2, sort_keys=True))
+r = json.load(open(sys.argv[1]))
+c, f, q, s = r["curve"], r["faces"], r["quality"], r["snap"]
+print(f"  kernel               {r['kernel']}")
+print(f"  mesh                 {r['input']['faces']} faces in, {r['output']['faces']} faces out")
+print(f"  curve                {c['nodes_in']} nodes in, {c['nodes_out']} embedded vertices "
+      f"({c['crossing_points']} crossing points, {c['at_mesh_vertices']} at mesh vertices)")
+print(f"  snapping             {s['vertices_snapped']} vertices moved (largest move {s['max_move']:.3g}), "
+      f"{s['snaps_refused']} refused")
+print(f"  re-triangulation     {f['crossed']} faces -> {f['added']} new faces, {f['steiner_points']} Steiner points")
+print(f"  quality (new faces)  min angle {q['min_angle_deg']:.2f} deg, {q['below_20']} below 20 deg, "
+      f"{q['below_10']} below 10 deg (input faces: min {q['input_min_angle_deg']:.2f} deg)")
+print(f"  curve moved by       at most {c['max_deviation']:.3g}")
+print(f"  time                 " + ", ".join(f"{k} {v*1000:.1f} ms" for k, v in r["seconds"].items()))
 PY
 echo
 echo "Outputs (in $PWD/$out):"
