@@ -2,7 +2,8 @@
 //
 // Exit codes: 0 success; 2 bad input or usage (one line on stderr: "seam: FILE: problem");
 // 3 internal failure ("seam: internal error: ..."). Outputs are written to a temporary file and
-// renamed, so a failed run leaves no partial file; an output path equal to an input is refused.
+// renamed, and a failed run removes the outputs it already wrote, so it leaves no output; an
+// output path equal to an input or to another output is refused.
 //
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/embed.h>
@@ -13,9 +14,13 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
 
 namespace {
 
@@ -33,18 +38,49 @@ seam::KernelKind parse_kernel(const std::string& k) {
   return seam::KernelKind::exact;
 }
 
-/// Refuses an output path that names one of the inputs (never overwrite an input).
+/// Whether two paths name the same file: the same existing file, or the same normalised absolute
+/// path (an error computing either, e.g. a permission problem, is not a match).
+bool same_path(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  if (fs::exists(a, ec) && fs::exists(b, ec) && fs::equivalent(a, b, ec)) return true;
+  // weakly_canonical leaves a relative path none of whose prefixes exists relative: make it absolute.
+  const auto normal = [](const std::string& p, std::error_code& e) {
+    const fs::path abs = fs::absolute(p, e);
+    return e ? fs::path() : fs::weakly_canonical(abs, e);
+  };
+  std::error_code ea, eb;
+  const fs::path ca = normal(a, ea), cb = normal(b, eb);
+  return !ea && !eb && ca == cb;
+}
+
+/// Refuses an output path that names one of the inputs (never overwrite an input), or another
+/// output (one would silently replace the other).
 void refuse_overwrite(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs) {
-  for (const auto& out : outputs) {
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    const auto& out = outputs[i];
     if (out.empty()) continue;
-    std::error_code ec;
-    for (const auto& in : inputs) {
-      if (fs::exists(out, ec) && fs::equivalent(in, out, ec))
+    for (const auto& in : inputs)
+      if (same_path(in, out))
         throw seam::InvalidInput(out + ": output path is the input " + in + " (refusing to overwrite an input)");
-      if (fs::weakly_canonical(in, ec) == fs::weakly_canonical(out, ec))
-        throw seam::InvalidInput(out + ": output path is the input " + in + " (refusing to overwrite an input)");
-    }
+    for (std::size_t j = 0; j < i; ++j)
+      if (!outputs[j].empty() && same_path(outputs[j], out))
+        throw seam::InvalidInput(out + ": the same path is given for two outputs (" + outputs[j] + ")");
   }
+}
+
+/// Checks the options' ranges before any file is read, so that the message names the option
+/// (seam::embed checks them too, but its errors are reported against the curves file).
+void check_options(const seam::EmbedOptions& o) {
+  const auto bad = [](const char* option, double value, const char* expected) {
+    std::ostringstream msg;
+    msg << option << " " << value << ": out of range (" << expected << ")";
+    throw seam::InvalidInput(msg.str());
+  };
+  if (!std::isfinite(o.snap_tol)) bad("--snap-tol", o.snap_tol, "must be finite");
+  if (!std::isfinite(o.max_distance)) bad("--max-distance", o.max_distance, "must be finite");
+  if (!(o.curve_tol >= 0) || !std::isfinite(o.curve_tol)) bad("--curve-tol", o.curve_tol, "must be finite, >= 0");
+  if (!(o.min_angle_deg >= 0 && o.min_angle_deg <= 60)) bad("--min-angle", o.min_angle_deg, "degrees, 0 to 60");
+  if (!(o.max_area >= 0) || !std::isfinite(o.max_area)) bad("--max-area", o.max_area, "must be finite, >= 0");
 }
 
 nlohmann::json stats_json(const seam::EmbedStats& s) {
@@ -75,6 +111,7 @@ nlohmann::json stats_json(const seam::EmbedStats& s) {
 }
 
 int run_embed(const EmbedArgs& a) {
+  check_options(a.options);
   refuse_overwrite({a.mesh, a.curves}, {a.out, a.curves_out, a.report});
   const auto t0 = Clock::now();
   seam::TriangleSoup soup = seam::read_triangle_mesh(a.mesh);
@@ -92,15 +129,29 @@ int run_embed(const EmbedArgs& a) {
       throw seam::InvalidInput(a.curves + ": " + e.what());
     }
     const auto t1 = Clock::now();
-    seam::write_triangle_mesh(seam::soup_from_mesh<K>(mesh), a.out);
-    if (!a.curves_out.empty()) seam::write_polylines(seam::to_doubles<K>(result.curves), a.curves_out);
     auto stats = result.stats;
     stats.stage_seconds["read"] = read_seconds;
-    stats.stage_seconds["write"] = std::chrono::duration<double>(Clock::now() - t1).count();
-    if (!a.report.empty()) {
-      nlohmann::json j = stats_json(stats);
-      j["files"] = {{"mesh", a.mesh}, {"curves", a.curves}, {"out", a.out}};
-      seam::write_file_atomically(a.report, [&](std::ostream& os) { os << j.dump(2) << "\n"; });
+    // A failed run leaves no output: if one output cannot be written, remove those already written.
+    std::vector<std::string> written;
+    try {
+      seam::write_triangle_mesh(seam::soup_from_mesh<K>(mesh), a.out);
+      written.push_back(a.out);
+      if (!a.curves_out.empty()) {
+        seam::write_polylines(seam::to_doubles<K>(result.curves), a.curves_out);
+        written.push_back(a.curves_out);
+      }
+      stats.stage_seconds["write"] = std::chrono::duration<double>(Clock::now() - t1).count();
+      if (!a.report.empty()) {
+        nlohmann::json j = stats_json(stats);
+        j["files"] = {{"mesh", a.mesh}, {"curves", a.curves}, {"out", a.out}};
+        // File names need not be UTF-8: replace invalid bytes rather than throw.
+        const std::string text = j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
+        seam::write_file_atomically(a.report, [&](std::ostream& os) { os << text << "\n"; });
+      }
+    } catch (...) {
+      std::error_code ignored;
+      for (const auto& path : written) fs::remove(path, ignored);
+      throw;
     }
     const auto& s = stats;
     std::cout << "seam embed: " << s.curves << " curve(s), " << s.curve_nodes_in << " nodes -> " << s.curve_nodes_out
