@@ -31,9 +31,10 @@ to_ms = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}
 stages = ["snap", "locate", "cross", "coarsen", "retriangulate", "splice"]
 whole = {}  # kernel -> whole-embed real time (ms)
 
+print("whole-embed real time (ms) and mean stage times (s) over the iterations")
 print("%-9s %10s  %s  %8s %8s %8s %9s" % (
-    "kernel", "embed ms", " ".join("%8s" % (s[:8] + "_s") for s in stages),
-    "crossed", "cpoints", "new_f", "min_ang"))
+    "kernel", "embed_ms", " ".join("%8s" % s[:8] for s in stages),
+    "crossed", "crossing", "new", "min_angle"))
 for b in report.get("benchmarks", []):
     if b.get("run_type", "iteration") != "iteration":
         continue

@@ -66,7 +66,10 @@ bool CurvePoints<K>::Less::operator()(const SurfacePoint<K>& a, const SurfacePoi
 
 template <class K> std::size_t CurvePoints<K>::id(const SurfacePoint<K>& sp) {
   auto [it, inserted] = index_.try_emplace(sp, points.size());
-  if (inserted) points.push_back(sp);
+  if (inserted) {
+    points.push_back(sp);
+    make_exact(points.back().p);  // a kept point: cut its lazy expression tree once
+  }
   return it->second;
 }
 

@@ -61,8 +61,10 @@ template <class K> class Tracer {
     const V va = m_.source(h), vb = m_.target(h), vc = m_.target(m_.next(h));
     const Point &a = m_.point(va), &b = m_.point(vb), &c = m_.point(vc);
     // The closest point of the triangle, constructed in the kernel (exact under Epeck).
+    // Not made exact here: most located nodes are dropped by coarsening, and forcing the exact
+    // value of each projection dominated the run time. The points that are kept are made exact
+    // when coarsening registers them (CurvePoints::id).
     Point p = typename K::Construct_projected_point_3()(typename K::Triangle_3(a, b, c), q);
-    make_exact(p);
     SP sp;
     sp.p = p;
     if (p == a || p == b || p == c) {
