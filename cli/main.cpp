@@ -68,20 +68,6 @@ void refuse_overwrite(const std::vector<std::string>& inputs, const std::vector<
   }
 }
 
-/// Checks the options' ranges before any file is read, so that the message names the option
-/// (seam::embed checks them too, but its errors are reported against the curves file).
-void check_options(const seam::EmbedOptions& o) {
-  const auto bad = [](const char* option, double value, const char* expected) {
-    std::ostringstream msg;
-    msg << option << " " << value << ": out of range (" << expected << ")";
-    throw seam::InvalidInput(msg.str());
-  };
-  if (!std::isfinite(o.snap_tol)) bad("--snap-tol", o.snap_tol, "must be finite");
-  if (!std::isfinite(o.max_distance)) bad("--max-distance", o.max_distance, "must be finite");
-  if (!(o.curve_tol >= 0) || !std::isfinite(o.curve_tol)) bad("--curve-tol", o.curve_tol, "must be finite, >= 0");
-  if (!(o.min_angle_deg >= 0 && o.min_angle_deg <= 60)) bad("--min-angle", o.min_angle_deg, "degrees, 0 to 60");
-  if (!(o.max_area >= 0) || !std::isfinite(o.max_area)) bad("--max-area", o.max_area, "must be finite, >= 0");
-}
 
 nlohmann::json stats_json(const seam::EmbedStats& s) {
   nlohmann::json j;
@@ -111,7 +97,7 @@ nlohmann::json stats_json(const seam::EmbedStats& s) {
 }
 
 int run_embed(const EmbedArgs& a) {
-  check_options(a.options);
+  seam::validate_options(a.options);  // before reading anything
   refuse_overwrite({a.mesh, a.curves}, {a.out, a.curves_out, a.report});
   const auto t0 = Clock::now();
   seam::TriangleSoup soup = seam::read_triangle_mesh(a.mesh);

@@ -29,6 +29,19 @@ template <class K> double mean_edge_length(const Mesh<K>& mesh) {
   return count ? sum / double(count) : 0.0;
 }
 
+void validate_options(const EmbedOptions& o) {
+  const auto bad = [](const char* option, double value, const char* expected) {
+    std::ostringstream msg;
+    msg << option << " " << value << ": out of range (" << expected << ")";
+    throw InvalidInput(msg.str());
+  };
+  if (!std::isfinite(o.snap_tol)) bad("--snap-tol", o.snap_tol, "must be finite");
+  if (!std::isfinite(o.max_distance)) bad("--max-distance", o.max_distance, "must be finite");
+  if (!(o.curve_tol >= 0) || !std::isfinite(o.curve_tol)) bad("--curve-tol", o.curve_tol, "must be finite, >= 0");
+  if (!(o.min_angle_deg >= 0 && o.min_angle_deg <= 60)) bad("--min-angle", o.min_angle_deg, "degrees, 0 to 60");
+  if (!(o.max_area >= 0) || !std::isfinite(o.max_area)) bad("--max-area", o.max_area, "must be finite, >= 0");
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -77,12 +90,7 @@ EmbedResult<K> embed(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, cons
   // ---- options and preconditions
   if (!CGAL::is_triangle_mesh(mesh) || mesh.is_empty()) throw InvalidInput("the mesh is not a triangle mesh");
   if (mesh.has_garbage()) mesh.collect_garbage();
-  auto finite_nonneg = [](double x) { return std::isfinite(x); };
-  if (!finite_nonneg(options.snap_tol) || !finite_nonneg(options.max_distance) ||
-      !(options.curve_tol >= 0) || !std::isfinite(options.curve_tol) || !(options.min_angle_deg >= 0) ||
-      !(options.min_angle_deg <= 60) || !(options.max_area >= 0) || !std::isfinite(options.max_area))
-    throw InvalidInput("option out of range (snap-tol, max-distance, curve-tol, max-area must be finite; "
-                       "min-angle in [0, 60])");
+  validate_options(options);
   for (std::size_t c = 0; c < curves.size(); ++c) {
     if (curves[c].size() < 2) {
       std::ostringstream msg;

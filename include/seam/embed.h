@@ -107,6 +107,10 @@ template <class K>
 EmbedResult<K> embed(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves,
                      const EmbedOptions& options = {});
 
+/// Throws InvalidInput naming the first option out of range (lengths finite, curve_tol and
+/// max_area >= 0, min_angle_deg in [0, 60]). embed() calls it; a CLI can call it before reading.
+void validate_options(const EmbedOptions& options);
+
 /// Mean edge length of a mesh (rounded), the unit of the automatic options.
 template <class K> double mean_edge_length(const Mesh<K>& mesh);
 
