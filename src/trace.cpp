@@ -191,8 +191,7 @@ template <class K> class Tracer {
             // Exact intersection of edge (s, t) with the plane: s + (t - s) * ds / (ds - dt).
             const Point &ps = m_.point(s), &pt = m_.point(t);
             const FT ds = plane_normal * (ps - P.p), dt = plane_normal * (pt - P.p);
-            Point x = ps + (pt - ps) * (ds / (ds - dt));
-            make_exact(x);
+            const Point x = ps + (pt - ps) * (ds / (ds - dt));  // made exact once chosen
             if (x == ps || x == pt) {
               // Only with rounded constructions: the crossing rounded onto an end point of the
               // edge. Take that vertex, so that no two curve points coincide.
@@ -223,6 +222,7 @@ template <class K> class Tracer {
         }
       }
       if (!found) return false;
+      make_exact(best.p);  // the walk goes on from it and the curve keeps it
       points.push_back(best);
       faces.push_back(best_face);
       used.insert(std::size_t(best_face));
@@ -311,7 +311,6 @@ std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<
         continue;
       }
       if (tc.points.back().same_as(nodes[i])) continue;  // duplicate node on the surface
-      const std::size_t before = tc.points.size();
       if (!tracer.connect(tc.points.back(), nodes[i], tc.points, tc.step_face, report.retries)) {
         std::ostringstream msg;
         msg << "could not follow curve " << c << " on the surface from node " << (i - 1) << " to node " << i;
@@ -319,7 +318,6 @@ std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<
       }
       tc.input_node.resize(tc.points.size(), -1);
       tc.input_node.back() = long(i);
-      (void)before;
     }
     if (tc.closed && tc.points.size() > 1) {
       // Close the loop back to the first point.
