@@ -24,6 +24,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "test_support.h"
+
 #ifndef SEAM_CLI_PATH
 #error "SEAM_CLI_PATH (path of the seam binary) must be defined by the build"
 #endif
@@ -41,48 +43,19 @@ namespace {
 const std::string example_mesh = SEAM_SOURCE_DIR "/examples/tow.off";
 const std::string example_curves = SEAM_SOURCE_DIR "/examples/ring.polylines.txt";
 
-std::string read_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void write_bytes(const std::string& path, const std::string& content) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << content;
-  out.close();
-  REQUIRE(out.good());
-}
-
-std::vector<std::string> entries(const fs::path& dir) {
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
+using seam_test::entries;
+using seam_test::read_bytes;
+using seam_test::write_bytes;
 
 /// A fresh directory under the system's temporary directory, removed with its content, with
 /// three subdirectories: in/ (input files), out/ (outputs: must stay empty after a failed run)
 /// and log/ (the tool's stdout and stderr).
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    static int counter = 0;
-    std::random_device rd;
-    path = fs::temp_directory_path() /
-           ("seam_test_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) + "_" +
-            std::to_string(rd()));
+struct TempDir : seam_test::TempDir {
+  TempDir() : seam_test::TempDir("seam_test_cli") {
     fs::create_directories(path / "in");
     fs::create_directories(path / "out");
     fs::create_directories(path / "log");
   }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
 
   std::string in(const std::string& name) const { return (path / "in" / name).string(); }
   std::string out(const std::string& name) const { return (path / "out" / name).string(); }

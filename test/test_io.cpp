@@ -22,6 +22,8 @@
 
 #include <unistd.h>
 
+#include "test_support.h"
+
 namespace fs = std::filesystem;
 using Catch::Contains;
 using Catch::StartsWith;
@@ -30,43 +32,12 @@ using seam::TriangleSoup;
 
 namespace {
 
-/// A fresh directory under the system's temporary directory, removed with its content.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    static int counter = 0;
-    std::random_device rd;
-    path = fs::temp_directory_path() /
-           ("seam_test_io_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) + "_" + std::to_string(rd()));
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  std::string file(const std::string& name) const { return (path / name).string(); }
-  std::vector<std::string> entries() const {
-    std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(path)) names.push_back(e.path().filename().string());
-    std::sort(names.begin(), names.end());
-    return names;
-  }
+struct TempDir : seam_test::TempDir {
+  TempDir() : seam_test::TempDir("seam_test_io") {}
 };
 
-void write_bytes(const std::string& path, const std::string& content) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << content;
-  REQUIRE(out.good());
-}
-
-std::string read_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using seam_test::read_bytes;
+using seam_test::write_bytes;
 
 /// Writes `content` to dir/name and reads it as a mesh.
 TriangleSoup read_text(const TempDir& dir, const std::string& name, const std::string& content) {
