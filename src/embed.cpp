@@ -52,21 +52,18 @@ double seconds_since(Clock::time_point t) { return std::chrono::duration<double>
 template <class K>
 double polyline_deviation(const std::vector<Polyline<K>>& a, const std::vector<Polyline<K>>& b) {
   using DK = CGAL::Exact_predicates_inexact_constructions_kernel;
-  auto dp = [](const typename K::Point_3& p) {
-    return DK::Point_3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
-  };
   auto one_way = [&](const std::vector<Polyline<K>>& from, const std::vector<Polyline<K>>& to) {
     std::vector<DK::Segment_3> segments;
     for (const auto& c : to)
       for (std::size_t i = 0; i + 1 < c.size(); ++i)
-        if (dp(c[i]) != dp(c[i + 1])) segments.emplace_back(dp(c[i]), dp(c[i + 1]));
+        if (to_filtered(c[i]) != to_filtered(c[i + 1])) segments.emplace_back(to_filtered(c[i]), to_filtered(c[i + 1]));
     if (segments.empty()) return 0.0;
     using Prim = CGAL::AABB_segment_primitive<DK, std::vector<DK::Segment_3>::const_iterator>;
     CGAL::AABB_tree<CGAL::AABB_traits<DK, Prim>> tree(segments.cbegin(), segments.cend());
     tree.accelerate_distance_queries();
     double worst = 0;
     for (const auto& c : from)
-      for (const auto& p : c) worst = std::max(worst, std::sqrt(tree.squared_distance(dp(p))));
+      for (const auto& p : c) worst = std::max(worst, std::sqrt(tree.squared_distance(to_filtered(p))));
     return worst;
   };
   return std::max(one_way(a, b), one_way(b, a));

@@ -25,10 +25,6 @@ using Search = CGAL::Orthogonal_k_neighbor_search<Traits>;
 using Tree = Search::Tree;
 using Distance = Search::Distance;
 
-template <class P> DPoint to_dpoint(const P& p) {
-  return DPoint(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
-}
-
 /// Would moving v to `target` keep every incident face non-degenerate with its orientation?
 /// Under the exact kernel both tests are exact.
 template <class K>
@@ -61,7 +57,7 @@ SnapReport<K> snap_vertices(Mesh<K>& mesh, const std::vector<Polyline<K>>& curve
   if (nodes.empty()) return report;
   std::vector<DPoint> dnodes;
   dnodes.reserve(nodes.size());
-  for (auto* p : nodes) dnodes.push_back(to_dpoint(*p));
+  for (auto* p : nodes) dnodes.push_back(to_filtered(*p));
 
   NodePointMap pmap(dnodes.data());
   std::vector<std::size_t> ids(dnodes.size());
@@ -75,7 +71,7 @@ SnapReport<K> snap_vertices(Mesh<K>& mesh, const std::vector<Polyline<K>>& curve
   std::vector<std::tuple<double, std::size_t, std::size_t>> candidates;
   const double tol2 = tolerance * tolerance;
   for (V v : mesh.vertices()) {
-    Search search(tree, to_dpoint(mesh.point(v)), 1, 0, true, distance);
+    Search search(tree, to_filtered(mesh.point(v)), 1, 0, true, distance);
     auto it = search.begin();
     if (it == search.end()) continue;
     if (it->second <= tol2) candidates.emplace_back(std::sqrt(it->second), std::size_t(v), it->first);

@@ -23,10 +23,6 @@ using DIterator = std::vector<DTriangle>::const_iterator;
 using DPrimitive = CGAL::AABB_triangle_primitive<DK, DIterator>;
 using DTree = CGAL::AABB_tree<CGAL::AABB_traits<DK, DPrimitive>>;
 
-template <class P> DK::Point_3 to_dpoint(const P& p) {
-  return DK::Point_3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
-}
-
 template <class K> class Tracer {
   using T = MeshTypes<K>;
   using V = typename T::V;
@@ -42,8 +38,8 @@ template <class K> class Tracer {
     triangles_.reserve(mesh.number_of_faces());
     for (F f : mesh.faces()) {
       auto h = mesh.halfedge(f);
-      triangles_.emplace_back(to_dpoint(mesh.point(mesh.source(h))), to_dpoint(mesh.point(mesh.target(h))),
-                              to_dpoint(mesh.point(mesh.target(mesh.next(h)))));
+      triangles_.emplace_back(to_filtered(mesh.point(mesh.source(h))), to_filtered(mesh.point(mesh.target(h))),
+                              to_filtered(mesh.point(mesh.target(mesh.next(h)))));
     }
     tree_.insert(triangles_.begin(), triangles_.end());
     tree_.build();
@@ -53,7 +49,7 @@ template <class K> class Tracer {
   /// Projects q onto the closest face and classifies the projection. `distance` gets the
   /// (rounded) distance from q to the surface.
   SP locate(const Point& q, double& distance) const {
-    const auto dq = to_dpoint(q);
+    const auto dq = to_filtered(q);
     const auto [dp, it] = tree_.closest_point_and_primitive(dq);
     distance = std::sqrt(CGAL::to_double(CGAL::squared_distance(dq, dp)));
     const F f(static_cast<typename F::size_type>(it - triangles_.begin()));

@@ -57,6 +57,12 @@ template <class F> decltype(auto) with_kernel(KernelKind kind, F&& f) {
   return f(Exact{});
 }
 
+/// A point of any kernel rounded to double coordinates, as a Filtered point (for the AABB trees
+/// and k-d trees, which search on doubles). Exact for points that came from doubles.
+template <class P> Filtered::Point_3 to_filtered(const P& p) {
+  return Filtered::Point_3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+}
+
 /// For kernels with lazy exact numbers: replace the expression tree behind `x` by its exact
 /// value, so that kept points do not pin ever-growing trees. A no-op for the other kernels.
 template <class T> inline void make_exact(T& x) {
