@@ -165,11 +165,14 @@ template <class K> class Tracer {
         faces.push_back(g);
         return true;
       }
-      const Vector to_q = Q.p - cur.p;
+      // Which exit heads most directly towards Q is a choice, not a topological decision (every
+      // candidate is an exact point of the plane section): it is made on rounded coordinates.
+      const auto cur_d = to_filtered(cur.p);
+      const auto to_q = to_filtered(Q.p) - cur_d;
       bool found = false;
       SP best;
       F best_face;
-      FT best_score = 0;
+      double best_score = 0;
       for (F f : incident_faces<K>(m_, cur)) {
         if (used.count(std::size_t(f))) continue;
         for (auto h : CGAL::halfedges_around_face(m_.halfedge(f), m_)) {
@@ -204,11 +207,10 @@ template <class K> class Tracer {
             continue;
           }
           if (has_prev && cand.same_as(prev)) continue;
-          const Vector d = cand.p - cur.p;
-          const FT dd = d * d;
-          if (CGAL::is_zero(dd)) continue;
-          const FT dot = d * to_q;
-          const FT score = (CGAL::is_negative(dot) ? -dot * dot : dot * dot) / dd;  // signed cos^2 * |to_q|^2
+          if (cand.p == cur.p) continue;
+          const auto d = to_filtered(cand.p) - cur_d;
+          const double dd = d.squared_length(), dot = d * to_q;
+          const double score = dd > 0 ? (dot < 0 ? -dot * dot : dot * dot) / dd : 0;  // signed cos^2 * |to_q|^2
           if (!found || score > best_score) {
             found = true;
             best = cand;
