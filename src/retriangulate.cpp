@@ -156,15 +156,16 @@ FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const Retriangul
   const double L_d = std::sqrt(CGAL::to_double(n.squared_length()));
   if (!(L_d > 0)) throw InternalError("re-triangulation of a degenerate face");
   const FT L(L_d);
+  // X = L (p - a).u and Y = (p - a).v: no division, so exact coordinates stay small rationals.
   auto to_2d = [&](const Point3& p) {
     const Vector3 d = p - a;
-    Point2 q(d * u, (d * v) / L);
+    Point2 q((d * u) * L, d * v);
     make_exact(q);
     return q;
   };
-  const FT uu = u.squared_length(), vv = v.squared_length();
+  const FT uu = u.squared_length(), vv = v.squared_length(), Luu = L * uu;
   auto to_3d = [&](const Point2& q) {
-    Point3 p = a + u * (q.x() / uu) + v * (q.y() * L / vv);
+    Point3 p = a + u * (q.x() / Luu) + v * (q.y() / vv);
     make_exact(p);
     return p;
   };
@@ -224,7 +225,7 @@ FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const Retriangul
     for (auto vit = refined.finite_vertices_begin(); vit != refined.finite_vertices_end(); ++vit)
       input_vertices.insert(&*vit);
 
-    const double max_area_2d = options.max_area > 0 ? options.max_area * CGAL::to_double(uu) : 0.0;
+    const double max_area_2d = options.max_area > 0 ? options.max_area * CGAL::to_double(uu) * L_d * L_d : 0.0;
     const double before = min_angle_in_domain(refined);
     refine_without_splitting(refined, std::min(options.min_angle_deg, 60.0), max_area_2d, options.max_steiner);
     const double after = min_angle_in_domain(refined);

@@ -60,7 +60,13 @@ template <class F> decltype(auto) with_kernel(KernelKind kind, F&& f) {
 /// A point of any kernel rounded to double coordinates, as a Filtered point (for the AABB trees
 /// and k-d trees, which search on doubles). Exact for points that came from doubles.
 template <class P> Filtered::Point_3 to_filtered(const P& p) {
-  return Filtered::Point_3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+  if constexpr (std::is_same_v<typename CGAL::Kernel_traits<P>::Kernel, Exact>) {
+    // From the interval approximation: p.x() would build a lazy number for each coordinate.
+    const auto& q = CGAL::approx(p);
+    return Filtered::Point_3(CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z()));
+  } else {
+    return Filtered::Point_3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+  }
 }
 
 /// For kernels with lazy exact numbers: replace the expression tree behind `x` by its exact

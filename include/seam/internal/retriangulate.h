@@ -1,11 +1,12 @@
 // seam internal, pipeline step 5: re-triangulate one face with its constraints (report: the
 // Triangle sub-meshing step; here CGAL's constrained Delaunay triangulation and mesher).
 //
-// The face is mapped to 2D by an affine map onto its own plane: X = (p - a).u,
-// Y = (p - a).v / L with u = b - a, v = n x u, n the face normal and L a double close to |n|.
-// The map is exact and invertible over the rationals, and close to a similarity (so Delaunay
-// refinement sees the true angles, up to the rounding of L); a Steiner point (X, Y) lifts back to
-// a + u X/|u|^2 + v Y L/|v|^2, which lies exactly in the face's plane under the exact kernel.
+// The face is mapped to 2D by an affine map onto its own plane: X = L (p - a).u,
+// Y = (p - a).v with u = b - a, v = n x u, n the face normal and L a double close to |n|.
+// The map is exact and invertible over the rationals, and close to a similarity of ratio |u| L
+// (so refinement sees the true angles, up to the rounding of L); a Steiner point (X, Y) lifts
+// back to a + u X/(L |u|^2) + v Y/|v|^2, which lies exactly in the face's plane under the exact
+// kernel.
 // Input points are never lifted: the patch refers to them by id.
 //
 // Constraints: the three edges split at their points, and the curve segments inside the face.
