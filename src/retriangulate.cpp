@@ -42,7 +42,16 @@ template <class CDT> std::set<const void*> outside_faces(const CDT& cdt) {
   return outside;
 }
 
-template <class P> std::array<double, 2> xy(const P& p) { return {CGAL::to_double(p.x()), CGAL::to_double(p.y())}; }
+/// Rounded coordinates; for lazy exact points from the interval approximation (p.x() would build
+/// a lazy number per call).
+template <class P> std::array<double, 2> xy(const P& p) {
+  if constexpr (std::is_same_v<typename CGAL::Kernel_traits<P>::Kernel, Exact>) {
+    const auto& q = CGAL::approx(p);
+    return {CGAL::to_double(q.x()), CGAL::to_double(q.y())};
+  } else {
+    return {CGAL::to_double(p.x()), CGAL::to_double(p.y())};
+  }
+}
 
 double angle_at(const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& c) {
   const double ux = b[0] - a[0], uy = b[1] - a[1], vx = c[0] - a[0], vy = c[1] - a[1];

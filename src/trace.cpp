@@ -136,18 +136,32 @@ template <class K> class Tracer {
     return n;
   }
 
+  /// A point through which the cutting plane passes: a mesh vertex itself, else the point
+  /// rounded to double.
+  static Point anchor(const SP& x) {
+    if (x.where == Where::vertex) return x.p;
+    const auto r = to_filtered(x.p);
+    return Point(r.x(), r.y(), r.z());
+  }
+
   /// Appends the path from P (excluded) to Q (included) to `points`/`faces`. False on failure.
   bool walk(const SP& P, const SP& Q, const Vector& n, std::vector<SP>& points, std::vector<F>& faces) const {
-    const Point R = P.p + n;
-    if (n == CGAL::NULL_VECTOR || CGAL::collinear(P.p, Q.p, R)) return false;
-    // Side of the cutting plane through P, Q and R, cached per vertex (exact predicate).
+    // The cutting plane only guides the walk: the path is valid (consecutive points share a
+    // face) whatever the plane, and every crossing is an exact point of its edge. So the plane
+    // goes through P and Q rounded to double (exactly through them when they are mesh
+    // vertices): its coefficients stay small, and so do the exact crossing points, instead of
+    // compounding the exact projections of the nodes.
+    const Point P0 = anchor(P), Q0 = anchor(Q);
+    const Point R = P0 + n;
+    if (n == CGAL::NULL_VECTOR || CGAL::collinear(P0, Q0, R)) return false;
+    // Side of the cutting plane through P0, Q0 and R, cached per vertex (exact predicate).
     std::unordered_map<std::size_t, CGAL::Orientation> side_cache;
     auto side = [&](V w) {
       auto [it, inserted] = side_cache.try_emplace(std::size_t(w), CGAL::COPLANAR);
-      if (inserted) it->second = CGAL::orientation(P.p, Q.p, R, m_.point(w));
+      if (inserted) it->second = CGAL::orientation(P0, Q0, R, m_.point(w));
       return it->second;
     };
-    const Vector plane_normal = CGAL::cross_product(Q.p - P.p, R - P.p);
+    const Vector plane_normal = CGAL::cross_product(Q0 - P0, R - P0);
 
     auto common_face = [&](const SP& x) -> F {
       for (F f : incident_faces<K>(m_, x))
@@ -189,7 +203,7 @@ template <class K> class Tracer {
             if (cur.where == Where::edge && cur.e == e) continue;
             // Exact intersection of edge (s, t) with the plane: s + (t - s) * ds / (ds - dt).
             const Point &ps = m_.point(s), &pt = m_.point(t);
-            const FT ds = plane_normal * (ps - P.p), dt = plane_normal * (pt - P.p);
+            const FT ds = plane_normal * (ps - P0), dt = plane_normal * (pt - P0);
             const Point x = ps + (pt - ps) * (ds / (ds - dt));  // made exact once chosen
             if (x == ps || x == pt) {
               // Only with rounded constructions: the crossing rounded onto an end point of the

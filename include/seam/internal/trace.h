@@ -6,7 +6,10 @@
 // classified as lying at a vertex, inside an edge or inside a face (exact under Epeck).
 //
 // Cross: between two consecutive located nodes P and Q the curve follows the section of the mesh
-// by the plane through P and Q that contains the local surface normal n. The walk goes from
+// by the plane through P and Q (rounded to double, unless they are mesh vertices) that contains
+// the local surface normal n. The plane only guides the walk: consecutive points always share a
+// face, and every crossing is the exact intersection of its edge with the plane; rounding P and
+// Q keeps the plane's coefficients, and so the exact crossing points, small. The walk goes from
 // face to face; each step exits the current face where the plane meets its boundary: at a
 // vertex (the vertex lies on the plane: exact orientation test) or inside an edge (its end points
 // lie strictly on opposite sides), and that crossing point is constructed as the exact
