@@ -1,0 +1,98 @@
+// seam embed: embed polylines into one triangle mesh.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "common.h"
+
+#include <iostream>
+#include <memory>
+
+namespace seam_cli {
+
+namespace {
+
+struct EmbedArgs {
+  std::string mesh, curves, out, curves_out, report, kernel = "exact";
+  seam::EmbedOptions options;
+};
+
+int run_embed(const EmbedArgs& a) {
+  seam::validate_options(a.options);  // before reading anything
+  refuse_overwrite({a.mesh, a.curves}, {a.out, a.curves_out, a.report});
+  const auto t0 = Clock::now();
+  seam::TriangleSoup soup = seam::read_triangle_mesh(a.mesh);
+  const auto polylines = seam::read_polylines(a.curves);
+  const double read_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+
+  return seam::with_kernel(parse_kernel(a.kernel), [&](auto kernel) {
+    using K = decltype(kernel);
+    auto mesh = seam::mesh_from_soup<K>(soup, a.mesh);
+    const auto curves = seam::to_kernel<K>(polylines);
+    seam::EmbedResult<K> result;
+    try {
+      result = seam::embed<K>(mesh, curves, a.options);
+    } catch (const seam::InvalidInput& e) {
+      throw seam::InvalidInput(a.curves + ": " + e.what());
+    }
+    const auto t1 = Clock::now();
+    auto stats = result.stats;
+    stats.stage_seconds["read"] = read_seconds;
+    write_all_or_nothing([&](std::vector<std::string>& written) {
+      seam::write_triangle_mesh(seam::soup_from_mesh<K>(mesh), a.out);
+      written.push_back(a.out);
+      if (!a.curves_out.empty()) {
+        seam::write_polylines(seam::to_doubles<K>(result.curves), a.curves_out);
+        written.push_back(a.curves_out);
+      }
+      stats.stage_seconds["write"] = std::chrono::duration<double>(Clock::now() - t1).count();
+      if (!a.report.empty()) {
+        nlohmann::json j = stats_json(stats);
+        j["files"] = {{"mesh", a.mesh}, {"curves", a.curves}, {"out", a.out}};
+        write_json(j, a.report);
+      }
+    });
+    const auto& s = stats;
+    std::cout << "seam embed: " << s.curves << " curve(s), " << s.curve_nodes_in << " nodes -> " << s.curve_nodes_out
+              << " embedded vertices (" << s.crossing_points << " crossing points); " << s.vertices_snapped
+              << " vertices snapped (" << s.snaps_refused << " refused); " << s.faces_crossed << " faces -> "
+              << s.faces_added << " new faces, min angle " << s.min_angle_deg_new << " deg (" << s.new_faces_below_20
+              << " below 20); wrote " << a.out << "\n";
+    return 0;
+  });
+}
+
+}  // namespace
+
+Command add_embed_command(CLI::App& app) {
+  auto args = std::make_shared<EmbedArgs>();
+  EmbedArgs& ea = *args;
+  auto* embed = app.add_subcommand(
+      "embed",
+      "Embed polylines into one triangle mesh: snap nearby vertices onto the curve, follow the curve across the "
+      "faces, keep its crossing points, and re-triangulate every crossed face with the curve as a constraint.");
+  embed->add_option("MESH", ea.mesh, "Input triangle mesh (.off, .obj, .ply, .stl)")->required();
+  embed->add_option("--curves", ea.curves,
+                    "Curves file, one polyline per line: 'n x1 y1 z1 ... xn yn zn'; closed when the last point "
+                    "equals the first")
+      ->required();
+  embed->add_option("-o,--out", ea.out, "Output mesh (format by extension; OFF with 17 significant digits)")
+      ->required();
+  embed->add_option("--curves-out", ea.curves_out, "Write the embedded (coarsened) curves here, same format");
+  embed->add_option("--report", ea.report, "Write a JSON report (counts per stage, quality, timings) here");
+  embed->add_option("--kernel", ea.kernel, "exact (Epeck, default), filtered (Epick) or float (double)")
+      ->check(CLI::IsMember({"exact", "filtered", "float"}));
+  embed->add_option("--snap-tol", ea.options.snap_tol,
+                    "Move mesh vertices within this distance of a curve node onto it; 0 disables snapping "
+                    "(default: 0.1 x mean edge length)");
+  embed->add_option("--min-angle", ea.options.min_angle_deg,
+                    "Minimum angle (degrees, 0..60) Delaunay refinement aims for in re-triangulated faces; 0 "
+                    "disables refinement (default: 20)");
+  embed->add_option("--max-area", ea.options.max_area, "Largest area of a new triangle; 0: no bound (default: 0)");
+  embed->add_option("--max-distance", ea.options.max_distance,
+                    "A curve node farther than this from the surface is an error (default: 1.0 x mean edge length)");
+  embed->add_option("--curve-tol", ea.options.curve_tol,
+                    "Keep a curve node between two crossings when dropping it would move the curve by more than "
+                    "this; 0 drops them all, as the report does (default: 0)");
+
+  return {embed, [args] { return run_embed(*args); }};
+}
+
+}  // namespace seam_cli
