@@ -74,7 +74,8 @@ template <class K> std::size_t CurvePoints<K>::id(const SurfacePoint<K>& sp) {
 }
 
 template <class K>
-CoarsenOutput<K> coarsen_curves(const Mesh<K>& mesh, const std::vector<TracedCurve<K>>& traced, double curve_tol) {
+CoarsenOutput<K> coarsen_curves(const Mesh<K>& mesh, const std::vector<TracedCurve<K>>& traced, double curve_tol,
+                                bool keep_all_nodes) {
   CoarsenOutput<K> out;
   for (const TracedCurve<K>& tc : traced) {
     const auto& pts = tc.points;
@@ -98,6 +99,8 @@ CoarsenOutput<K> coarsen_curves(const Mesh<K>& mesh, const std::vector<TracedCur
       if (on_edge_e(before, pts[i].e) && on_edge_e(after, pts[i].e)) kept[i] = 0;
     }
     if (!closed && n > 0) kept.front() = kept.back() = 1;
+    if (keep_all_nodes)
+      for (std::size_t i = 0; i < n; ++i) kept[i] |= tc.input_node[i] >= 0;
 
     auto farthest = [&](std::size_t a, std::size_t b, std::size_t skip) {
       // index strictly between a and b (cyclic) farthest from segment [a, b]; n if none
@@ -205,7 +208,7 @@ CoarsenOutput<K> coarsen_curves(const Mesh<K>& mesh, const std::vector<TracedCur
 
 #define SEAM_INSTANTIATE(K)                                                                                        \
   template struct CurvePoints<K>;                                                                                 \
-  template CoarsenOutput<K> coarsen_curves<K>(const Mesh<K>&, const std::vector<TracedCurve<K>>&, double);        \
+  template CoarsenOutput<K> coarsen_curves<K>(const Mesh<K>&, const std::vector<TracedCurve<K>>&, double, bool);        \
   template bool on_common_edge<K>(const Mesh<K>&, typename MeshTypes<K>::F, const SurfacePoint<K>&,               \
                                   const SurfacePoint<K>&);
 SEAM_INSTANTIATE(Exact)

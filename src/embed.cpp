@@ -119,7 +119,7 @@ EmbedResult<K> embed(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, cons
 
   // ---- 4. coarsen
   t = Clock::now();
-  CoarsenOutput<K> coarse = coarsen_curves<K>(mesh, traced, options.curve_tol);
+  CoarsenOutput<K> coarse = coarsen_curves<K>(mesh, traced, options.curve_tol, options.keep_all_nodes);
   st.stage_seconds["coarsen"] = seconds_since(t);
 
   // ---- 5. re-triangulate: gather each face's constraints, then triangulate it

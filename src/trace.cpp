@@ -52,15 +52,34 @@ template <class K> class Tracer {
     const auto dq = to_filtered(q);
     const auto [dp, it] = tree_.closest_point_and_primitive(dq);
     distance = std::sqrt(CGAL::to_double(CGAL::squared_distance(dq, dp)));
-    const F f(static_cast<typename F::size_type>(it - triangles_.begin()));
-    auto h = m_.halfedge(f);
-    const V va = m_.source(h), vb = m_.target(h), vc = m_.target(m_.next(h));
-    const Point &a = m_.point(va), &b = m_.point(vb), &c = m_.point(vc);
+    F f(static_cast<typename F::size_type>(it - triangles_.begin()));
+    auto project = [&](F g) {
+      auto hg = m_.halfedge(g);
+      return typename K::Construct_projected_point_3()(
+          typename K::Triangle_3(m_.point(m_.source(hg)), m_.point(m_.target(hg)), m_.point(m_.target(m_.next(hg)))), q);
+    };
     // The closest point of the triangle, constructed in the kernel (exact under Epeck).
     // Not made exact here: most located nodes are dropped by coarsening, and forcing the exact
     // value of each projection dominated the run time. The points that are kept are made exact
     // when coarsening registers them (CurvePoints::id).
-    Point p = typename K::Construct_projected_point_3()(typename K::Triangle_3(a, b, c), q);
+    Point p = project(f);
+    if constexpr (kernel_traits<K>::exact_constructions) {
+      // A point lying exactly on the surface (a computed intersection point): the search on
+      // doubles may return a neighbour of the face that contains it. Look for that face among
+      // the faces around the found one, so that such a point is located exactly where it is.
+      if (distance <= 1e-9 * std::sqrt(CGAL::to_double(it->squared_area())) && !(p == q)) {
+        for (V w : CGAL::vertices_around_face(m_.halfedge(f), m_))
+          for (F g : CGAL::faces_around_target(m_.halfedge(w), m_))
+            if (g != Mesh<K>::null_face() && g != f && project(g) == q) {
+              f = g;
+              p = q;
+              break;
+            }
+      }
+    }
+    auto h = m_.halfedge(f);
+    const V va = m_.source(h), vb = m_.target(h), vc = m_.target(m_.next(h));
+    const Point &a = m_.point(va), &b = m_.point(vb), &c = m_.point(vc);
     SP sp;
     sp.p = p;
     if (p == a || p == b || p == c) {

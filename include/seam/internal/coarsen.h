@@ -47,7 +47,8 @@ template <class K> struct CoarsenOutput {
 };
 
 template <class K>
-CoarsenOutput<K> coarsen_curves(const Mesh<K>& mesh, const std::vector<TracedCurve<K>>& traced, double curve_tol);
+CoarsenOutput<K> coarsen_curves(const Mesh<K>& mesh, const std::vector<TracedCurve<K>>& traced, double curve_tol,
+                                bool keep_all_nodes = false);
 
 /// True when two locations in the closed face f lie on a common edge of f.
 template <class K>

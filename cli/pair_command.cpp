@@ -1,0 +1,108 @@
+// seam pair: make two interpenetrating tow meshes conforming along their intersection curves.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "common.h"
+
+#include <seam/pair.h>
+
+#include <iostream>
+#include <memory>
+
+namespace seam_cli {
+
+namespace {
+
+struct PairArgs {
+  std::string a, b, out_a, out_b, curves, curves_out, report, kernel = "exact";
+  seam::PairOptions options;
+};
+
+int run_pair(const PairArgs& args) {
+  seam::validate_options(args.options.embed);
+  if (!args.curves.empty())
+    throw seam::InvalidInput(args.curves + ": given curves (--curves) are not supported yet; omit --curves to "
+                             "compute the intersection curves");
+  refuse_overwrite({args.a, args.b}, {args.out_a, args.out_b, args.curves_out, args.report});
+  const auto t0 = Clock::now();
+  const seam::TriangleSoup soup_a = seam::read_triangle_mesh(args.a);
+  const seam::TriangleSoup soup_b = seam::read_triangle_mesh(args.b);
+  const double read_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+
+  return seam::with_kernel(parse_kernel(args.kernel), [&](auto kernel) {
+    using K = decltype(kernel);
+    auto a = seam::mesh_from_soup<K>(soup_a, args.a);
+    auto b = seam::mesh_from_soup<K>(soup_b, args.b);
+    seam::PairResult<K> result = seam::pair<K>(a, b, args.options);
+    auto& st = result.stats;
+    st.stage_seconds["read"] = read_seconds;
+    const auto t1 = Clock::now();
+    write_all_or_nothing([&](std::vector<std::string>& written) {
+      seam::write_triangle_mesh(seam::soup_from_mesh<K>(a), args.out_a);
+      written.push_back(args.out_a);
+      seam::write_triangle_mesh(seam::soup_from_mesh<K>(b), args.out_b);
+      written.push_back(args.out_b);
+      if (!args.curves_out.empty()) {
+        seam::write_polylines(seam::to_doubles<K>(result.curves), args.curves_out);
+        written.push_back(args.curves_out);
+      }
+      st.stage_seconds["write"] = std::chrono::duration<double>(Clock::now() - t1).count();
+      if (!args.report.empty()) {
+        nlohmann::json j;
+        j["kernel"] = seam::kernel_name(seam::kernel_traits<K>::kind);
+        j["a"] = stats_json(result.a.stats);
+        j["b"] = stats_json(result.b.stats);
+        nlohmann::json curves = nlohmann::json::array();
+        for (const auto& c : result.curves)
+          curves.push_back({{"vertices", seam::is_closed(c) ? c.size() - 1 : c.size()}, {"closed", seam::is_closed(c)}});
+        j["curves"] = {{"count", st.curves}, {"vertices", st.curve_vertices}, {"closed", st.closed_curves},
+                       {"list", curves}};
+        j["snap"] = {{"vertices_snapped_a", st.vertices_snapped_a}, {"vertices_snapped_b", st.vertices_snapped_b},
+                     {"snaps_refused", st.snaps_refused}};
+        j["touching_only"] = st.touching_only;
+        j["note"] = st.note;
+        j["seconds"] = st.stage_seconds;
+        j["files"] = {{"a", args.a}, {"b", args.b}, {"out_a", args.out_a}, {"out_b", args.out_b}};
+        write_json(j, args.report);
+      }
+    });
+    const auto& qa = result.a.stats;
+    const auto& qb = result.b.stats;
+    std::cout << "seam pair: " << st.curves << " curve(s) (" << st.closed_curves << " closed), " << st.curve_vertices
+              << " shared vertices; " << (st.vertices_snapped_a + st.vertices_snapped_b) << " vertices snapped; A: "
+              << qa.faces_crossed << " faces -> " << qa.faces_added << " (min angle " << qa.min_angle_deg_new
+              << "), B: " << qb.faces_crossed << " faces -> " << qb.faces_added << " (min angle "
+              << qb.min_angle_deg_new << ")";
+    if (!st.note.empty()) std::cout << "; " << st.note;
+    std::cout << "\n";
+    return 0;
+  });
+}
+
+}  // namespace
+
+Command add_pair_command(CLI::App& app) {
+  auto args = std::make_shared<PairArgs>();
+  PairArgs& pa = *args;
+  auto* cmd = app.add_subcommand(
+      "pair",
+      "Make two interpenetrating triangle meshes conforming: compute their intersection curves exactly, snap nearby "
+      "vertices onto them, and embed the same curves into both, so that both outputs share every curve vertex "
+      "(bit-identical coordinates) and every curve edge.");
+  cmd->add_option("A", pa.a, "First input mesh (.off, .obj, .ply, .stl)")->required();
+  cmd->add_option("B", pa.b, "Second input mesh")->required();
+  cmd->add_option("--out-a", pa.out_a, "Output for A (format by extension; OFF with 17 significant digits)")->required();
+  cmd->add_option("--out-b", pa.out_b, "Output for B")->required();
+  cmd->add_option("--curves", pa.curves, "Given curves near both surfaces (not supported yet)");
+  cmd->add_option("--curves-out", pa.curves_out, "Write the shared curves here, one polyline per line");
+  cmd->add_option("--report", pa.report, "Write a JSON report: per-mesh sections as seam embed's, plus the curves");
+  cmd->add_option("--kernel", pa.kernel, "exact (Epeck, default), filtered (Epick) or float (double)")
+      ->check(CLI::IsMember({"exact", "filtered", "float"}));
+  cmd->add_option("--snap-tol", pa.options.embed.snap_tol,
+                  "Move vertices of either mesh within this distance of an intersection point onto it, then compute "
+                  "the curves again; 0 disables (default: 0.1 x the smaller mean edge length)");
+  cmd->add_option("--min-angle", pa.options.embed.min_angle_deg,
+                  "Minimum angle (degrees, 0..60) refinement aims for in re-triangulated faces (default: 20)");
+  cmd->add_option("--max-area", pa.options.embed.max_area, "Largest area of a new triangle; 0: no bound");
+  return {cmd, [args] { return run_pair(*args); }};
+}
+
+}  // namespace seam_cli

@@ -1,0 +1,188 @@
+// seam::pair: two tows, one interface. See seam/pair.h.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/internal/snap.h>
+#include <seam/pair.h>
+
+#include <CGAL/Polygon_mesh_processing/intersection.h>
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+#include <sstream>
+
+namespace seam {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+template <class Point> struct PointLess {
+  bool operator()(const Point& a, const Point& b) const { return CGAL::compare_xyz(a, b) == CGAL::SMALLER; }
+};
+
+/// Chains polylines that share end points (exact comparison) into maximal polylines.
+template <class Point> std::vector<std::vector<Point>> chain(std::vector<std::vector<Point>> pieces) {
+  // Drop repeated consecutive points and pieces with no length.
+  std::vector<std::vector<Point>> clean;
+  for (auto& piece : pieces) {
+    std::vector<Point> out;
+    for (const auto& p : piece)
+      if (out.empty() || !(out.back() == p)) out.push_back(p);
+    if (out.size() >= 2) clean.push_back(std::move(out));
+  }
+  // End point -> pieces ending there.
+  std::map<Point, std::vector<std::size_t>, PointLess<Point>> ends;
+  for (std::size_t i = 0; i < clean.size(); ++i) {
+    if (clean[i].front() == clean[i].back()) continue;  // already closed
+    ends[clean[i].front()].push_back(i);
+    ends[clean[i].back()].push_back(i);
+  }
+  std::vector<char> used(clean.size(), 0);
+  std::vector<std::vector<Point>> result;
+  auto extend = [&](std::vector<Point>& line) {
+    // Grow at the back while exactly one other unused piece continues there (degree-2 point).
+    for (;;) {
+      if (line.front() == line.back() && line.size() > 2) return;
+      auto it = ends.find(line.back());
+      if (it == ends.end()) return;
+      std::size_t next = clean.size(), unused = 0;
+      for (std::size_t j : it->second)
+        if (!used[j]) ++unused, next = j;
+      if (unused != 1 || it->second.size() != 2) return;
+      used[next] = 1;
+      auto piece = clean[next];
+      if (!(piece.front() == line.back())) std::reverse(piece.begin(), piece.end());
+      line.insert(line.end(), piece.begin() + 1, piece.end());
+    }
+  };
+  // Open chains first: start at an end point that is not a degree-2 point.
+  for (std::size_t i = 0; i < clean.size(); ++i) {
+    if (used[i] || clean[i].front() == clean[i].back()) continue;
+    const bool front_free = ends[clean[i].front()].size() != 2, back_free = ends[clean[i].back()].size() != 2;
+    if (!front_free && !back_free) continue;
+    used[i] = 1;
+    auto line = clean[i];
+    if (!front_free) std::reverse(line.begin(), line.end());
+    extend(line);
+    result.push_back(std::move(line));
+  }
+  // The rest form loops.
+  for (std::size_t i = 0; i < clean.size(); ++i) {
+    if (used[i]) continue;
+    used[i] = 1;
+    auto line = clean[i];
+    extend(line);
+    result.push_back(std::move(line));
+  }
+  // Closed curves start at their smallest point (deterministic output).
+  for (auto& line : result) {
+    if (!(line.size() > 2 && line.front() == line.back())) continue;
+    line.pop_back();
+    auto first = std::min_element(line.begin(), line.end(), PointLess<Point>());
+    std::rotate(line.begin(), first, line.end());
+    line.push_back(line.front());
+  }
+  std::sort(result.begin(), result.end(), [](const auto& x, const auto& y) {
+    return CGAL::compare_xyz(x.front(), y.front()) == CGAL::SMALLER;
+  });
+  return result;
+}
+
+}  // namespace
+
+template <class K>
+std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b, std::size_t* touching_points) {
+  std::vector<std::vector<typename K::Point_3>> pieces;
+  CGAL::Polygon_mesh_processing::surface_intersection(a, b, std::back_inserter(pieces));
+  if (touching_points) {
+    *touching_points = 0;
+    for (const auto& piece : pieces)
+      if (std::all_of(piece.begin(), piece.end(), [&](const auto& p) { return p == piece.front(); }))
+        ++*touching_points;
+  }
+  auto curves = chain(std::move(pieces));
+  for (auto& c : curves)
+    for (auto& p : c) make_exact(p);  // kept points: cut the expression trees once
+  return curves;
+}
+
+template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions& options) {
+  validate_options(options.embed);
+  PairResult<K> result;
+  PairStats& st = result.stats;
+  const double la = mean_edge_length<K>(a), lb = mean_edge_length<K>(b);
+  const double snap_tol = options.embed.snap_tol < 0 ? 0.1 * std::min(la, lb) : options.embed.snap_tol;
+
+  auto t = Clock::now();
+  std::size_t touching = 0;
+  std::vector<Polyline<K>> curves = intersection_curves<K>(a, b, &touching);
+  st.stage_seconds["intersect"] = seconds_since(t);
+
+  if (snap_tol > 0 && !curves.empty()) {
+    // Report step 1 on both meshes, against the exact intersection points; then the curves of
+    // the moved surfaces.
+    t = Clock::now();
+    const auto sa = internal::snap_vertices<K>(a, curves, snap_tol);
+    const auto sb = internal::snap_vertices<K>(b, curves, snap_tol);
+    st.vertices_snapped_a = sa.snapped;
+    st.vertices_snapped_b = sb.snapped;
+    st.snaps_refused = sa.refused + sb.refused;
+    st.stage_seconds["snap"] = seconds_since(t);
+    if (sa.snapped + sb.snapped > 0) {
+      t = Clock::now();
+      curves = intersection_curves<K>(a, b, &touching);
+      st.stage_seconds["intersect"] += seconds_since(t);
+    }
+  }
+
+  st.curves = curves.size();
+  for (const auto& c : curves) {
+    const bool closed = is_closed(c);
+    st.closed_curves += closed ? 1 : 0;
+    st.curve_vertices += closed ? c.size() - 1 : c.size();
+  }
+  if (curves.empty()) {
+    st.touching_only = touching > 0;
+    st.note = touching > 0 ? "the meshes touch without crossing: nothing to embed"
+                           : "the meshes do not intersect (disjoint, or one inside the other): nothing to embed";
+  }
+
+  // Embed the same curves into both meshes, keeping every curve point.
+  EmbedOptions eo = options.embed;
+  eo.snap_tol = 0;  // done above, on both meshes
+  eo.keep_all_nodes = true;
+  eo.curve_tol = 0;
+  eo.max_distance = std::numeric_limits<double>::max();  // the points lie on both surfaces
+  t = Clock::now();
+  result.a = embed<K>(a, curves, eo);
+  st.stage_seconds["embed_a"] = seconds_since(t);
+  t = Clock::now();
+  result.b = embed<K>(b, curves, eo);
+  st.stage_seconds["embed_b"] = seconds_since(t);
+  result.a.stats.vertices_snapped = st.vertices_snapped_a;
+  result.b.stats.vertices_snapped = st.vertices_snapped_b;
+
+  // Both meshes must have received the identical curve.
+  if (result.a.curves.size() != result.b.curves.size())
+    throw InternalError("pair: the two meshes received different numbers of curves");
+  for (std::size_t i = 0; i < result.a.curves.size(); ++i)
+    if (result.a.curves[i] != result.b.curves[i]) {
+      std::ostringstream msg;
+      msg << "pair: curve " << i << " was embedded differently in the two meshes (" << result.a.curves[i].size()
+          << " and " << result.b.curves[i].size() << " points)";
+      throw InternalError(msg.str());
+    }
+  result.curves = result.a.curves;
+  return result;
+}
+
+#define SEAM_INSTANTIATE(K)                                                                       \
+  template std::vector<Polyline<K>> intersection_curves<K>(const Mesh<K>&, const Mesh<K>&, std::size_t*); \
+  template PairResult<K> pair<K>(Mesh<K>&, Mesh<K>&, const PairOptions&);
+SEAM_INSTANTIATE(Exact)
+SEAM_INSTANTIATE(Filtered)
+SEAM_INSTANTIATE(Float)
+#undef SEAM_INSTANTIATE
+
+}  // namespace seam
