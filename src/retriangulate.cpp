@@ -69,6 +69,31 @@ template <class CDT> double min_angle_in_domain(const CDT& cdt) {
   return worst;
 }
 
+/// The angle (degrees) at vertex i of face f of the wedge that contains f and is bounded by the
+/// nearest constrained edges (or the domain's boundary) on either side; 360 around a vertex with
+/// no constraint.
+template <class CDT> double constrained_wedge_deg(const CDT& cdt, typename CDT::Face_handle f, int i) {
+  const auto r = f->vertex(i);
+  auto angle_in = [&](typename CDT::Face_handle g) {
+    const int j = g->index(r);
+    return angle_at(xy(r->point()), xy(g->vertex(CDT::ccw(j))->point()), xy(g->vertex(CDT::cw(j))->point()));
+  };
+  double total = angle_in(f);
+  for (int turn = 0; turn < 2; ++turn) {
+    auto g = f;
+    for (int guard = 0; guard < 1000; ++guard) {
+      const int j = g->index(r);
+      const int e = turn == 0 ? CDT::ccw(j) : CDT::cw(j);  // the edge of g at r on this side
+      if (g->is_constrained(e)) break;
+      g = g->neighbor(e);
+      if (g == f) return 360;
+      if (cdt.is_infinite(g)) break;
+      total += angle_in(g);
+    }
+  }
+  return total;
+}
+
 /// Delaunay refinement that never splits a constrained edge (the face's edges and the curve).
 /// CGAL's Delaunay_mesher_no_edge_refinement_2 rejects every point that encroaches on a
 /// constrained edge, and in a face bounded by constraints on all sides every circumcenter does,
@@ -119,8 +144,9 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
     }
     const auto &p = v[(r + 1) % 3], &q = v[(r + 2) % 3], &o = v[r];
     const bool angle_bad = worst_angle < min_angle_deg;
-    // The small angle sits at r, between edges rp and rq: forced when both are constraints.
-    if (angle_bad && worst_area_ratio <= 1 && worst->is_constrained((r + 1) % 3) && worst->is_constrained((r + 2) % 3)) {
+    // The small angle sits at r. It is forced when the wedge at r between the two constrained
+    // edges enclosing this triangle is itself narrower than the bound: no point inside helps.
+    if (angle_bad && worst_area_ratio <= 1 && constrained_wedge_deg(cdt, worst, r) < min_angle_deg) {
       given_up.insert(key(worst));
       continue;
     }
@@ -132,6 +158,10 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
     const double h = shortest * std::sqrt(3.0) / 2;
     std::array<double, 2> cand{mx + nx / nlen * h, my + ny / nlen * h};
     if (std::hypot(cc[0] - mx, cc[1] - my) < h) cand = cc;
+    if (!std::isfinite(cand[0]) || !std::isfinite(cand[1])) {  // a triangle too thin for doubles
+      given_up.insert(key(worst));
+      continue;
+    }
     const Point2 P{FT{cand[0]}, FT{cand[1]}};
     typename CDT::Locate_type lt;
     int li;
