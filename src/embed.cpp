@@ -113,7 +113,7 @@ EmbedResult<K> embed(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, cons
 
   // ---- 2, 3. locate and cross
   TraceReport trace_report;
-  const auto traced = trace_curves<K>(mesh, curves, st.max_distance, trace_report);
+  const auto traced = trace_curves<K>(mesh, curves, st.max_distance, trace_report, options.keep_all_nodes);
   st.stage_seconds["locate"] = trace_report.locate_seconds;
   st.stage_seconds["cross"] = trace_report.cross_seconds;
 

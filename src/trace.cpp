@@ -304,7 +304,7 @@ template <class P> std::string describe_point(const P& p) {
 
 template <class K>
 std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<Polyline<K>>& curves,
-                                         double max_distance, TraceReport& report) {
+                                         double max_distance, TraceReport& report, bool nodes_on_surface) {
   using Clock = std::chrono::steady_clock;
   auto t0 = Clock::now();
   Tracer<K> tracer(mesh);
@@ -318,6 +318,7 @@ std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<
     for (std::size_t i = 0; i < n; ++i) {
       double distance = 0;
       located[c].push_back(tracer.locate(curve[i], distance));
+      if (nodes_on_surface && located[c].back().where != Where::vertex) located[c].back().p = curve[i];
       if (!(distance <= max_distance)) {
         std::ostringstream msg;
         msg << "curve " << c << " node " << i << " " << describe_point(curve[i]) << " is " << distance
@@ -379,8 +380,8 @@ std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<
   return traced;
 }
 
-template std::vector<TracedCurve<Exact>> trace_curves<Exact>(const Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double, TraceReport&);
-template std::vector<TracedCurve<Filtered>> trace_curves<Filtered>(const Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double, TraceReport&);
-template std::vector<TracedCurve<Float>> trace_curves<Float>(const Mesh<Float>&, const std::vector<Polyline<Float>>&, double, TraceReport&);
+template std::vector<TracedCurve<Exact>> trace_curves<Exact>(const Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double, TraceReport&, bool);
+template std::vector<TracedCurve<Filtered>> trace_curves<Filtered>(const Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double, TraceReport&, bool);
+template std::vector<TracedCurve<Float>> trace_curves<Float>(const Mesh<Float>&, const std::vector<Polyline<Float>>&, double, TraceReport&, bool);
 
 }  // namespace seam::internal

@@ -57,8 +57,9 @@ struct EmbedOptions {
   double max_area = 0.0;
   /// Cap on Steiner points inserted per re-triangulated face (bounds the work on hostile input).
   std::size_t max_steiner_per_face = 256;
-  /// Keep every curve node (no coarsening between crossings). seam::pair sets it: every point of
-  /// a computed intersection curve is a crossing point of one of the two meshes.
+  /// Keep every curve node (no coarsening between crossings), at its own coordinates. seam::pair
+  /// sets it: every point of a computed intersection curve lies on the mesh and is a crossing
+  /// point of one of the two meshes.
   bool keep_all_nodes = false;
 };
 

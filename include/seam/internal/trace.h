@@ -33,8 +33,12 @@ struct TraceReport {
 
 /// Follows each curve on the mesh. Throws InvalidInput when a node is farther than
 /// max_distance from the surface or a curve has no length on the surface.
+/// With `nodes_on_surface` (curves that lie on the mesh, such as computed intersection curves) a
+/// located node that is not at a mesh vertex keeps the node's own coordinates: under the exact
+/// kernel they are its projection anyway, and under rounded kernels the same node then gets the
+/// same coordinates in every mesh it is embedded into.
 template <class K>
 std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<Polyline<K>>& curves,
-                                         double max_distance, TraceReport& report);
+                                         double max_distance, TraceReport& report, bool nodes_on_surface = false);
 
 }  // namespace seam::internal
