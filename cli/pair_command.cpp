@@ -3,6 +3,7 @@
 #include "common.h"
 
 #include <seam/pair.h>
+#include <seam/vtk.h>
 
 #include <iostream>
 #include <memory>
@@ -12,7 +13,7 @@ namespace seam_cli {
 namespace {
 
 struct PairArgs {
-  std::string a, b, out_a, out_b, curves, curves_out, report, kernel = "exact";
+  std::string a, b, out_a, out_b, curves, curves_out, report, vtk, kernel = "exact";
   seam::PairOptions options;
 };
 
@@ -21,7 +22,7 @@ int run_pair(const PairArgs& args) {
   if (!args.curves.empty())
     throw seam::InvalidInput(args.curves + ": given curves (--curves) are not supported yet; omit --curves to "
                              "compute the intersection curves");
-  refuse_overwrite({args.a, args.b}, {args.out_a, args.out_b, args.curves_out, args.report});
+  refuse_overwrite({args.a, args.b}, {args.out_a, args.out_b, args.curves_out, args.report, args.vtk});
   const auto t0 = Clock::now();
   const seam::TriangleSoup soup_a = seam::read_triangle_mesh(args.a);
   const seam::TriangleSoup soup_b = seam::read_triangle_mesh(args.b);
@@ -43,6 +44,10 @@ int run_pair(const PairArgs& args) {
       if (!args.curves_out.empty()) {
         seam::write_polylines(seam::to_doubles<K>(result.curves), args.curves_out);
         written.push_back(args.curves_out);
+      }
+      if (!args.vtk.empty()) {
+        seam::write_pair_vtk<K>(args.vtk, a, b, result.curves);
+        written.push_back(args.vtk);
       }
       st.stage_seconds["write"] = std::chrono::duration<double>(Clock::now() - t1).count();
       if (!args.report.empty()) {
@@ -94,6 +99,9 @@ Command add_pair_command(CLI::App& app) {
   cmd->add_option("--curves", pa.curves, "Given curves near both surfaces (not supported yet)");
   cmd->add_option("--curves-out", pa.curves_out, "Write the shared curves here, one polyline per line");
   cmd->add_option("--report", pa.report, "Write a JSON report: per-mesh sections as seam embed's, plus the curves");
+  cmd->add_option("--vtk", pa.vtk,
+                  "Also write both outputs and the curves into one ParaView file (.vtu, or legacy .vtk) with cell "
+                  "fields tow, source_face, new and min_angle");
   cmd->add_option("--kernel", pa.kernel, "exact (Epeck, default), filtered (Epick) or float (double)")
       ->check(CLI::IsMember({"exact", "filtered", "float"}));
   cmd->add_option("--snap-tol", pa.options.embed.snap_tol,
