@@ -63,6 +63,7 @@ int run_pair(const PairArgs& args) {
         j["snap"] = {{"vertices_snapped_a", st.vertices_snapped_a}, {"vertices_snapped_b", st.vertices_snapped_b},
                      {"snaps_refused", st.snaps_refused}};
         j["touching_only"] = st.touching_only;
+        j["remeshed"] = st.remeshed;
         j["note"] = st.note;
         j["seconds"] = st.stage_seconds;
         j["files"] = {{"a", args.a}, {"b", args.b}, {"out_a", args.out_a}, {"out_b", args.out_b}};
@@ -110,6 +111,9 @@ Command add_pair_command(CLI::App& app) {
   cmd->add_option("--min-angle", pa.options.embed.min_angle_deg,
                   "Minimum angle (degrees, 0..60) refinement aims for in re-triangulated faces (default: 20)");
   cmd->add_option("--max-area", pa.options.embed.max_area, "Largest area of a new triangle; 0: no bound");
+  cmd->add_flag("--remesh", pa.options.remesh_near_curves,
+                "Experimental: coarsen the curves to about the edge length and remesh both meshes next to them "
+                "(far better angles, but the outputs may cross next to the curves: run seam check)");
   return {cmd, [args] { return run_pair(*args); }};
 }
 

@@ -1,6 +1,8 @@
 // seam::pair: two tows, one interface. See seam/pair.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/internal/improve.h>
 #include <seam/internal/snap.h>
+#include <seam/quality.h>
 #include <seam/pair.h>
 
 #include <CGAL/Polygon_mesh_processing/intersection.h>
@@ -174,6 +176,71 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
       throw InternalError(msg.str());
     }
   result.curves = result.a.curves;
+
+  // Experimental: coarsen the curve to about the edge length and remesh both meshes next to it
+  // (see internal/improve.h and PairOptions::remesh_near_curves). Kept only when both succeed.
+  if (options.remesh_near_curves && !result.curves.empty()) {
+    t = Clock::now();
+    const double spacing = std::min(la, lb);
+    auto kept = internal::choose_curve_points<K>(result.curves, spacing);
+    std::vector<std::vector<std::size_t>> refused;
+    auto keep_refused_too = [&]() {
+      for (std::size_t c = 0; c < kept.size(); ++c) {
+        kept[c].insert(kept[c].end(), refused[c].begin(), refused[c].end());
+        std::sort(kept[c].begin(), kept[c].end());
+        kept[c].erase(std::unique(kept[c].begin(), kept[c].end()), kept[c].end());
+      }
+    };
+    for (int attempt = 0; attempt < 8; ++attempt) {
+      Mesh<K> a2 = a, b2 = b;
+      auto cva = result.a.curve_vertices, cvb = result.b.curve_vertices;
+      if (!internal::coarsen_and_remesh_near_curves<K>(a2, cva, kept, la, refused)) {
+        if (std::all_of(refused.begin(), refused.end(), [](const auto& r) { return r.empty(); })) break;
+        keep_refused_too();
+        continue;
+      }
+      if (!internal::coarsen_and_remesh_near_curves<K>(b2, cvb, kept, lb, refused)) {
+        if (std::all_of(refused.begin(), refused.end(), [](const auto& r) { return r.empty(); })) break;
+        keep_refused_too();
+        continue;
+      }
+      std::vector<Polyline<K>> ca, cb;
+      for (const auto& vs : cva) {
+        ca.emplace_back();
+        for (auto v : vs) ca.back().push_back(a2.point(v));
+      }
+      for (const auto& vs : cvb) {
+        cb.emplace_back();
+        for (auto v : vs) cb.back().push_back(b2.point(v));
+      }
+      if (ca == cb) {
+        a = std::move(a2);
+        b = std::move(b2);
+        result.curves = ca;
+        result.a.curves = ca;
+        result.b.curves = cb;
+        result.a.curve_vertices = cva;
+        result.b.curve_vertices = cvb;
+        st.remeshed = true;
+        for (auto* r : {&result.a, &result.b}) {  // the figures of the remeshed meshes
+          const auto& m = r == &result.a ? a : b;
+          const auto q = new_face_quality<K>(m);
+          r->stats.min_angle_deg_new = q.min_angle_deg;
+          r->stats.new_faces_below_10 = q.below_10;
+          r->stats.new_faces_below_20 = q.below_20;
+          r->stats.new_faces_below_10_unforced = q.below_10;
+          r->stats.faces_added = q.new_faces;
+          r->stats.output_vertices = m.number_of_vertices();
+          r->stats.output_faces = m.number_of_faces();
+          r->stats.curve_nodes_out = 0;
+          for (const auto& c : r->curves) r->stats.curve_nodes_out += is_closed(c) ? c.size() - 1 : c.size();
+        }
+        st.curve_vertices = result.a.stats.curve_nodes_out;
+      }
+      break;
+    }
+    st.stage_seconds["remesh"] = seconds_since(t);
+  }
   return result;
 }
 
