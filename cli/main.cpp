@@ -17,7 +17,8 @@ int main(int argc, char** argv) {
                "interpenetrating tows share the curve vertex for vertex and edge for edge."};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Print help for every subcommand");
-  const std::vector<seam_cli::Command> commands = {seam_cli::add_embed_command(app), seam_cli::add_pair_command(app)};
+  const std::vector<seam_cli::Command> commands = {seam_cli::add_embed_command(app), seam_cli::add_pair_command(app),
+                                                    seam_cli::add_check_command(app)};
 
   try {
     app.parse(argc, argv);

@@ -1,24 +1,37 @@
 #!/usr/bin/env bash
-# Builds seam (scripts/build.sh, Release) and runs the embed benchmark: seam::embed with the
-# exact, filtered and float kernels on a generated tow of ~100k faces with three dense rings.
-# Writes the Google Benchmark JSON to out/bench_embed.json, then prints a table (whole-embed
-# real time and the per-stage seconds) and the ratios exact/filtered and exact/float.
-#   scripts/bench.sh [extra benchmark arguments, e.g. --benchmark_filter=Filtered]
-# The build directory can be changed with SEAM_BUILD_DIR (default: build), as for build.sh.
+# Builds seam (scripts/build.sh, Release) and runs the benchmarks:
+#  * bench_embed: seam::embed with the exact, filtered and float kernels on a generated tow of
+#    ~100k faces with three dense rings. JSON in out/bench_embed.json; prints a table (whole-embed
+#    real time and the per-stage seconds) and the ratios exact/filtered and exact/float.
+#  * bench_pair: a whole `seam pair` run (exact, --snap-tol 0, read + compute + write) against
+#    CGAL's corefine with the same reading and writing, on a generated weft/warp crossover of
+#    76,928 and 64,000 faces, runs alternating. JSON in out/bench_pair.json; prints the ratio
+#    seam/corefine of the median run times, seam's stage breakdown, and the quality of the new
+#    triangles of both (count, share below 10 and 20 degrees, minimum angle).
+#   scripts/bench.sh [extra bench_embed arguments, e.g. --benchmark_filter=Filtered]
+# Environment: SEAM_BUILD_DIR (default: build), as for build.sh; SEAM_BENCH, the benchmarks to
+# run (default: "embed pair"); SEAM_BENCH_PAIR_ARGS, extra bench_pair arguments (e.g.
+# --pair_runs=5, the number of alternating seam/corefine pairs, default 3); SEAM_NO_BUILD=1 to
+# skip the build and use the binaries already in the build directory.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 build_dir="${SEAM_BUILD_DIR:-build}"
-SEAM_BUILD_DIR="$build_dir" bash scripts/build.sh
-bench="$build_dir/benchmarks/bench_embed"
-if [[ ! -x "$bench" ]]; then
-  echo "bench.sh: $bench was not built (is Google Benchmark, libbenchmark-dev, installed?)" >&2
-  exit 1
+benches="${SEAM_BENCH:-embed pair}"
+if [[ "${SEAM_NO_BUILD:-0}" != 1 ]]; then
+  SEAM_BUILD_DIR="$build_dir" bash scripts/build.sh
 fi
+for name in $benches; do
+  if [[ ! -x "$build_dir/benchmarks/bench_$name" ]]; then
+    echo "bench.sh: $build_dir/benchmarks/bench_$name was not built (is Google Benchmark, libbenchmark-dev, installed?)" >&2
+    exit 1
+  fi
+done
 
 mkdir -p out
-"$bench" --benchmark_format=json --benchmark_out=out/bench_embed.json --benchmark_out_format=json "$@" \
-  >/dev/null
+if [[ " $benches " == *" embed "* ]]; then
+"$build_dir/benchmarks/bench_embed" --benchmark_format=json --benchmark_out=out/bench_embed.json \
+  --benchmark_out_format=json "$@" >/dev/null
 
 python3 - out/bench_embed.json <<'EOF'
 import json
@@ -56,3 +69,77 @@ for other in ["filtered", "float"]:
     else:
         print("exact/%-8s n/a (a run is missing or failed)" % other)
 EOF
+fi
+
+if [[ " $benches " == *" pair "* ]]; then
+# shellcheck disable=SC2086  # SEAM_BENCH_PAIR_ARGS is a list of arguments
+"$build_dir/benchmarks/bench_pair" --benchmark_format=json --benchmark_out=out/bench_pair.json \
+  --benchmark_out_format=json ${SEAM_BENCH_PAIR_ARGS:-} >/dev/null
+[[ " $benches " == *" embed "* ]] && echo
+python3 - out/bench_pair.json <<'EOF'
+import json
+import statistics
+import sys
+
+with open(sys.argv[1]) as f:
+    report = json.load(f)
+
+to_ms = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}
+runs = {"seam_pair": [], "corefine": []}  # tool -> the runs' benchmark entries, in order
+failed = False
+for b in report.get("benchmarks", []):
+    if b.get("run_type", "iteration") != "iteration":
+        continue
+    tool = b["name"].split("/")[0]
+    if tool not in runs:
+        continue
+    if b.get("error_occurred"):
+        print("%s ERROR: %s" % (b["name"], b.get("error_message", "?")))
+        failed = True
+        continue
+    b["ms"] = b["real_time"] * to_ms.get(b.get("time_unit", "ns"), 1e-6)
+    runs[tool].append(b)
+
+print("seam pair vs CGAL corefine, whole runs (read + compute + write, exact kernel), ms, in run order")
+for tool, bs in runs.items():
+    print("%-10s %s" % (tool, "  ".join("%9.1f" % b["ms"] for b in bs)))
+if not runs["seam_pair"] or not runs["corefine"]:
+    print("seam/corefine n/a (a run is missing or failed)")
+    sys.exit(1)
+med = {tool: statistics.median(b["ms"] for b in bs) for tool, bs in runs.items()}
+print("median: seam %.1f ms, corefine %.1f ms; seam/corefine %.3f" % (
+    med["seam_pair"], med["corefine"], med["seam_pair"] / med["corefine"]))
+
+print()
+print("stages, median over the runs (s)")
+stages = {"seam_pair": ["read", "intersect", "snap", "embed_a", "embed_b", "remesh", "pair_other", "write"],
+          "corefine": ["read", "corefine", "write"]}
+for tool, names in stages.items():
+    cells = []
+    for s in names:
+        v = statistics.median(b.get(s + "_s", 0.0) for b in runs[tool])
+        if s in ("snap", "remesh") and v == 0.0:
+            continue
+        cells.append("%s %.3f" % (s, v))
+    print("%-10s %s" % (tool, ", ".join(cells)))
+cells = []
+for s in ["snap", "locate", "cross", "coarsen", "retriangulate", "splice", "rest"]:
+    cells.append("%s %.3f" % (s, statistics.median(b.get("embed_" + s + "_s", 0.0) for b in runs["seam_pair"])))
+print("%-10s %s" % ("  embed", ", ".join(cells) + "  (embed_a + embed_b)"))
+
+print()
+print("new triangles (both meshes; last run)")
+print("%-10s %10s %10s %10s %10s %9s" % ("", "out_faces", "new_faces", "<10 deg", "<20 deg", "min_angle"))
+for tool, bs in runs.items():
+    b = bs[-1]
+    print("%-10s %10d %10d %9.2f%% %9.2f%% %9.3f" % (
+        tool, b.get("output_faces", 0), b.get("new_faces", 0), 100 * b.get("share_below_10", 0),
+        100 * b.get("share_below_20", 0), b.get("min_angle", float("nan"))))
+b = runs["seam_pair"][-1]
+print("seam: %d curve(s), %d shared vertices; faces crossed %d (weft) + %d (warp); %d Steiner points, "
+      "refinement undone in %d faces; new faces by coordinates %d" % (
+    b.get("curves", 0), b.get("curve_vertices", 0), b.get("faces_crossed_a", 0), b.get("faces_crossed_b", 0),
+    b.get("steiner_points", 0), b.get("refinement_undone", 0), b.get("new_faces_by_coords", 0)))
+sys.exit(1 if failed else 0)
+EOF
+fi

@@ -1,0 +1,163 @@
+// seam check: verify a conforming pair independently of the code that produced it.
+//
+// Exit codes: 0 every check holds; 1 verification failed (one "FAIL: ..." line per problem on
+// stdout, then the summary); 2 bad input or usage (a file that cannot be read or is not a valid
+// triangle mesh / polyline file, named on stderr); 3 internal error.
+//
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "common.h"
+
+#include <seam/check.h>
+
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <memory>
+#include <sstream>
+
+namespace seam_cli {
+
+namespace {
+
+struct CheckArgs {
+  std::string a, b, a2, b2, curves, report, kernel = "exact";
+  double tol = std::numeric_limits<double>::quiet_NaN();  // NaN: automatic
+};
+
+/// True when the file holds no polyline at all: only blank lines and '#' comments.
+bool has_no_polyline(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto first = line.find_first_not_of(" \t\r\f\v");
+    if (first != std::string::npos && line[first] != '#') return false;
+  }
+  return !in.bad();
+}
+
+/// 1e-9 x the diagonal of the bounding box of both inputs.
+double default_tolerance(const seam::TriangleSoup& a, const seam::TriangleSoup& b) {
+  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (const auto* soup : {&a, &b})
+    for (const auto& t : soup->triangles)
+      for (auto i : t)
+        for (int k = 0; k < 3; ++k) {
+          lo[k] = std::min(lo[k], soup->points[i][k]);
+          hi[k] = std::max(hi[k], soup->points[i][k]);
+        }
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) d2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+  return 1e-9 * std::sqrt(d2);
+}
+
+nlohmann::json report_json(const seam::PairCheckReport& r, const CheckArgs& a) {
+  nlohmann::json j;
+  j["ok"] = r.ok();
+  j["problems"] = r.problems;
+  j["kernel"] = a.kernel;
+  j["tolerance"] = r.tolerance;
+  j["files"] = {{"a", a.a}, {"b", a.b}, {"a2", a.a2}, {"b2", a.b2}, {"curves", a.curves}};
+  j["curves"] = {{"curves", r.curves}, {"vertices", r.curve_vertices}, {"segments", r.curve_segments}};
+  j["face_pairs"] = {{"candidates", r.candidate_face_pairs},
+                     {"intersecting_on_curves", r.face_pairs_on_curve},
+                     {"intersecting_off_curves", r.intersecting_face_pairs_off_curve}};
+  j["a2"] = {{"vertices", r.vertices_a2},       {"faces", r.faces_a2},        {"new_faces", r.new_faces_a},
+             {"max_distance", r.max_distance_a}, {"min_angle_deg", r.min_angle_deg_a},
+             {"new_below_10", r.below_10_a},     {"new_below_20", r.below_20_a}};
+  j["b2"] = {{"vertices", r.vertices_b2},       {"faces", r.faces_b2},        {"new_faces", r.new_faces_b},
+             {"max_distance", r.max_distance_b}, {"min_angle_deg", r.min_angle_deg_b},
+             {"new_below_10", r.below_10_b},     {"new_below_20", r.below_20_b}};
+  return j;
+}
+
+void print_summary(std::ostream& os, const seam::PairCheckReport& r, const CheckArgs& a) {
+  os << "seam check: " << (r.ok() ? "OK" : "FAILED") << " (" << r.problems.size() << " problem"
+     << (r.problems.size() == 1 ? "" : "s") << ", kernel " << a.kernel << ")\n";
+  os << "  curves:      " << r.curves << " (" << r.curve_vertices << " vertices, " << r.curve_segments
+     << " segments)\n";
+  os << "  face pairs:  " << r.candidate_face_pairs << " with overlapping boxes, " << r.face_pairs_on_curve
+     << " meeting on the curves, " << r.intersecting_face_pairs_off_curve << " intersecting off the curves\n";
+  os << "  tolerance:   " << r.tolerance << " (largest distance from the input: A2 " << r.max_distance_a << ", B2 "
+     << r.max_distance_b << ")\n";
+  auto mesh_line = [&](const char* name, std::size_t v, std::size_t f, std::size_t nf, double angle, std::size_t b10,
+                       std::size_t b20) {
+    os << "  " << name << ":          " << v << " vertices, " << f << " faces (" << nf
+       << " not in the input); min angle " << angle << " deg; new faces below 10 deg: " << b10
+       << ", below 20 deg: " << b20 << "\n";
+  };
+  mesh_line("A2", r.vertices_a2, r.faces_a2, r.new_faces_a, r.min_angle_deg_a, r.below_10_a, r.below_20_a);
+  mesh_line("B2", r.vertices_b2, r.faces_b2, r.new_faces_b, r.min_angle_deg_b, r.below_10_b, r.below_20_b);
+}
+
+int run_check(CheckArgs a) {
+  if (!std::isnan(a.tol) && !(std::isfinite(a.tol) && a.tol >= 0))
+    throw seam::InvalidInput("--tol must be a finite number >= 0");
+  refuse_overwrite({a.a, a.b, a.a2, a.b2, a.curves}, {a.report});
+  const auto t0 = Clock::now();
+  const seam::TriangleSoup sa = seam::read_triangle_mesh(a.a), sb = seam::read_triangle_mesh(a.b),
+                           sa2 = seam::read_triangle_mesh(a.a2), sb2 = seam::read_triangle_mesh(a.b2);
+  std::vector<std::vector<seam::Point3d>> polylines;
+  try {
+    polylines = seam::read_polylines(a.curves);
+  } catch (const seam::InvalidInput&) {
+    if (!has_no_polyline(a.curves)) throw;  // an empty curves file means: no curves
+  }
+  if (std::isnan(a.tol)) a.tol = default_tolerance(sa, sb);
+  const double read_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+
+  return seam::with_kernel(parse_kernel(a.kernel), [&](auto kernel) {
+    using K = decltype(kernel);
+    const auto ma = seam::mesh_from_soup<K>(sa, a.a), mb = seam::mesh_from_soup<K>(sb, a.b);
+    const auto ma2 = seam::mesh_from_soup<K>(sa2, a.a2), mb2 = seam::mesh_from_soup<K>(sb2, a.b2);
+    const auto curves = seam::to_kernel<K>(polylines);
+    const auto t1 = Clock::now();
+    const seam::PairCheckReport r = seam::check_pair<K>(ma, mb, ma2, mb2, curves, a.tol);
+    const double check_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
+
+    for (const auto& p : r.problems) std::cout << "FAIL: " << p << "\n";
+    print_summary(std::cout, r, a);
+    std::cout.flush();
+    if (!a.report.empty()) {
+      nlohmann::json j = report_json(r, a);
+      j["seconds"] = {{"read", read_seconds}, {"check", check_seconds}};
+      write_json(j, a.report);
+    }
+    return r.ok() ? 0 : 1;
+  });
+}
+
+}  // namespace
+
+Command add_check_command(CLI::App& app) {
+  auto args = std::make_shared<CheckArgs>();
+  CheckArgs& ca = *args;
+  auto* check = app.add_subcommand(
+      "check",
+      "Verify a conforming pair, independently of the code that produced it: A2 and B2 are valid triangle meshes "
+      "(no degenerate face, no self-intersection, closed when the input is), every curve point is a vertex of both "
+      "with identical coordinates and every curve segment an edge of both, A2 and B2 intersect nowhere but along "
+      "the curves, and every vertex of A2 (B2) lies within --tol of A (B); prints the quality figures. Exit 0 when "
+      "all hold, 1 when a check fails (verification failed: 'FAIL: ...' lines on stdout), 2 on bad input, 3 on an "
+      "internal error.");
+  check->add_option("A", ca.a, "Input mesh A (.off, .obj, .ply, .stl)")->required();
+  check->add_option("B", ca.b, "Input mesh B")->required();
+  check->add_option("A2", ca.a2, "Output mesh A2 (A made conforming)")->required();
+  check->add_option("B2", ca.b2, "Output mesh B2 (B made conforming)")->required();
+  check->add_option("CURVES", ca.curves,
+                    "The shared curves, one polyline per line: 'n x1 y1 z1 ... xn yn zn'; a file with no polyline "
+                    "(empty, or comments only) means no curves: A2 and B2 must then not meet at all")
+      ->required();
+  check->add_option("--tol", ca.tol,
+                    "Largest allowed distance of a vertex of A2 (B2) from the surface of A (B) (default: 1e-9 x the "
+                    "bounding-box diagonal of A and B; with snapping use at least the snap tolerance)");
+  check->add_option("--kernel", ca.kernel,
+                    "exact (Epeck, default: the reference), filtered (Epick: exact predicates on the coordinates as "
+                    "read) or float (double)")
+      ->check(CLI::IsMember({"exact", "filtered", "float"}));
+  check->add_option("--report", ca.report, "Write a JSON report (problems and figures) here");
+  return {check, [args] { return run_check(*args); }};
+}
+
+}  // namespace seam_cli

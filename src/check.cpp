@@ -1,0 +1,626 @@
+// seam: independent verification of a conforming pair. See seam/check.h.
+//
+// Nothing here calls the embedding or the curve computation: the checks use the four meshes, the
+// curves and CGAL predicates only. Vertices of different meshes are matched by their exact
+// coordinates (std::map ordered by CGAL::compare_xyz), never by index.
+//
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/check.h>
+#include <seam/quality.h>
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Interval_nt.h>
+#include <CGAL/box_intersection_d.h>
+#include <CGAL/boost/graph/helpers.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <type_traits>
+#include <utility>
+
+namespace seam {
+
+namespace {
+
+template <class... T> std::string say(const T&... parts) {
+  std::ostringstream out;
+  out.precision(17);
+  (out << ... << parts);
+  return out.str();
+}
+
+template <class P> std::string point_text(const P& p) {
+  return say("(", CGAL::to_double(p.x()), ", ", CGAL::to_double(p.y()), ", ", CGAL::to_double(p.z()), ")");
+}
+
+/// Exact lexicographic order of points.
+struct PointLess {
+  template <class P> bool operator()(const P& p, const P& q) const { return CGAL::compare_xyz(p, q) == CGAL::SMALLER; }
+};
+
+constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+constexpr std::size_t max_examples = 5;  ///< face pairs named in one problem line
+
+// ------------------------------------------------------------------ certified fast tests
+//
+// Interval coordinates that contain the exact ones (the exact kernel's approximation, or the
+// doubles themselves). A test below returns true only when the interval arithmetic proves the
+// property for the exact coordinates; otherwise the caller decides with the kernel's predicates.
+// They matter under the exact kernel: next to the curves and inside re-triangulated faces the
+// configurations are degenerate by construction (a curve point lies exactly in the plane of the
+// other mesh's faces, the faces of one input face are exactly coplanar), so the kernel's own
+// filters fail and evaluate on rationals that can be a thousand bits long (seconds per thousand
+// pairs); separating axes and axis projections settle nearly all of them in doubles.
+
+using I = CGAL::Interval_nt<false>;  // needs the rounding mode set by Protect_FPU_rounding
+using IP = std::array<I, 3>;
+
+template <class P> IP interval_point(const P& p) {
+  if constexpr (std::is_same_v<typename CGAL::Kernel_traits<P>::Kernel, Exact>) {
+    const auto& a = CGAL::approx(p);
+    return {I(a.x().inf(), a.x().sup()), I(a.y().inf(), a.y().sup()), I(a.z().inf(), a.z().sup())};
+  } else {
+    return {I(CGAL::to_double(p.x())), I(CGAL::to_double(p.y())), I(CGAL::to_double(p.z()))};
+  }
+}
+
+/// +1 / -1 when the sign is certain, 0 otherwise.
+inline int sure_sign(const I& x) { return x.inf() > 0 ? 1 : (x.sup() < 0 ? -1 : 0); }
+
+/// Orientation of (a, b, c) projected along axis `ax` (dropping that coordinate).
+inline I orient2(const IP& a, const IP& b, const IP& c, int ax) {
+  const int i = (ax + 1) % 3, j = (ax + 2) % 3;
+  return (b[i] - a[i]) * (c[j] - a[j]) - (b[j] - a[j]) * (c[i] - a[i]);
+}
+
+/// Orientation of (p, a, b, c) in 3D.
+inline I orient3(const IP& p, const IP& a, const IP& b, const IP& c) {
+  const I ax = a[0] - p[0], ay = a[1] - p[1], az = a[2] - p[2];
+  const I bx = b[0] - p[0], by = b[1] - p[1], bz = b[2] - p[2];
+  const I cx = c[0] - p[0], cy = c[1] - p[1], cz = c[2] - p[2];
+  return ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+}
+
+/// Triangles (t[0], t[1], t[2]) and (u[0], u[1], u[2]) are disjoint: a separating axis strictly
+/// separates them (3D: a normal or the cross product of two edges), or in some axis projection an
+/// edge line does (the projection of a common point would be on both sides).
+bool surely_disjoint(const std::array<const IP*, 3>& t, const std::array<const IP*, 3>& u) {
+  CGAL::Protect_FPU_rounding<true> rounding;
+  // Separating axes in 3D: the two normals and the nine cross products of an edge of each.
+  auto edge = [](const std::array<const IP*, 3>& x, int m) {
+    const IP &a = *x[m], &b = *x[(m + 1) % 3];
+    return IP{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  };
+  auto cross = [](const IP& a, const IP& b) {
+    return IP{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  };
+  auto separates = [&](const IP& n) {  // every (u_j - t_i) . n has the same certain sign
+    int sign = 0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const IP &a = *t[i], &b = *u[j];
+        const int sij = sure_sign((b[0] - a[0]) * n[0] + (b[1] - a[1]) * n[1] + (b[2] - a[2]) * n[2]);
+        if (sij == 0 || (sign != 0 && sij != sign)) return false;
+        sign = sij;
+      }
+    return true;
+  };
+  if (separates(cross(edge(t, 0), edge(t, 1))) || separates(cross(edge(u, 0), edge(u, 1)))) return true;
+  for (int m = 0; m < 3; ++m)
+    for (int k = 0; k < 3; ++k)
+      if (separates(cross(edge(t, m), edge(u, k)))) return true;
+  for (int ax = 0; ax < 3; ++ax)
+    for (int side = 0; side < 2; ++side) {
+      const auto& x = side ? u : t;
+      const auto& y = side ? t : u;
+      for (int m = 0; m < 3; ++m) {
+        const IP &e0 = *x[m], &e1 = *x[(m + 1) % 3];
+        const int own = sure_sign(orient2(e0, e1, *x[(m + 2) % 3], ax));
+        if (own == 0) continue;
+        if (sure_sign(orient2(e0, e1, *y[0], ax)) == -own && sure_sign(orient2(e0, e1, *y[1], ax)) == -own &&
+            sure_sign(orient2(e0, e1, *y[2], ax)) == -own)
+          return true;
+      }
+    }
+  return false;
+}
+
+/// Triangles (p, q, r) and (p, q, s) meet only in their edge pq: s is off the plane of (p, q, r),
+/// or in some axis projection where (p, q, r) is not degenerate (so the projection is one-to-one
+/// on its plane), r and s lie strictly on opposite sides of pq.
+bool surely_only_edge(const IP& p, const IP& q, const IP& r, const IP& s) {
+  CGAL::Protect_FPU_rounding<true> rounding;
+  if (sure_sign(orient3(p, q, r, s)) != 0) return true;  // not coplanar
+  for (int ax = 0; ax < 3; ++ax) {
+    const int o_r = sure_sign(orient2(p, q, r, ax));
+    if (o_r != 0 && sure_sign(orient2(p, q, s, ax)) == -o_r) return true;
+  }
+  return false;
+}
+
+/// Triangles (p, a, b) and (p, c, d) meet only in p (true), more than p (false), or unknown.
+std::optional<bool> surely_only_vertex(const IP& p, const IP& a, const IP& b, const IP& c, const IP& d) {
+  CGAL::Protect_FPU_rounding<true> rounding;
+  // In 3D: one triangle strictly on one side of the other's plane (it meets that plane in p
+  // only); or each straddles the other's plane, and then each meets the common line of the planes
+  // in a segment from p, [p, x1] and [p, x2], which overlap iff they point the same way.
+  const int oc = sure_sign(orient3(p, a, b, c)), od = sure_sign(orient3(p, a, b, d));
+  if (oc != 0 && oc == od) return true;
+  const I o_a = orient3(p, c, d, a), o_b = orient3(p, c, d, b);
+  const int oa = sure_sign(o_a), ob = sure_sign(o_b);
+  if (oa != 0 && oa == ob) return true;
+  if (oc != 0 && od == -oc && oa != 0 && ob == -oa) {
+    const I o_c = orient3(p, a, b, c), o_d = orient3(p, a, b, d);
+    const I t1 = o_a / (o_a - o_b), t2 = o_c / (o_c - o_d);  // denominators surely nonzero
+    I dot(0);
+    for (int i = 0; i < 3; ++i) dot += (a[i] + (b[i] - a[i]) * t1 - p[i]) * (c[i] + (d[i] - c[i]) * t2 - p[i]);
+    const int sd = sure_sign(dot);
+    if (sd < 0) return true;
+    if (sd > 0) return false;
+  }
+  // In an axis projection where neither is degenerate: their angular sectors at p (each less
+  // than 180 degrees) share only p, i.e. no bounding ray of one is in the closed sector of the other.
+  for (int ax = 0; ax < 3; ++ax) {
+    const int o1 = sure_sign(orient2(p, a, b, ax)), o2 = sure_sign(orient2(p, c, d, ax));
+    if (o1 == 0 || o2 == 0) continue;
+    const IP &u1 = o1 > 0 ? a : b, &u2 = o1 > 0 ? b : a;  // counterclockwise sector u1 -> u2
+    const IP &v1 = o2 > 0 ? c : d, &v2 = o2 > 0 ? d : c;
+    auto outside = [&](const IP& w, const IP& s1, const IP& s2) {
+      return sure_sign(orient2(p, s1, w, ax)) < 0 || sure_sign(orient2(p, w, s2, ax)) < 0;
+    };
+    if (outside(v1, u1, u2) && outside(v2, u1, u2) && outside(u1, v1, v2) && outside(u2, v1, v2)) return true;
+  }
+  return std::nullopt;
+}
+
+/// How two faces meet. Their common corners are given: for corner k of the second face, ia[k] is
+/// the corner of the first face at the same point, or -1.
+enum class Meet { apart, at_vertex, along_edge, beyond };
+
+template <class K> struct Corners {
+  std::array<const typename K::Point_3*, 3> p;
+  std::array<const IP*, 3> a;
+  typename K::Triangle_3 triangle() const { return typename K::Triangle_3(*p[0], *p[1], *p[2]); }
+};
+
+/// apart: no common point. at_vertex / along_edge: exactly the common vertex / edge. beyond:
+/// anything more (crossing, overlapping, touching away from the common corners).
+template <class K> Meet meet(const Corners<K>& s, const Corners<K>& t, const int ia[3], int shared) {
+  using Segment = typename K::Segment_3;
+  switch (shared) {
+    case 0:
+      if (surely_disjoint(s.a, t.a)) return Meet::apart;
+      return CGAL::do_intersect(s.triangle(), t.triangle()) ? Meet::beyond : Meet::apart;
+    case 1: {
+      int k = 0;
+      while (ia[k] < 0) ++k;
+      const int j = ia[k], j1 = (j + 1) % 3, j2 = (j + 2) % 3, k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+      if (const auto only = surely_only_vertex(*s.a[j], *s.a[j1], *s.a[j2], *t.a[k1], *t.a[k2]))
+        return *only ? Meet::at_vertex : Meet::beyond;
+      // The intersection is more than the common vertex iff an opposite edge meets the other face
+      // (the far end of the intersection lies on one of the opposite edges).
+      if (CGAL::do_intersect(Segment(*s.p[j1], *s.p[j2]), t.triangle()) ||
+          CGAL::do_intersect(Segment(*t.p[k1], *t.p[k2]), s.triangle()))
+        return Meet::beyond;
+      return Meet::at_vertex;
+    }
+    case 2: {
+      int k = 0;
+      while (ia[k] >= 0) ++k;  // the corner of t that is not shared
+      const int jp = ia[(k + 1) % 3], jq = ia[(k + 2) % 3];
+      const int j = 3 - jp - jq;  // the corner of s that is not shared
+      if (surely_only_edge(*s.a[jp], *s.a[jq], *s.a[j], *t.a[k])) return Meet::along_edge;
+      // Faces with a common edge overlap iff they are coplanar and on the same side of it.
+      const auto &p = *s.p[jp], &q = *s.p[jq], &r = *s.p[j], &o = *t.p[k];
+      if (CGAL::coplanar(p, q, r, o) && CGAL::coplanar_orientation(p, q, r, o) == CGAL::POSITIVE) return Meet::beyond;
+      return Meet::along_edge;
+    }
+    default:
+      return Meet::beyond;
+  }
+}
+
+template <class K> struct MeshView {
+  using M = Mesh<K>;
+  using Point = typename K::Point_3;
+  using V = typename M::Vertex_index;
+  using F = typename M::Face_index;
+
+  const M& mesh;
+  std::string name;
+  bool structure_ok = false;  ///< valid halfedge structure of triangles: the other checks can run
+  std::map<Point, V, PointLess> vertex_at;  ///< exact coordinates -> vertex
+  std::vector<char> degenerate;             ///< per face index
+  std::vector<IP> approx;                   ///< per vertex index
+
+  MeshView(const M& m, std::string n) : mesh(m), name(std::move(n)) {}
+
+  std::size_t vertex_slots() const { return mesh.number_of_vertices() + mesh.number_of_removed_vertices(); }
+  std::size_t face_slots() const { return mesh.number_of_faces() + mesh.number_of_removed_faces(); }
+  std::array<V, 3> corners(F f) const {
+    const auto h = mesh.halfedge(f);
+    return {mesh.source(h), mesh.target(h), mesh.target(mesh.next(h))};
+  }
+  Corners<K> geometry(const std::array<V, 3>& c) const {
+    Corners<K> g;
+    for (int i = 0; i < 3; ++i) {
+      g.p[i] = &mesh.point(c[i]);
+      g.a[i] = &approx[std::size_t(c[i])];
+    }
+    return g;
+  }
+};
+
+using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
+
+/// One box per non-degenerate face.
+template <class K> std::vector<Box> face_boxes(const MeshView<K>& view) {
+  std::vector<Box> result;
+  result.reserve(view.mesh.number_of_faces());
+  for (auto f : view.mesh.faces()) {
+    if (view.degenerate[std::size_t(f)]) continue;  // reported by check 1
+    const auto c = view.corners(f);
+    const auto& m = view.mesh;
+    result.emplace_back(m.point(c[0]).bbox() + m.point(c[1]).bbox() + m.point(c[2]).bbox(), std::uint32_t(f));
+  }
+  return result;
+}
+
+/// How two faces with `shared` common corners that meet beyond them meet.
+const char* beyond_text(int shared) {
+  if (shared == 3) return "are the same triangle";
+  if (shared == 2) return "overlap (coplanar on the same side of their common edge)";
+  if (shared == 1) return "cross (beyond their common vertex)";
+  return "cross";
+}
+
+/// Faces of one mesh meet only in their common vertices and edges (what is checked is the same
+/// as CGAL::Polygon_mesh_processing::does_self_intersect, with the fast tests above first).
+template <class K> void check_self_intersections(const MeshView<K>& view, std::vector<std::string>& problems) {
+  using F = typename Mesh<K>::Face_index;
+  std::vector<Box> boxes = face_boxes(view);
+  std::size_t count = 0;
+  std::vector<std::string> examples;
+  auto callback = [&](const Box& x, const Box& y) {
+    const F f(x.info()), g(y.info());
+    const auto cf = view.corners(f), cg = view.corners(g);
+    int ia[3] = {-1, -1, -1};
+    int shared = 0;
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < 3; ++j)
+        if (cg[k] == cf[j]) {
+          ia[k] = j;
+          ++shared;
+        }
+    const Meet how = meet<K>(view.geometry(cf), view.geometry(cg), ia, shared);
+    if (how != Meet::beyond) return;
+    if (count++ < max_examples)
+      examples.push_back(say("faces ", std::size_t(f), " and ", std::size_t(g), " ", beyond_text(shared)));
+  };
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), callback);
+  if (count) {
+    std::string list;
+    for (const auto& e : examples) list += (list.empty() ? "" : "; ") + e;
+    if (count > examples.size()) list += "; ...";
+    problems.push_back(say(view.name, " self-intersects: ", count, " face pairs (", list, ")"));
+  }
+}
+
+/// Check 1: a valid triangle mesh, closed when its input is; fills the vertex map.
+template <class K> void check_mesh(MeshView<K>& view, bool expect_closed, std::vector<std::string>& problems) {
+  const auto& m = view.mesh;
+  const std::string& name = view.name;
+  if (m.number_of_faces() == 0) {
+    problems.push_back(say(name, " has no face"));
+    return;
+  }
+  if (!CGAL::is_valid_polygon_mesh(m)) {
+    problems.push_back(say(name, " is not a valid polygon mesh (broken halfedge structure)"));
+    return;
+  }
+  if (!CGAL::is_triangle_mesh(m)) {
+    problems.push_back(say(name, " is not a triangle mesh"));
+    return;
+  }
+  view.structure_ok = true;
+  if (expect_closed && !CGAL::is_closed(m))
+    problems.push_back(say(name, " is not closed (its input is): it has border edges"));
+
+  std::size_t isolated = 0;
+  std::size_t duplicates = 0;
+  std::string first_duplicate;
+  view.approx.assign(view.vertex_slots(), IP{I(0), I(0), I(0)});
+  for (auto v : m.vertices()) {
+    view.approx[std::size_t(v)] = interval_point(m.point(v));
+    if (m.is_isolated(v)) ++isolated;
+    const auto [it, inserted] = view.vertex_at.emplace(m.point(v), v);
+    if (!inserted && duplicates++ == 0)
+      first_duplicate = say("vertices ", std::size_t(it->second), " and ", std::size_t(v), " at ", point_text(m.point(v)));
+  }
+  if (isolated) problems.push_back(say(name, " has ", isolated, " isolated vertices (in no face)"));
+  if (duplicates)
+    problems.push_back(say(name, " has ", duplicates, " vertices at the same point as another vertex (first: ",
+                           first_duplicate, ")"));
+
+  view.degenerate.assign(view.face_slots(), 0);
+  std::size_t degenerate = 0;
+  std::size_t first_degenerate = 0;
+  for (auto f : m.faces()) {
+    const auto c = view.corners(f);
+    if (CGAL::collinear(m.point(c[0]), m.point(c[1]), m.point(c[2]))) {
+      view.degenerate[std::size_t(f)] = 1;
+      if (degenerate++ == 0) first_degenerate = std::size_t(f);
+    }
+  }
+  if (degenerate)
+    problems.push_back(say(name, " has ", degenerate, " degenerate (zero-area) faces (first: face ", first_degenerate, ")"));
+  check_self_intersections(view, problems);
+}
+
+/// Check 4 and the quality figures for one output mesh against its input.
+template <class K>
+void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double tol, double& max_distance,
+                         double& min_angle, std::size_t& below_10, std::size_t& below_20, std::size_t& new_faces,
+                         std::vector<std::string>& problems) {
+  using FP = Filtered::Point_3;
+  using FT3 = Filtered::Triangle_3;
+  using Primitive = CGAL::AABB_triangle_primitive<Filtered, typename std::vector<FT3>::const_iterator>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Filtered, Primitive>>;
+  const auto& m = out.mesh;
+
+  // Distances of the output vertices from the input surface.
+  std::vector<FT3> triangles;
+  std::vector<typename Mesh<K>::Face_index> faces;
+  triangles.reserve(input.number_of_faces());
+  faces.reserve(input.number_of_faces());
+  CGAL::Bbox_3 box;
+  for (auto f : input.faces()) {
+    const auto h = input.halfedge(f);
+    const FP p = to_filtered(input.point(input.source(h))), q = to_filtered(input.point(input.target(h))),
+             r = to_filtered(input.point(input.target(input.next(h))));
+    triangles.emplace_back(p, q, r);
+    faces.push_back(f);
+    box += triangles.back().bbox();
+  }
+  max_distance = 0;
+  if (!triangles.empty()) {
+    Tree tree(triangles.begin(), triangles.end());
+    tree.accelerate_distance_queries();
+    const double scale = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                   CGAL::square(box.zmax() - box.zmin()));
+    const double slack = 1e-12 * (scale + 1.0);  // rounding of the double distance
+    const typename K::FT tol2 = typename K::FT(tol) * typename K::FT(tol);
+    std::size_t far = 0;
+    std::size_t first_far = 0;
+    double first_far_distance = 0;
+    for (auto v : m.vertices()) {
+      if (m.is_isolated(v)) continue;
+      const FP query = to_filtered(m.point(v));
+      const auto [closest, id] = tree.closest_point_and_primitive(query);
+      double d = std::sqrt(CGAL::squared_distance(query, closest));
+      bool within = d <= tol;
+      if (!within && d <= tol + slack) {
+        // Decide in the kernel (exactly under the exact kernel) with the closest face found.
+        const auto f = faces[std::size_t(id - triangles.cbegin())];
+        const auto h = input.halfedge(f);
+        const typename K::Triangle_3 t(input.point(input.source(h)), input.point(input.target(h)),
+                                       input.point(input.target(input.next(h))));
+        const auto d2 = CGAL::squared_distance(m.point(v), t);
+        within = d2 <= tol2;
+        d = std::min(d, std::sqrt(CGAL::to_double(d2)));
+      }
+      max_distance = std::max(max_distance, d);
+      if (!within && far++ == 0) {
+        first_far = std::size_t(v);
+        first_far_distance = d;
+      }
+    }
+    if (far)
+      problems.push_back(say(out.name, ": ", far, " vertices are farther than the tolerance ", tol,
+                             " from the input surface (first: vertex ", first_far, " at distance ", first_far_distance,
+                             "; largest ", max_distance, ")"));
+  }
+
+  // Quality: every face's smallest angle; faces that are not input faces (same three points).
+  std::vector<std::uint32_t> to_out(input.number_of_vertices() + input.number_of_removed_vertices(), none);
+  for (auto v : input.vertices()) {
+    const auto it = out.vertex_at.find(input.point(v));
+    if (it != out.vertex_at.end()) to_out[std::size_t(v)] = std::uint32_t(it->second);
+  }
+  std::set<std::array<std::uint32_t, 3>> input_faces;
+  for (auto f : input.faces()) {
+    const auto h = input.halfedge(f);
+    std::array<std::uint32_t, 3> c = {to_out[std::size_t(input.source(h))], to_out[std::size_t(input.target(h))],
+                                      to_out[std::size_t(input.target(input.next(h)))]};
+    if (c[0] == none || c[1] == none || c[2] == none) continue;
+    std::sort(c.begin(), c.end());
+    input_faces.insert(c);
+  }
+  min_angle = 180;
+  below_10 = below_20 = new_faces = 0;
+  for (auto f : m.faces()) {
+    const auto c = out.corners(f);
+    const double angle = min_angle_deg(m.point(c[0]), m.point(c[1]), m.point(c[2]));
+    min_angle = std::min(min_angle, angle);
+    std::array<std::uint32_t, 3> k = {std::uint32_t(c[0]), std::uint32_t(c[1]), std::uint32_t(c[2])};
+    std::sort(k.begin(), k.end());
+    if (input_faces.count(k)) continue;
+    ++new_faces;
+    if (angle < 10) ++below_10;
+    if (angle < 20) ++below_20;
+  }
+  if (m.number_of_faces() == 0) min_angle = 0;
+}
+
+}  // namespace
+
+template <class K>
+PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2, const Mesh<K>& b2,
+                           const std::vector<Polyline<K>>& curves, double tol) {
+  using M = Mesh<K>;
+  using Point = typename K::Point_3;
+  using V = typename M::Vertex_index;
+  using F = typename M::Face_index;
+  PairCheckReport report;
+  auto& problems = report.problems;
+  report.tolerance = tol;
+  report.vertices_a2 = a2.number_of_vertices();
+  report.faces_a2 = a2.number_of_faces();
+  report.vertices_b2 = b2.number_of_vertices();
+  report.faces_b2 = b2.number_of_faces();
+
+  // ------------------------------------------------------------ 1. valid meshes
+  MeshView<K> va(a2, "A2"), vb(b2, "B2");
+  check_mesh(va, CGAL::is_closed(a), problems);
+  check_mesh(vb, CGAL::is_closed(b), problems);
+
+  // ------------------------------------------------------------ 2. curves present in both
+  std::set<Point, PointLess> curve_points;
+  report.curves = curves.size();
+  for (std::size_t c = 0; c < curves.size(); ++c) {
+    const auto& pts = curves[c];
+    if (pts.empty()) continue;
+    report.curve_vertices += pts.size() - (is_closed(pts) ? 1 : 0);
+    if (pts.size() >= 2) report.curve_segments += pts.size() - 1;
+    for (std::size_t i = 0; i + 1 < pts.size(); ++i)
+      if (pts[i] == pts[i + 1]) problems.push_back(say("curve ", c, " segment ", i, " has zero length at ", point_text(pts[i])));
+    curve_points.insert(pts.begin(), pts.end());
+  }
+  // Curve edges as pairs of A2 vertex indices (both ends present in A2), smaller index first.
+  std::set<std::pair<std::uint32_t, std::uint32_t>> curve_edges_a;
+  for (MeshView<K>* view : {&va, &vb}) {
+    if (!view->structure_ok) continue;
+    std::size_t missing_points = 0, missing_edges = 0;
+    std::string first_point, first_edge;
+    for (std::size_t c = 0; c < curves.size(); ++c) {
+      const auto& pts = curves[c];
+      std::vector<V> vs(pts.size(), M::null_vertex());
+      for (std::size_t i = 0; i < pts.size(); ++i) {
+        const auto it = view->vertex_at.find(pts[i]);
+        if (it != view->vertex_at.end()) {
+          vs[i] = it->second;
+        } else if (!(is_closed(pts) && i + 1 == pts.size()) && missing_points++ == 0) {
+          first_point = say("curve ", c, " point ", i, " at ", point_text(pts[i]));
+        }
+      }
+      for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
+        if (vs[i] == M::null_vertex() || vs[i + 1] == M::null_vertex() || vs[i] == vs[i + 1]) continue;
+        if (view->mesh.halfedge(vs[i], vs[i + 1]) == M::null_halfedge()) {
+          if (missing_edges++ == 0)
+            first_edge = say("curve ", c, " segment ", i, " from ", point_text(pts[i]), " to ", point_text(pts[i + 1]));
+        } else if (view == &va) {
+          const auto u = std::uint32_t(vs[i]), w = std::uint32_t(vs[i + 1]);
+          curve_edges_a.emplace(std::min(u, w), std::max(u, w));
+        }
+      }
+    }
+    if (missing_points)
+      problems.push_back(say(view->name, ": ", missing_points,
+                             " curve points are not vertices with identical coordinates (first: ", first_point, ")"));
+    if (missing_edges)
+      problems.push_back(say(view->name, ": ", missing_edges, " curve segments are not edges (first: ", first_edge, ")"));
+  }
+
+  // ------------------------------------------------------------ 3. no intersection off the curves
+  if (va.structure_ok && vb.structure_ok) {
+    // B2 vertex -> A2 vertex at the same point; A2 vertices that are curve points.
+    std::vector<std::uint32_t> b_to_a(vb.vertex_slots(), none);
+    for (auto v : b2.vertices()) {
+      const auto it = va.vertex_at.find(b2.point(v));
+      if (it != va.vertex_at.end()) b_to_a[std::size_t(v)] = std::uint32_t(it->second);
+    }
+    std::vector<char> on_curve_a(va.vertex_slots(), 0);
+    for (const auto& p : curve_points) {
+      const auto it = va.vertex_at.find(p);
+      if (it != va.vertex_at.end()) on_curve_a[std::size_t(it->second)] = 1;
+    }
+
+    std::vector<Box> boxes_a = face_boxes(va), boxes_b = face_boxes(vb);
+
+    std::vector<std::string> examples;
+    auto off_curve = [&](F fa, F fb, const char* why) {
+      if (report.intersecting_face_pairs_off_curve++ < max_examples)
+        examples.push_back(say("A2 face ", std::size_t(fa), " / B2 face ", std::size_t(fb), " ", why));
+    };
+    auto callback = [&](const Box& box_a, const Box& box_b) {
+      ++report.candidate_face_pairs;
+      const F fa(box_a.info()), fb(box_b.info());
+      const auto ca = va.corners(fa), cb = vb.corners(fb);
+      // Corners at the same point: ia[k] is the corner of fa equal to corner k of fb, or -1.
+      int ia[3] = {-1, -1, -1};
+      int shared = 0;
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t w = b_to_a[std::size_t(cb[k])];
+        if (w == none) continue;
+        for (int j = 0; j < 3; ++j)
+          if (std::uint32_t(ca[j]) == w) {
+            ia[k] = j;
+            ++shared;
+          }
+      }
+      const Meet how = meet<K>(va.geometry(ca), vb.geometry(cb), ia, shared);
+      switch (how) {
+        case Meet::apart:
+          return;
+        case Meet::beyond:
+          off_curve(fa, fb, beyond_text(shared));
+          return;
+        case Meet::at_vertex: {
+          int k = 0;
+          while (ia[k] < 0) ++k;
+          if (on_curve_a[std::size_t(ca[ia[k]])])
+            ++report.face_pairs_on_curve;
+          else
+            off_curve(fa, fb, "touch at a vertex that is not a curve point");
+          return;
+        }
+        case Meet::along_edge: {
+          int k = 0;
+          while (ia[k] >= 0) ++k;
+          const auto u = std::uint32_t(ca[ia[(k + 1) % 3]]), w = std::uint32_t(ca[ia[(k + 2) % 3]]);
+          if (curve_edges_a.count({std::min(u, w), std::max(u, w)}))
+            ++report.face_pairs_on_curve;
+          else
+            off_curve(fa, fb, "share an edge that is not a curve segment");
+          return;
+        }
+      }
+    };
+    CGAL::box_intersection_d(boxes_a.begin(), boxes_a.end(), boxes_b.begin(), boxes_b.end(), callback);
+    if (report.intersecting_face_pairs_off_curve) {
+      std::string list;
+      for (const auto& e : examples) list += (list.empty() ? "" : "; ") + e;
+      if (report.intersecting_face_pairs_off_curve > examples.size()) list += "; ...";
+      problems.push_back(say("A2 and B2 intersect off the curves: ", report.intersecting_face_pairs_off_curve,
+                             " face pairs (", list, ")"));
+    }
+  }
+
+  // ------------------------------------------------------------ 4. within tol of the inputs + quality
+  if (va.structure_ok)
+    check_against_input(a, va, tol, report.max_distance_a, report.min_angle_deg_a, report.below_10_a,
+                        report.below_20_a, report.new_faces_a, problems);
+  if (vb.structure_ok)
+    check_against_input(b, vb, tol, report.max_distance_b, report.min_angle_deg_b, report.below_10_b,
+                        report.below_20_b, report.new_faces_b, problems);
+  return report;
+}
+
+#define SEAM_INSTANTIATE(K)                                                                                  \
+  template PairCheckReport check_pair<K>(const Mesh<K>&, const Mesh<K>&, const Mesh<K>&, const Mesh<K>&, \
+                                         const std::vector<Polyline<K>>&, double);
+SEAM_INSTANTIATE(Exact)
+SEAM_INSTANTIATE(Filtered)
+SEAM_INSTANTIATE(Float)
+#undef SEAM_INSTANTIATE
+
+}  // namespace seam
