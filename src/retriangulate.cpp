@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <queue>
 #include <set>
 #include <sstream>
 
@@ -107,30 +108,46 @@ template <class CDT>
 void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, std::size_t max_steiner) {
   using Point2 = typename CDT::Point;
   using FT = typename CDT::Geom_traits::FT;
-  std::set<std::array<const void*, 3>> given_up;
-  auto key = [](typename CDT::Face_handle f) {
-    std::array<const void*, 3> k{&*f->vertex(0), &*f->vertex(1), &*f->vertex(2)};
-    std::sort(k.begin(), k.end());
-    return k;
-  };
-  for (std::size_t inserted = 0; inserted < max_steiner;) {
-    const auto outside = outside_faces(cdt);
-    typename CDT::Face_handle worst;
-    double worst_angle = 180, worst_area_ratio = 0;
-    for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
-      if (outside.count(&*f) || given_up.count(key(f))) continue;
-      const auto a = xy(f->vertex(0)->point()), b = xy(f->vertex(1)->point()), c = xy(f->vertex(2)->point());
-      const double angle = std::min({angle_at(a, b, c), angle_at(b, c, a), angle_at(c, a, b)});
-      const double area = 0.5 * std::abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
-      const double ratio = max_area > 0 ? area / max_area : 0;
-      const bool bad = angle < min_angle_deg || ratio > 1;
-      if (!bad) continue;
-      const bool worse = worst == typename CDT::Face_handle()
-                             ? true
-                             : (ratio > 1 || worst_area_ratio > 1) ? ratio > worst_area_ratio : angle < worst_angle;
-      if (worse) worst = f, worst_angle = angle, worst_area_ratio = ratio;
+  using FH = typename CDT::Face_handle;
+  using VH = typename CDT::Vertex_handle;
+  // Insertions happen strictly inside the domain, so the faces outside it never change.
+  const auto outside = outside_faces(cdt);
+  const double bound_sine2 = std::pow(std::sin(min_angle_deg * M_PI / 180.0), 2);
+
+  // Bad triangles in a priority queue: oversized first (largest area ratio), then the worst
+  // shaped (smallest sin^2 of the smallest angle). An entry names its three vertices; it is
+  // stale when they no longer form a face. After an insertion only the new vertex's faces are
+  // new (the retriangulated conflict zone is a star around it), so only they are evaluated.
+  struct Bad {
+    double area_ratio, sine2;
+    std::array<VH, 3> v;
+    bool operator<(const Bad& o) const {  // "less urgent than"
+      if (area_ratio > 1 || o.area_ratio > 1) return area_ratio < o.area_ratio;
+      return sine2 > o.sine2;
     }
-    if (worst == typename CDT::Face_handle()) return;
+  };
+  std::priority_queue<Bad> queue;
+  auto consider = [&](FH f) {
+    if (cdt.is_infinite(f) || outside.count(&*f)) return;
+    const auto a = xy(f->vertex(0)->point()), b = xy(f->vertex(1)->point()), c = xy(f->vertex(2)->point());
+    // sin^2 of the smallest angle: (2 area)^2 over the product of the two longer sides squared.
+    const double cross = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    const double la = (b[0] - c[0]) * (b[0] - c[0]) + (b[1] - c[1]) * (b[1] - c[1]);
+    const double lb = (c[0] - a[0]) * (c[0] - a[0]) + (c[1] - a[1]) * (c[1] - a[1]);
+    const double lc = (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]);
+    const double sine2 = cross * cross / (la * lb * lc / std::min({la, lb, lc}));
+    const double ratio = max_area > 0 ? 0.5 * std::abs(cross) / max_area : 0;
+    if (sine2 < bound_sine2 || ratio > 1) queue.push({ratio, sine2, {f->vertex(0), f->vertex(1), f->vertex(2)}});
+  };
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) consider(f);
+
+  for (std::size_t inserted = 0; inserted < max_steiner && !queue.empty();) {
+    const Bad top = queue.top();
+    queue.pop();
+    FH worst;
+    if (!cdt.is_face(top.v[0], top.v[1], top.v[2], worst)) continue;  // stale
+    const double worst_area_ratio = top.area_ratio;
+    const double worst_angle = std::asin(std::sqrt(std::min(1.0, top.sine2))) * 180.0 / M_PI;
 
     // Shortest edge pq, opposite vertex r.
     std::array<std::array<double, 2>, 3> v;
@@ -146,10 +163,7 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
     const bool angle_bad = worst_angle < min_angle_deg;
     // The small angle sits at r. It is forced when the wedge at r between the two constrained
     // edges enclosing this triangle is itself narrower than the bound: no point inside helps.
-    if (angle_bad && worst_area_ratio <= 1 && constrained_wedge_deg(cdt, worst, r) < min_angle_deg) {
-      given_up.insert(key(worst));
-      continue;
-    }
+    if (angle_bad && worst_area_ratio <= 1 && constrained_wedge_deg(cdt, worst, r) < min_angle_deg) continue;
     const auto cc = xy(CGAL::circumcenter(worst->vertex(0)->point(), worst->vertex(1)->point(), worst->vertex(2)->point()));
     const double mx = 0.5 * (p[0] + q[0]), my = 0.5 * (p[1] + q[1]);
     double nx = -(q[1] - p[1]), ny = q[0] - p[0];  // normal of pq, towards r
@@ -158,20 +172,16 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
     const double h = shortest * std::sqrt(3.0) / 2;
     std::array<double, 2> cand{mx + nx / nlen * h, my + ny / nlen * h};
     if (std::hypot(cc[0] - mx, cc[1] - my) < h) cand = cc;
-    if (!std::isfinite(cand[0]) || !std::isfinite(cand[1])) {  // a triangle too thin for doubles
-      given_up.insert(key(worst));
-      continue;
-    }
+    if (!std::isfinite(cand[0]) || !std::isfinite(cand[1])) continue;  // a triangle too thin for doubles
     const Point2 P{FT{cand[0]}, FT{cand[1]}};
     typename CDT::Locate_type lt;
     int li;
     auto fh = cdt.locate(P, lt, li, worst);
-    if (lt != CDT::FACE || cdt.is_infinite(fh) || outside.count(&*fh)) {
-      given_up.insert(key(worst));
-      continue;
-    }
-    cdt.insert(P, fh);
+    if (lt != CDT::FACE || cdt.is_infinite(fh) || outside.count(&*fh)) continue;  // give this one up
+    const VH vh = cdt.insert(P, fh);
     ++inserted;
+    auto fc = cdt.incident_faces(vh), done = fc;
+    do consider(fc); while (++fc != done);
   }
 }
 
