@@ -268,8 +268,12 @@ FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const Retriangul
   const bool refine = options.min_angle_deg > 0 || options.max_area > 0;
   if (refine && options.max_steiner > 0) {
     // Refine a second copy; keep it only if every constraint survived as an edge.
+    // A copy shares the (already exact) points instead of building the triangulation again.
+    refined = cdt;
+    std::map<long, VH> by_id;
+    for (auto vit = refined.finite_vertices_begin(); vit != refined.finite_vertices_end(); ++vit) by_id[vit->info()] = vit;
     std::vector<std::pair<VH, VH>> refined_constraints;
-    build(refined, refined_constraints);
+    for (const auto& [s0, t0] : constraints) refined_constraints.emplace_back(by_id.at(s0->info()), by_id.at(t0->info()));
     std::set<const void*> input_vertices;
     for (auto vit = refined.finite_vertices_begin(); vit != refined.finite_vertices_end(); ++vit)
       input_vertices.insert(&*vit);
