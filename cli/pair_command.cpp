@@ -60,7 +60,9 @@ int run_pair(const PairArgs& args) {
           curves.push_back({{"vertices", seam::is_closed(c) ? c.size() - 1 : c.size()}, {"closed", seam::is_closed(c)}});
         j["curves"] = {{"count", st.curves}, {"vertices", st.curve_vertices}, {"closed", st.closed_curves},
                        {"list", curves}};
-        j["snap"] = {{"vertices_snapped_a", st.vertices_snapped_a}, {"vertices_snapped_b", st.vertices_snapped_b},
+        j["snap"] = {{"snap_tol", st.snap_tol},
+                     {"vertices_snapped_a", st.vertices_snapped_a},
+                     {"vertices_snapped_b", st.vertices_snapped_b},
                      {"snaps_refused", st.snaps_refused}};
         j["touching_only"] = st.touching_only;
         j["remeshed"] = st.remeshed;
@@ -73,7 +75,8 @@ int run_pair(const PairArgs& args) {
     const auto& qa = result.a.stats;
     const auto& qb = result.b.stats;
     std::cout << "seam pair: " << st.curves << " curve(s) (" << st.closed_curves << " closed), " << st.curve_vertices
-              << " shared vertices; " << (st.vertices_snapped_a + st.vertices_snapped_b) << " vertices snapped; A: "
+              << " shared vertices; " << (st.vertices_snapped_a + st.vertices_snapped_b)
+              << " vertices snapped (snap tolerance " << st.snap_tol << "); A: "
               << qa.faces_crossed << " faces -> " << qa.faces_added << " (min angle " << qa.min_angle_deg_new
               << "), B: " << qb.faces_crossed << " faces -> " << qb.faces_added << " (min angle "
               << qb.min_angle_deg_new << ")";

@@ -115,6 +115,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   PairStats& st = result.stats;
   const double la = mean_edge_length<K>(a), lb = mean_edge_length<K>(b);
   const double snap_tol = options.embed.snap_tol < 0 ? 0.1 * std::min(la, lb) : options.embed.snap_tol;
+  st.snap_tol = snap_tol;
 
   auto t = Clock::now();
   std::size_t touching = 0;
