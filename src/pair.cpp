@@ -3,6 +3,7 @@
 #include <seam/internal/improve.h>
 #include <seam/internal/snap.h>
 #include <seam/quality.h>
+#include <seam/check.h>
 #include <seam/pair.h>
 
 #include <CGAL/Polygon_mesh_processing/intersection.h>
@@ -214,7 +215,11 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
         cb.emplace_back();
         for (auto v : vs) cb.back().push_back(b2.point(v));
       }
-      if (ca == cb) {
+      // Accept the remeshed pair only if it still meets only along the curves (seam check's test).
+      const bool conforming =
+          ca == cb && check_pair<K>(a, b, a2, b2, ca, std::numeric_limits<double>::infinity()).ok();
+      if (!conforming) st.note = "remeshing next to the curves was undone: the remeshed meshes crossed off the curves";
+      if (conforming) {
         a = std::move(a2);
         b = std::move(b2);
         result.curves = ca;

@@ -29,7 +29,8 @@ struct PairOptions {
   /// Experimental (off by default): after embedding, coarsen the shared curves to about the
   /// edge length and remesh both meshes next to them (CGAL isotropic remeshing, curve fixed).
   /// On the generated crossovers this leaves about 1% of new faces below 10 degrees instead of
-  /// 30%, but the remeshed surfaces can cross each other next to the curve: run `seam check`.
+  /// 30%, but the remeshed surfaces can cross each other next to the curve: the result is then
+  /// checked (seam::check_pair) and the remeshing undone if they do (PairStats::note says so).
   bool remesh_near_curves = false;
 };
 
