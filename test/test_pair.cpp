@@ -12,6 +12,8 @@
 #include <cstdlib>
 #include <map>
 
+#include <sys/wait.h>
+
 #include "test_support.h"
 
 namespace {
@@ -187,4 +189,32 @@ TEST_CASE("pair: a copy shifted along the tow's own axis (vertices of one on fac
   const auto r = seam::pair<K>(a, b, o);
   REQUIRE(r.stats.curves >= 1);
   require_check<K>(seam::check_pair<K>(a0, b0, a, b, r.curves, 0));
+}
+
+TEST_CASE("pair: the seam pair command conforms two tow files and seam check accepts them", "[pair][cli]") {
+  using K = seam::Exact;
+  seam_test::TempDir dir("seam_test_pair_cli");
+  const auto c = crossover(6, seam::Section::lenticular, 0.25);
+  seam::write_triangle_mesh(seam::make_tow(c.weft), dir.file("a.off"));
+  seam::write_triangle_mesh(seam::make_tow(c.warp), dir.file("b.off"));
+  const std::string seam = SEAM_CLI_PATH;
+  auto run = [&](const std::string& args) {
+    const std::string cmd = "cd '" + dir.path.string() + "' && '" + seam + "' " + args + " > out.log 2> err.log";
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  REQUIRE(run("pair a.off b.off --out-a a2.off --out-b b2.off --curves-out c.txt --report r.json --vtk p.vtu") == 0);
+  for (const char* f : {"a2.off", "b2.off", "c.txt", "r.json", "p.vtu"}) CHECK(std::filesystem::exists(dir.file(f)));
+  // The written files pass the independent check (snapped vertices moved by at most the tolerance).
+  const std::string report = seam_test::read_bytes(dir.file("r.json"));
+  CHECK(report.find("\"snap_tol\"") != std::string::npos);
+  CHECK(run("check a.off b.off a2.off b2.off c.txt --tol 0.05") == 0);
+  // Inputs that do not conform fail the check.
+  CHECK(run("check a.off b.off a.off b.off c.txt --tol 0.05") == 1);
+  // Given curves are not supported yet: a clear error, exit 2, nothing written.
+  CHECK(run("pair a.off b.off --out-a x.off --out-b y.off --curves c.txt") == 2);
+  CHECK_FALSE(std::filesystem::exists(dir.file("x.off")));
+  CHECK(seam_test::read_bytes(dir.file("err.log")).find("not supported") != std::string::npos);
+  // An output equal to an input is refused.
+  CHECK(run("pair a.off b.off --out-a a.off --out-b y.off") == 2);
 }
