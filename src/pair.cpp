@@ -127,8 +127,10 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     // Report step 1 on both meshes, against the exact intersection points; then the curves of
     // the moved surfaces.
     t = Clock::now();
-    const auto sa = internal::snap_vertices<K>(a, curves, snap_tol);
-    const auto sb = internal::snap_vertices<K>(b, curves, snap_tol);
+    // Onto the closest point of the curves (they lie on both surfaces), not only their nodes,
+    // which are sparse: one per crossing of an edge.
+    const auto sa = internal::snap_vertices_to_segments<K>(a, curves, snap_tol);
+    const auto sb = internal::snap_vertices_to_segments<K>(b, curves, snap_tol);
     st.vertices_snapped_a = sa.snapped;
     st.vertices_snapped_b = sb.snapped;
     st.snaps_refused = sa.refused + sb.refused;

@@ -59,15 +59,23 @@ double angle_at(const std::array<double, 2>& a, const std::array<double, 2>& b, 
   return std::atan2(std::abs(ux * vy - uy * vx), ux * vx + uy * vy) * 180.0 / M_PI;
 }
 
-template <class CDT> double min_angle_in_domain(const CDT& cdt) {
+/// The smallest angle (degrees) of the triangles inside the domain, and how many of them have an
+/// angle below `bound` degrees.
+struct DomainQuality {
+  double min_angle = 180;
+  std::size_t below = 0;
+};
+template <class CDT> DomainQuality domain_quality(const CDT& cdt, double bound) {
   const auto outside = outside_faces(cdt);
-  double worst = 180;
+  DomainQuality q;
   for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
     if (outside.count(&*f)) continue;
     const auto a = xy(f->vertex(0)->point()), b = xy(f->vertex(1)->point()), c = xy(f->vertex(2)->point());
-    worst = std::min({worst, angle_at(a, b, c), angle_at(b, c, a), angle_at(c, a, b)});
+    const double m = std::min({angle_at(a, b, c), angle_at(b, c, a), angle_at(c, a, b)});
+    q.min_angle = std::min(q.min_angle, m);
+    q.below += m < bound ? 1 : 0;
   }
-  return worst;
+  return q;
 }
 
 /// The angle (degrees) at vertex i of face f of the wedge that contains f and is bounded by the
@@ -279,11 +287,14 @@ FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const Retriangul
       input_vertices.insert(&*vit);
 
     const double max_area_2d = options.max_area > 0 ? options.max_area * CGAL::to_double(uu) * L_d * L_d : 0.0;
-    const double before = min_angle_in_domain(refined);
-    refine_without_splitting(refined, std::min(options.min_angle_deg, 60.0), max_area_2d, options.max_steiner);
-    const double after = min_angle_in_domain(refined);
-    // Keep the refinement when it did not make the worst angle worse (or an area bound asks for it).
-    if (check(refined, refined_constraints) && (after >= before || max_area_2d > 0)) {
+    const double bound = std::min(options.min_angle_deg, 60.0);
+    const DomainQuality before = domain_quality(refined, bound);
+    refine_without_splitting(refined, bound, max_area_2d, options.max_steiner);
+    const DomainQuality after = domain_quality(refined, bound);
+    // Keep the refinement when it made neither the worst angle worse nor the bad triangles more
+    // numerous (or an area bound asks for it).
+    const bool better = after.min_angle >= before.min_angle && after.below <= before.below;
+    if (check(refined, refined_constraints) && (better || max_area_2d > 0)) {
       for (auto vit = refined.finite_vertices_begin(); vit != refined.finite_vertices_end(); ++vit)
         if (!input_vertices.count(&*vit)) vit->info() = kNoId;
       refined_ok = true;

@@ -2,6 +2,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/internal/snap.h>
 
+#include <CGAL/AABB_segment_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
 #include <CGAL/Kd_tree.h>
 #include <CGAL/Orthogonal_k_neighbor_search.h>
 #include <CGAL/Search_traits_3.h>
@@ -25,6 +28,8 @@ using Search = CGAL::Orthogonal_k_neighbor_search<Traits>;
 using Tree = Search::Tree;
 using Distance = Search::Distance;
 
+}  // namespace
+
 /// Would moving v to `target` keep every incident face non-degenerate with its orientation?
 /// Under the exact kernel both tests are exact.
 template <class K>
@@ -43,7 +48,6 @@ bool move_keeps_faces(const Mesh<K>& mesh, typename MeshTypes<K>::V v, const typ
   return true;
 }
 
-}  // namespace
 
 template <class K>
 SnapReport<K> snap_vertices(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, double tolerance) {
@@ -106,8 +110,65 @@ SnapReport<K> snap_vertices(Mesh<K>& mesh, const std::vector<Polyline<K>>& curve
   return report;
 }
 
+
+template <class K>
+SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, double tolerance) {
+  SnapReport<K> report;
+  if (!(tolerance > 0)) return report;
+  using Point = typename K::Point_3;
+  using DK = CGAL::Exact_predicates_inexact_constructions_kernel;
+  std::vector<DK::Segment_3> segments;
+  std::vector<std::pair<const Point*, const Point*>> ends;
+  for (const auto& c : curves)
+    for (std::size_t i = 0; i + 1 < c.size(); ++i) {
+      const auto p = to_filtered(c[i]), q = to_filtered(c[i + 1]);
+      if (p == q) continue;
+      segments.emplace_back(p, q);
+      ends.emplace_back(&c[i], &c[i + 1]);
+    }
+  if (segments.empty()) return report;
+  using Prim = CGAL::AABB_segment_primitive<DK, std::vector<DK::Segment_3>::const_iterator>;
+  CGAL::AABB_tree<CGAL::AABB_traits<DK, Prim>> tree(segments.cbegin(), segments.cend());
+  tree.accelerate_distance_queries();
+  using V = typename MeshTypes<K>::V;
+  std::vector<std::tuple<double, std::size_t, std::size_t>> candidates;
+  for (V v : mesh.vertices()) {
+    const auto q = to_filtered(mesh.point(v));
+    const auto [cp, it] = tree.closest_point_and_primitive(q);
+    const double d = std::sqrt(CGAL::squared_distance(q, cp));
+    if (d <= tolerance) candidates.emplace_back(d, std::size_t(v), std::size_t(it - segments.cbegin()));
+  }
+  std::sort(candidates.begin(), candidates.end());
+  for (const auto& [d, vi, si] : candidates) {
+    const V v(static_cast<typename V::size_type>(vi));
+    // The exact closest point of the segment (the segment lies on the surface).
+    const Point &p = *ends[si].first, &q = *ends[si].second;
+    const auto pq = q - p;
+    auto t = ((mesh.point(v) - p) * pq) / pq.squared_length();
+    if (t < 0) t = 0;
+    if (t > 1) t = 1;
+    Point target = p + pq * t;
+    make_exact(target);
+    if (!move_keeps_faces<K>(mesh, v, target)) {
+      ++report.refused;
+      continue;
+    }
+    mesh.point(v) = target;
+    ++report.snapped;
+    report.max_move = std::max(report.max_move, d);
+    report.moved.push_back(v);
+  }
+  return report;
+}
+
 template SnapReport<Exact> snap_vertices<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double);
+template SnapReport<Exact> snap_vertices_to_segments<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double);
+template bool move_keeps_faces<Exact>(const Mesh<Exact>&, typename MeshTypes<Exact>::V, const Exact::Point_3&);
 template SnapReport<Filtered> snap_vertices<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double);
+template SnapReport<Filtered> snap_vertices_to_segments<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double);
+template bool move_keeps_faces<Filtered>(const Mesh<Filtered>&, typename MeshTypes<Filtered>::V, const Filtered::Point_3&);
 template SnapReport<Float> snap_vertices<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double);
+template SnapReport<Float> snap_vertices_to_segments<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double);
+template bool move_keeps_faces<Float>(const Mesh<Float>&, typename MeshTypes<Float>::V, const Float::Point_3&);
 
 }  // namespace seam::internal

@@ -22,4 +22,14 @@ template <class K> struct SnapReport {
 template <class K>
 SnapReport<K> snap_vertices(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, double tolerance);
 
+/// Snaps mesh vertices onto the closest point of the curves' segments (not only their nodes):
+/// for curves that lie on the surface, such as intersection curves, whose nodes are sparse.
+template <class K>
+SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, double tolerance);
+
+/// Would moving v to `target` keep every incident face non-degenerate, with its orientation?
+/// Exact under the exact kernel.
+template <class K>
+bool move_keeps_faces(const Mesh<K>& mesh, typename MeshTypes<K>::V v, const typename K::Point_3& target);
+
 }  // namespace seam::internal
