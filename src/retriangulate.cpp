@@ -108,7 +108,8 @@ template <class CDT> double constrained_wedge_deg(const CDT& cdt, typename CDT::
 /// constrained edge, and in a face bounded by constraints on all sides every circumcenter does,
 /// so it inserts nothing. Here each bad triangle (smallest angle below the bound, or area above
 /// max_area) gets an off-center (Ungor): on the bisector of its shortest edge pq, at the apex of
-/// the equilateral triangle on pq, or the circumcenter when that is closer to pq. The point is
+/// the triangle on pq whose apex angle is just above the bound, or the circumcenter when that is
+/// closer to pq. The point is
 /// inserted only when it falls strictly inside a triangle of the domain, so never on a
 /// constraint. Angles forced by two constraints meeting at a vertex are left alone. The point's
 /// coordinates are rounded to double (the lift to 3D is exact, see the header).
@@ -177,15 +178,34 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
     double nx = -(q[1] - p[1]), ny = q[0] - p[0];  // normal of pq, towards r
     if (nx * (o[0] - mx) + ny * (o[1] - my) < 0) nx = -nx, ny = -ny;
     const double nlen = std::hypot(nx, ny);
-    const double h = shortest * std::sqrt(3.0) / 2;
-    std::array<double, 2> cand{mx + nx / nlen * h, my + ny / nlen * h};
-    if (std::hypot(cc[0] - mx, cc[1] - my) < h) cand = cc;
-    if (!std::isfinite(cand[0]) || !std::isfinite(cand[1])) continue;  // a triangle too thin for doubles
-    const Point2 P{FT{cand[0]}, FT{cand[1]}};
-    typename CDT::Locate_type lt;
-    int li;
-    auto fh = cdt.locate(P, lt, li, worst);
-    if (lt != CDT::FACE || cdt.is_infinite(fh) || outside.count(&*fh)) continue;  // give this one up
+    // Ungor's off-center: the apex of the triangle on pq whose angle at the apex is just above
+    // the bound, so that each inserted point is as far from pq as a good triangle allows and the
+    // refinement grades geometrically (an equilateral apex would creep along a sliver).
+    const double apex = std::min(60.0, 1.1 * min_angle_deg) * M_PI / 180.0;
+    // ...but never beyond r's height over pq: the point stays inside the bad triangle.
+    const double height = std::abs(nx * (o[0] - mx) + ny * (o[1] - my)) / std::hypot(nx, ny);
+    const double h = std::min(0.5 * shortest / std::tan(0.5 * apex), 0.9 * height);
+    const std::array<double, 2> off{mx + nx / nlen * h, my + ny / nlen * h};
+    // The circumcenter when it is closer to pq than the off-center; the off-center when the
+    // circumcenter falls outside the patch (it would need a split constraint).
+    std::vector<std::array<double, 2>> candidates;
+    if (std::hypot(cc[0] - mx, cc[1] - my) < h) candidates.push_back(cc);
+    candidates.push_back(off);
+    FH fh;
+    Point2 P;
+    bool found = false;
+    for (const auto& cand : candidates) {
+      if (!std::isfinite(cand[0]) || !std::isfinite(cand[1])) continue;  // a triangle too thin for doubles
+      P = Point2{FT{cand[0]}, FT{cand[1]}};
+      typename CDT::Locate_type lt;
+      int li;
+      fh = cdt.locate(P, lt, li, worst);
+      if (lt == CDT::FACE && !cdt.is_infinite(fh) && !outside.count(&*fh)) {
+        found = true;
+        break;
+      }
+    }
+    if (!found) continue;  // give this one up
     const VH vh = cdt.insert(P, fh);
     ++inserted;
     auto fc = cdt.incident_faces(vh), done = fc;
