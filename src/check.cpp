@@ -23,6 +23,8 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <seam/internal/message.h>
+
 #include <sstream>
 #include <type_traits>
 #include <utility>
@@ -31,12 +33,7 @@ namespace seam {
 
 namespace {
 
-template <class... T> std::string say(const T&... parts) {
-  std::ostringstream out;
-  out.precision(17);
-  (out << ... << parts);
-  return out.str();
-}
+using internal::say;
 
 template <class P> std::string point_text(const P& p) {
   return say("(", CGAL::to_double(p.x()), ", ", CGAL::to_double(p.y()), ", ", CGAL::to_double(p.z()), ")");

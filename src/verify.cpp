@@ -6,17 +6,14 @@
 
 #include <cmath>
 #include <cstdint>
+#include <seam/internal/message.h>
+
 #include <sstream>
 
 namespace seam {
 
 namespace {
-template <class... T> std::string say(const T&... parts) {
-  std::ostringstream out;
-  out.precision(17);
-  (out << ... << parts);
-  return out.str();
-}
+using internal::say;
 }  // namespace
 
 template <class K> std::vector<std::string> check_valid_mesh(const Mesh<K>& output, bool expect_closed) {
