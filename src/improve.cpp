@@ -48,8 +48,7 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
   using E = typename M::Edge_index;
   using F = typename M::Face_index;
   M work = mesh;
-  auto [curve_id, created] = work.template add_property_map<V, std::int64_t>("v:seam_curve_point", -1);
-  (void)created;
+  auto curve_id = work.template add_property_map<V, std::int64_t>("v:seam_curve_point", -1).first;
 
   // 1. Collapse the dropped curve vertices onto the kept ones, along the curve.
   std::vector<std::vector<V>> coarse(curve_vertices.size());
