@@ -19,20 +19,30 @@ struct PairArgs {
 
 int run_pair(const PairArgs& args) {
   seam::validate_options(args.options.embed);
-  if (!args.curves.empty())
-    throw seam::InvalidInput(args.curves + ": given curves (--curves) are not supported yet; omit --curves to "
-                             "compute the intersection curves");
-  refuse_overwrite({args.a, args.b}, {args.out_a, args.out_b, args.curves_out, args.report, args.vtk});
+  std::vector<std::string> inputs{args.a, args.b};
+  if (!args.curves.empty()) inputs.push_back(args.curves);
+  refuse_overwrite(inputs, {args.out_a, args.out_b, args.curves_out, args.report, args.vtk});
   const auto t0 = Clock::now();
   const seam::TriangleSoup soup_a = seam::read_triangle_mesh(args.a);
   const seam::TriangleSoup soup_b = seam::read_triangle_mesh(args.b);
+  std::vector<std::vector<seam::Point3d>> given;
+  if (!args.curves.empty()) given = seam::read_polylines(args.curves);
   const double read_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
 
   return seam::with_kernel(parse_kernel(args.kernel), [&](auto kernel) {
     using K = decltype(kernel);
     auto a = seam::mesh_from_soup<K>(soup_a, args.a);
     auto b = seam::mesh_from_soup<K>(soup_b, args.b);
-    seam::PairResult<K> result = seam::pair<K>(a, b, args.options);
+    seam::PairResult<K> result;
+    if (args.curves.empty()) {
+      result = seam::pair<K>(a, b, args.options);
+    } else {
+      try {
+        result = seam::pair_with_curves<K>(a, b, seam::to_kernel<K>(given), args.options);
+      } catch (const seam::InvalidInput& e) {
+        throw seam::InvalidInput(args.curves + ": " + e.what());
+      }
+    }
     auto& st = result.stats;
     st.stage_seconds["read"] = read_seconds;
     const auto t1 = Clock::now();
@@ -65,10 +75,13 @@ int run_pair(const PairArgs& args) {
                      {"vertices_snapped_b", st.vertices_snapped_b},
                      {"snaps_refused", st.snaps_refused}};
         j["touching_only"] = st.touching_only;
+        j["given_curves"] = st.given_curves;
+        j["max_curve_move"] = st.max_curve_move;
         j["remeshed"] = st.remeshed;
         j["note"] = st.note;
         j["seconds"] = st.stage_seconds;
         j["files"] = {{"a", args.a}, {"b", args.b}, {"out_a", args.out_a}, {"out_b", args.out_b}};
+        if (!args.curves.empty()) j["files"]["curves"] = args.curves;
         write_json(j, args.report);
       }
     });
@@ -80,6 +93,7 @@ int run_pair(const PairArgs& args) {
               << qa.faces_crossed << " faces -> " << qa.faces_added << " (min angle " << qa.min_angle_deg_new
               << "), B: " << qb.faces_crossed << " faces -> " << qb.faces_added << " (min angle "
               << qb.min_angle_deg_new << ")";
+    if (st.given_curves) std::cout << "; curve vertices moved onto the given curves by at most " << st.max_curve_move;
     if (!st.note.empty()) std::cout << "; " << st.note;
     std::cout << "\n";
     return 0;
@@ -100,7 +114,9 @@ Command add_pair_command(CLI::App& app) {
   cmd->add_option("B", pa.b, "Second input mesh")->required();
   cmd->add_option("--out-a", pa.out_a, "Output for A (format by extension; OFF with 17 significant digits)")->required();
   cmd->add_option("--out-b", pa.out_b, "Output for B")->required();
-  cmd->add_option("--curves", pa.curves, "Given curves near both surfaces (not supported yet)");
+  cmd->add_option("--curves", pa.curves,
+                  "Given curves near both surfaces (polylines file) instead of the computed intersection: both "
+                  "meshes' crossings are collected on them and both receive the same curve (shared vertices)");
   cmd->add_option("--curves-out", pa.curves_out, "Write the shared curves here, one polyline per line");
   cmd->add_option("--report", pa.report, "Write a JSON report: per-mesh sections as seam embed's, plus the curves");
   cmd->add_option("--vtk", pa.vtk,

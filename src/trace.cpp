@@ -34,7 +34,7 @@ template <class K> class Tracer {
   using SP = SurfacePoint<K>;
 
  public:
-  explicit Tracer(const Mesh<K>& mesh) : m_(mesh) {
+  explicit Tracer(const Mesh<K>& mesh, double feature_tol = 0) : m_(mesh), feature_tol_(feature_tol) {
     triangles_.reserve(mesh.number_of_faces());
     for (F f : mesh.faces()) {
       auto h = mesh.halfedge(f);
@@ -96,11 +96,12 @@ template <class K> class Tracer {
         return sp;
       }
     }
-    if constexpr (!kernel_traits<K>::exact_constructions) {
+    if (!kernel_traits<K>::exact_constructions || (feature_tol_ > 0 && !(p == q))) {
       // Rounded constructions: a projection onto the boundary of the triangle comes back a
       // rounding error off it, so the exact tests above miss it. Classify by barycentric
       // coordinates instead, with a relative tolerance of 1e-9 (a node that close to an edge is
-      // put on it; this is the only tolerance, and it exists only without exact constructions).
+      // put on it, by the exact projection under Epeck). Under exact constructions only with a
+      // feature tolerance, for a node off the surface (given curves, rounded to doubles).
       const double A[3] = {CGAL::to_double(a.x()), CGAL::to_double(a.y()), CGAL::to_double(a.z())};
       const double B[3] = {CGAL::to_double(b.x()), CGAL::to_double(b.y()), CGAL::to_double(b.z())};
       const double C[3] = {CGAL::to_double(c.x()), CGAL::to_double(c.y()), CGAL::to_double(c.z())};
@@ -113,7 +114,7 @@ template <class K> class Tracer {
       };
       const double area = cross_norm(A, B, C);
       const double la = cross_norm(P, B, C) / area, lb = cross_norm(P, C, A) / area, lc = cross_norm(P, A, B) / area;
-      const double eps = 1e-9;
+      const double eps = kernel_traits<K>::exact_constructions ? feature_tol_ : std::max(1e-9, feature_tol_);
       const int small = (la < eps) + (lb < eps) + (lc < eps);
       if (small >= 2) {
         sp.where = Where::vertex;
@@ -130,6 +131,7 @@ template <class K> class Tracer {
         const auto& ps = m_.point(s);
         const auto& pt = m_.point(t);
         sp.p = ps + (pt - ps) * (((p - ps) * (pt - ps)) / (pt - ps).squared_length());
+        make_exact(sp.p);
         if (sp.p == ps || sp.p == pt) {
           sp.where = Where::vertex;
           sp.v = sp.p == ps ? s : t;
@@ -289,6 +291,7 @@ template <class K> class Tracer {
 
  private:
   const Mesh<K>& m_;
+  double feature_tol_ = 0;
   std::vector<DTriangle> triangles_;
   DTree tree_;
 };
@@ -304,10 +307,11 @@ template <class P> std::string describe_point(const P& p) {
 
 template <class K>
 std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<Polyline<K>>& curves,
-                                         double max_distance, TraceReport& report, bool nodes_on_surface) {
+                                         double max_distance, TraceReport& report, bool nodes_on_surface,
+                                         double feature_tol) {
   using Clock = std::chrono::steady_clock;
   auto t0 = Clock::now();
-  Tracer<K> tracer(mesh);
+  Tracer<K> tracer(mesh, feature_tol);
 
   // Locate every node.
   std::vector<std::vector<SurfacePoint<K>>> located(curves.size());
@@ -380,8 +384,8 @@ std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<
   return traced;
 }
 
-template std::vector<TracedCurve<Exact>> trace_curves<Exact>(const Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double, TraceReport&, bool);
-template std::vector<TracedCurve<Filtered>> trace_curves<Filtered>(const Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double, TraceReport&, bool);
-template std::vector<TracedCurve<Float>> trace_curves<Float>(const Mesh<Float>&, const std::vector<Polyline<Float>>&, double, TraceReport&, bool);
+template std::vector<TracedCurve<Exact>> trace_curves<Exact>(const Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double, TraceReport&, bool, double);
+template std::vector<TracedCurve<Filtered>> trace_curves<Filtered>(const Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double, TraceReport&, bool, double);
+template std::vector<TracedCurve<Float>> trace_curves<Float>(const Mesh<Float>&, const std::vector<Polyline<Float>>&, double, TraceReport&, bool, double);
 
 }  // namespace seam::internal

@@ -211,10 +211,20 @@ TEST_CASE("pair: the seam pair command conforms two tow files and seam check acc
   CHECK(run("check a.off b.off a2.off b2.off c.txt --tol 0.05") == 0);
   // Inputs that do not conform fail the check.
   CHECK(run("check a.off b.off a.off b.off c.txt --tol 0.05") == 1);
-  // Given curves are not supported yet: a clear error, exit 2, nothing written.
-  CHECK(run("pair a.off b.off --out-a x.off --out-b y.off --curves c.txt") == 2);
-  CHECK_FALSE(std::filesystem::exists(dir.file("x.off")));
-  CHECK(seam_test::read_bytes(dir.file("err.log")).find("not supported") != std::string::npos);
+  // Given curves: the intersection of the unsnapped inputs, given back, is embedded into both.
+  REQUIRE(run("pair a.off b.off --out-a a0.off --out-b b0.off --curves-out c0.txt --snap-tol 0") == 0);
+  REQUIRE(run("pair a.off b.off --curves c0.txt --out-a x.off --out-b y.off --curves-out cx.txt --report rx.json") == 0);
+  CHECK(seam_test::read_bytes(dir.file("rx.json")).find("\"given_curves\": true") != std::string::npos);
+  CHECK(run("check a.off b.off x.off y.off cx.txt --tol 0.05") == 0);  // snapped vertices moved
+  // A curve far from the meshes: a clear error naming the curves file, exit 2, nothing written.
+  auto far = seam::read_polylines(dir.file("c0.txt"));
+  for (auto& line : far)
+    for (auto& p : line) p[2] += 10;
+  seam::write_polylines(far, dir.file("far.txt"));
+  CHECK(run("pair a.off b.off --out-a u.off --out-b v.off --curves far.txt") == 2);
+  CHECK_FALSE(std::filesystem::exists(dir.file("u.off")));
+  CHECK_FALSE(std::filesystem::exists(dir.file("v.off")));
+  CHECK(seam_test::read_bytes(dir.file("err.log")).rfind("seam: far.txt: ", 0) == 0);
   // An output equal to an input is refused.
   CHECK(run("pair a.off b.off --out-a a.off --out-b y.off") == 2);
 }

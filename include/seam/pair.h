@@ -41,8 +41,10 @@ struct PairStats {
   /// True when the surfaces touch (a common point) without crossing: nothing to embed.
   bool touching_only = false;
   bool remeshed = false;  ///< the curves were coarsened and the meshes remeshed next to them
+  bool given_curves = false;      ///< the curves were given (seam::pair_with_curves)
+  double max_curve_move = 0;   ///< given curves: the largest move of a curve vertex (onto the given curve)
   std::string note;  ///< a sentence for the report (e.g. "the meshes do not intersect")
-  std::map<std::string, double> stage_seconds;  ///< snap, intersect, embed_a, embed_b
+  std::map<std::string, double> stage_seconds;  ///< snap, intersect (or trace, merge), embed_a, embed_b, move
 };
 
 template <class K> struct PairResult {
@@ -61,5 +63,20 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
 /// Makes `a` and `b` conforming along their intersection curves (modified in place).
 /// \pre both are valid closed or open triangle meshes without self-intersections.
 template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions& options = {});
+
+/// Given curves (from another tool, lying only near both surfaces; src/pair_given.cpp): snaps
+/// both meshes onto the curve nodes, follows the curves on each, collects the crossing points of
+/// both meshes in curve order, and embeds that common coarsened curve into both. Every curve
+/// vertex of both outputs then moves onto the given curve, so both share bit-identical
+/// coordinates (PairStats::max_curve_move says how far vertices moved). When
+/// snapping leaves a curve vertex too far from a small face to move, the run is redone without
+/// snapping (PairStats::note says so). The outputs meet along the curves; unlike computed
+/// curves, nothing keeps them from also crossing next to a curve that is not their intersection:
+/// run seam::check_pair. Throws InvalidInput when a curve is farther than
+/// options.embed.max_distance (default: the mesh's mean edge length) from a mesh, or so far that
+/// moving a mesh onto it would fold a face.
+template <class K>
+PairResult<K> pair_with_curves(Mesh<K>& a, Mesh<K>& b, const std::vector<Polyline<K>>& curves,
+                               const PairOptions& options = {});
 
 }  // namespace seam

@@ -37,8 +37,12 @@ struct TraceReport {
 /// located node that is not at a mesh vertex keeps the node's own coordinates: under the exact
 /// kernel they are its projection anyway, and under rounded kernels the same node then gets the
 /// same coordinates in every mesh it is embedded into.
+/// `feature_tol` > 0: a node whose projection lies within that relative (barycentric) distance of
+/// an edge or vertex of its face is put on it (given curves, rounded to doubles); rounded kernels
+/// always use at least 1e-9.
 template <class K>
 std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<Polyline<K>>& curves,
-                                         double max_distance, TraceReport& report, bool nodes_on_surface = false);
+                                         double max_distance, TraceReport& report, bool nodes_on_surface = false,
+                                         double feature_tol = 0);
 
 }  // namespace seam::internal

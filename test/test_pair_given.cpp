@@ -1,0 +1,102 @@
+// Tests of seam::pair_with_curves (`seam pair --curves`): given curves embedded into both tows.
+#include <catch2/catch.hpp>
+
+#include <seam/check.h>
+#include <seam/generate.h>
+#include <seam/io.h>
+#include <seam/pair.h>
+#include <seam/verify.h>
+
+#include <cmath>
+
+namespace {
+
+/// One crossover of a plain weave (as in test_pair.cpp): an elliptical weft along x, a crimped
+/// lenticular warp along y at another resolution, pushed 0.25 into each other.
+std::pair<seam::TowOptions, seam::TowOptions> given_crossover(seam::Section warp_section = seam::Section::lenticular) {
+  seam::TowOptions weft;
+  weft.segments_along = 48;
+  weft.segments_around = 20;
+  weft.translate = {-5, 0, 0};
+  seam::TowOptions warp = weft;
+  warp.section = warp_section;
+  warp.rotate_z = M_PI / 2;
+  warp.crimp_amplitude = -0.3;
+  warp.segments_along = 35;
+  warp.segments_around = 15;
+  warp.translate = {0, -5, 0.45};
+  return {weft, warp};
+}
+
+template <class K> seam::Mesh<K> mesh_of(const seam::TowOptions& o) {
+  return seam::mesh_from_soup<K>(seam::make_tow(o), "tow");
+}
+
+}  // namespace
+
+TEST_CASE("pair with given curves: the intersection given as the curves comes out conforming", "[pair][given]") {
+  using K = seam::Exact;
+  const auto [weft, warp] = given_crossover();
+  const auto a = mesh_of<K>(weft), b = mesh_of<K>(warp);
+  const auto given = seam::intersection_curves<K>(a, b);
+  REQUIRE(given.size() == 1);
+  for (double snap : {0.0, -1.0}) {
+    INFO("snap_tol " << snap);
+    auto a2 = a, b2 = b;
+    seam::PairOptions o;
+    o.embed.snap_tol = snap;
+    const auto r = seam::pair_with_curves<K>(a2, b2, given, o);
+    REQUIRE(r.stats.given_curves);
+    REQUIRE(r.curves.size() == 1);
+    CHECK(seam::is_closed(r.curves[0]));
+    // Both meshes' crossings are on the common curve: at least as many points as either has.
+    CHECK(r.curves[0].size() >= r.a.stats.crossing_points);
+    // Every curve vertex and segment in both outputs, with identical coordinates.
+    CHECK(seam::check_curves_embedded<K>(a2, r.a).empty());
+    CHECK(seam::check_curves_embedded<K>(b2, r.b).empty());
+    CHECK(r.a.curves == r.b.curves);
+    // The given curve lies on both surfaces: the outputs meet only along it, and hardly move.
+    const double tol = snap == 0 ? 1e-12 : r.stats.snap_tol + 1e-12;
+    const auto report = seam::check_pair<K>(a, b, a2, b2, r.curves, tol);
+    for (const auto& p : report.problems) UNSCOPED_INFO(p);
+    CHECK(report.ok());
+    if (snap == 0) CHECK(r.stats.max_curve_move < 1e-12);
+  }
+}
+
+TEST_CASE("pair with given curves: a curve nearby, densified, is shared by both outputs", "[pair][given]") {
+  using K = seam::Exact;
+  // Smooth sections: next to the sharp edge of a lenticular section a curve that cuts the corner
+  // lies too far from the small faces there to move them onto it.
+  const auto [weft, warp] = given_crossover(seam::Section::elliptical);
+  auto a = mesh_of<K>(weft), b = mesh_of<K>(warp);
+  const auto exact = seam::intersection_curves<K>(a, b);
+  REQUIRE(exact.size() == 1);
+  // Midpoints of the exact curve's segments: a curve from another tool, near both surfaces but
+  // with other nodes.
+  seam::Polyline<K> mid;
+  for (std::size_t i = 0; i + 1 < exact[0].size(); ++i) mid.push_back(CGAL::midpoint(exact[0][i], exact[0][i + 1]));
+  mid.push_back(mid.front());
+  seam::PairOptions o;
+  o.embed.snap_tol = 0;
+  const auto r = seam::pair_with_curves<K>(a, b, {mid}, o);
+  REQUIRE(r.curves.size() == 1);
+  CHECK(seam::check_curves_embedded<K>(a, r.a).empty());
+  CHECK(seam::check_curves_embedded<K>(b, r.b).empty());
+  CHECK(r.a.curves == r.b.curves);
+  CHECK(seam::check_valid_mesh<K>(a, true).empty());
+  CHECK(seam::check_valid_mesh<K>(b, true).empty());
+}
+
+TEST_CASE("pair with given curves: a curve far from the meshes is refused", "[pair][given]") {
+  using K = seam::Exact;
+  const auto [weft, warp] = given_crossover();
+  auto a = mesh_of<K>(weft), b = mesh_of<K>(warp);
+  const auto exact = seam::intersection_curves<K>(a, b);
+  REQUIRE(exact.size() == 1);
+  seam::Polyline<K> far;
+  for (const auto& p : exact[0]) far.push_back(p + K::Vector_3(0, 0, 10));
+  const auto a0 = a, b0 = b;
+  CHECK_THROWS_AS(seam::pair_with_curves<K>(a, b, {far}), seam::InvalidInput);
+  CHECK_THROWS_AS(seam::pair_with_curves<K>(a, b, {seam::Polyline<K>{exact[0][0]}}), seam::InvalidInput);
+}
