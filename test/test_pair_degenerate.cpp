@@ -316,12 +316,43 @@ TEMPLATE_TEST_CASE("pair degenerate: a copy shifted by fractions of an edge (ver
 TEMPLATE_TEST_CASE("pair degenerate: flat sides in contact give the boundary of the contact region as the curve",
                    "[pair][degenerate][coplanar]", seam::Exact, seam::Filtered) {
   using K = TestType;
-  // A = [0, 2] x [0, 2] x [0, 1] and B = [0.75, 2.75] x [1.25, 3.25] x [1, 2]: A's top and B's
-  // bottom lie in z = 1 and overlap in the rectangle [0.75, 2] x [1.25, 2]; elsewhere the boxes
-  // are apart. The grids do not match: B's vertices fall inside A's squares.
+  // A = [0, 2] x [0, 2] x [0, 1] and B a box on top of it, B's bottom in A's top (z = 1): the
+  // boxes touch in a rectangle of that plane and are apart elsewhere. The grids do not match (B's
+  // vertices fall inside A's squares), so inside the rectangle the two triangulations cross.
   const auto a = mesh<K>(grid_box({0, 0, 0}, {2, 2, 1}, {4, 4, 2}));
-  const auto b = mesh<K>(grid_box({0.75, 1.25, 1}, {2.75, 3.25, 2}, {4, 4, 2}));
-  const std::vector<Point3d> rectangle = {{0.75, 1.25, 1}, {2, 1.25, 1}, {2, 2, 1}, {0.75, 2, 1}};
-  const auto r = pair_and_check<K>(a, b, 0.0);
-  require_curve_is_polygon<K>(r.curves, rectangle);
+  struct Case {
+    const char* name;
+    Point3d lo, hi;
+    std::array<int, 3> n;
+    std::vector<Point3d> rectangle;  // the contact region
+    bool exact_only;  // B's grid is in thirds: the filtered kernel's rounded curve points are not
+                      // on the faces, and the inside of the contact is not recognised
+  };
+  const std::vector<Case> cases = {
+      {"overlapping corners", {0.75, 1.25, 1}, {2.75, 3.25, 2}, {4, 4, 2},
+       {{0.75, 1.25, 1}, {2, 1.25, 1}, {2, 2, 1}, {0.75, 2, 1}}, false},
+      {"B's bottom inside A's top", {0.75, 0.25, 1}, {1.75, 1.25, 1.5}, {2, 2, 1},
+       {{0.75, 0.25, 1}, {1.75, 0.25, 1}, {1.75, 1.25, 1}, {0.75, 1.25, 1}}, false},
+      {"B's bottom inside A's top, B's grid in thirds", {0.75, 0.25, 1}, {1.75, 1.25, 1.5}, {3, 3, 1},
+       {{0.75, 0.25, 1}, {1.75, 0.25, 1}, {1.75, 1.25, 1}, {0.75, 1.25, 1}}, true},
+      {"sides flush with A's (coplanar sides meet along the rectangle)", {0, 1.25, 1}, {2, 3.25, 2}, {4, 4, 2},
+       {{0, 1.25, 1}, {2, 1.25, 1}, {2, 2, 1}, {0, 2, 1}}, false},
+  };
+  for (const auto& cs : cases) {
+    if (cs.exact_only && !seam::kernel_traits<K>::exact_constructions) continue;
+    INFO("case: " << cs.name);
+    const auto b = mesh<K>(grid_box(cs.lo, cs.hi, cs.n));
+    {
+      INFO("snap_tol 0");
+      const auto r = pair_and_check<K>(a, b, 0.0);
+      require_curve_is_polygon<K>(r.curves, cs.rectangle);
+      CHECK_FALSE(r.stats.touching_only);
+    }
+    if (seam::kernel_traits<K>::exact_constructions) {
+      INFO("default snap_tol");
+      const auto r = pair_and_check<K>(a, b, -1.0);
+      REQUIRE(r.curves.size() == 1);
+      CHECK(seam::is_closed(r.curves.front()));
+    }
+  }
 }
