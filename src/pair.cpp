@@ -124,29 +124,74 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
   using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
   std::vector<Box> segment_boxes;
   segment_boxes.reserve(segments.size());
-  for (std::size_t s = 0; s < segments.size(); ++s)
+  CGAL::Bbox_3 all_segments;
+  for (std::size_t s = 0; s < segments.size(); ++s) {
     segment_boxes.emplace_back(segments[s].first->bbox() + segments[s].second->bbox(), s);
-  auto faces_containing = [&](const Mesh<K>& m) {  // per segment, the faces of m that contain it
+    all_segments += segment_boxes.back().bbox();
+  }
+  // Fast path: interval arithmetic (certified) rules out most faces, and a segment found in one
+  // face of each mesh whose planes surely differ is a crossing, with no exact evaluation (on a
+  // face that contains the segment the exact kernel's own filters always fail).
+  using I = CGAL::Interval_nt<false>;  // needs the rounding mode set by Protect_FPU_rounding
+  using IP = std::array<I, 3>;
+  auto interval = [](const Point& p) -> IP {
+    if constexpr (std::is_same_v<K, Exact>) {
+      const auto& x = CGAL::approx(p);
+      return {x.x(), x.y(), x.z()};
+    } else {
+      return {I(CGAL::to_double(p.x())), I(CGAL::to_double(p.y())), I(CGAL::to_double(p.z()))};
+    }
+  };
+  auto surely_off_plane = [](const std::array<IP, 3>& c, const IP& p) {  // p not in the plane of c
+    const I ax = c[0][0] - p[0], ay = c[0][1] - p[1], az = c[0][2] - p[2];
+    const I bx = c[1][0] - p[0], by = c[1][1] - p[1], bz = c[1][2] - p[2];
+    const I cx = c[2][0] - p[0], cy = c[2][1] - p[1], cz = c[2][2] - p[2];
+    const I det = ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+    return det.inf() > 0 || det.sup() < 0;
+  };
+  auto face_intervals = [&](const Mesh<K>& m, F f) {
+    const auto h = m.halfedge(f);
+    return std::array<IP, 3>{interval(m.point(m.source(h))), interval(m.point(m.target(h))),
+                             interval(m.point(m.target(m.next(h))))};
+  };
+  // Per segment, the faces of m that may contain it (in whose plane both ends may lie).
+  auto candidate_faces = [&](const Mesh<K>& m) {
     std::vector<std::vector<F>> result(segments.size());
     std::vector<Box> face_boxes;
-    face_boxes.reserve(m.number_of_faces());
     for (F f : m.faces()) {
       CGAL::Bbox_3 box;
       for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) box += m.point(v).bbox();
-      face_boxes.emplace_back(box, std::size_t(f));
+      if (CGAL::do_overlap(box, all_segments)) face_boxes.emplace_back(box, std::size_t(f));
     }
+    CGAL::Protect_FPU_rounding<true> rounding;
     CGAL::box_intersection_d(segment_boxes.begin(), segment_boxes.end(), face_boxes.begin(), face_boxes.end(),
                              [&](const Box& sb, const Box& fb) {
                                const F f(static_cast<typename F::size_type>(fb.info()));
-                               const auto h = m.halfedge(f);
-                               const typename K::Triangle_3 t(m.point(m.source(h)), m.point(m.target(h)),
-                                                              m.point(m.target(m.next(h))));
+                               const auto c = face_intervals(m, f);
                                const auto& seg = segments[sb.info()];
-                               if (t.has_on(*seg.first) && t.has_on(*seg.second)) result[sb.info()].push_back(f);
+                               if (!surely_off_plane(c, interval(*seg.first)) &&
+                                   !surely_off_plane(c, interval(*seg.second)))
+                                 result[sb.info()].push_back(f);
                              });
     return result;
   };
-  const auto faces_a = faces_containing(a), faces_b = faces_containing(b);
+  const auto candidates_a = candidate_faces(a), candidates_b = candidate_faces(b);
+  auto surely_crossing = [&](std::size_t s) {
+    if (candidates_a[s].size() != 1 || candidates_b[s].size() != 1) return false;
+    CGAL::Protect_FPU_rounding<true> rounding;
+    const auto ca = face_intervals(a, candidates_a[s][0]), cb = face_intervals(b, candidates_b[s][0]);
+    return surely_off_plane(ca, cb[0]) || surely_off_plane(ca, cb[1]) || surely_off_plane(ca, cb[2]);
+  };
+  // Exactly: the faces of m that contain the segment, among the candidates.
+  auto faces_containing = [&](const Mesh<K>& m, const std::vector<F>& candidates, std::size_t s) {
+    std::vector<F> result;
+    for (F f : candidates) {
+      const auto h = m.halfedge(f);
+      const typename K::Triangle_3 t(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h))));
+      if (t.has_on(*segments[s].first) && t.has_on(*segments[s].second)) result.push_back(f);
+    }
+    return result;
+  };
   // The two half-planes of m around pq, each given by a point of it off the line pq.
   auto half_planes = [](const Mesh<K>& m, const std::vector<F>& faces, const Point& p, const Point& q,
                         std::array<Point, 2>& r) {
@@ -183,8 +228,11 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
   enum class Kind { cross, contact_boundary, contact_inside, touch };
   auto classify = [&](std::size_t s) {
     const Point &p = *segments[s].first, &q = *segments[s].second;
+    if (surely_crossing(s)) return Kind::cross;
     std::array<Point, 2> ra, rb;
-    if (!half_planes(a, faces_a[s], p, q, ra) || !half_planes(b, faces_b[s], p, q, rb)) return Kind::cross;
+    if (!half_planes(a, faces_containing(a, candidates_a[s], s), p, q, ra) ||
+        !half_planes(b, faces_containing(b, candidates_b[s], s), p, q, rb))
+      return Kind::cross;
     int same = 0;
     for (const auto& x : ra)
       for (const auto& y : rb)
