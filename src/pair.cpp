@@ -129,9 +129,11 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
     segment_boxes.emplace_back(segments[s].first->bbox() + segments[s].second->bbox(), s);
     all_segments += segment_boxes.back().bbox();
   }
-  // Fast path: interval arithmetic (certified) rules out most faces, and a segment found in one
-  // face of each mesh whose planes surely differ is a crossing, with no exact evaluation (on a
-  // face that contains the segment the exact kernel's own filters always fail).
+  // Fast path, certified interval arithmetic: it rules out most faces, and a segment left with one
+  // candidate face in each mesh, the two planes surely different, is a crossing (the segment lies
+  // on both surfaces, so each candidate contains it; where rounded points of an inexact kernel do
+  // not, "kept" is the default anyway). No exact evaluation then: on a face that contains the
+  // segment the exact kernel's own filters always fail.
   using I = CGAL::Interval_nt<false>;  // needs the rounding mode set by Protect_FPU_rounding
   using IP = std::array<I, 3>;
   auto interval = [](const Point& p) -> IP {

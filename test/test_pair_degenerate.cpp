@@ -347,6 +347,11 @@ TEMPLATE_TEST_CASE("pair degenerate: flat sides in contact give the boundary of 
       const auto r = pair_and_check<K>(a, b, 0.0);
       require_curve_is_polygon<K>(r.curves, cs.rectangle);
       CHECK_FALSE(r.stats.touching_only);
+      // The inputs themselves do not pass: where a side leaves the common plane it meets the
+      // other box's face off any curve.
+      const auto unpaired = seam::check_pair<K>(a, b, a, b, {}, 0);
+      CHECK(unpaired.intersecting_face_pairs_off_curve > 0);
+      CHECK_FALSE(unpaired.ok());
     }
     if (seam::kernel_traits<K>::exact_constructions) {
       INFO("default snap_tol");
