@@ -208,7 +208,8 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
         if (!CGAL::collinear(p, q, c[i])) off = i;
       if (off < 0) return false;
       for (int i = 0; i < 3 && other < 0; ++i)
-        if (i != off && !CGAL::collinear(p, q, c[i]) && CGAL::coplanar_orientation(p, q, c[off], c[i]) == CGAL::NEGATIVE)
+        if (i != off && !CGAL::collinear(p, q, c[i]) &&
+            CGAL::coplanar_orientation(p, q, c[off], c[i]) == CGAL::NEGATIVE)
           other = i;
       if (other < 0) return false;  // pq on a border edge
       r = {c[off], c[other]};
