@@ -226,6 +226,13 @@ template <class K> Meet meet(const Corners<K>& s, const Corners<K>& t, const int
   }
 }
 
+/// The two triangles lie in one plane (exact predicates).
+template <class K> bool coplanar_faces(const Corners<K>& s, const Corners<K>& t) {
+  for (int k = 0; k < 3; ++k)
+    if (!CGAL::coplanar(*s.p[0], *s.p[1], *s.p[2], *t.p[k])) return false;
+  return true;
+}
+
 template <class K> struct MeshView {
   using M = Mesh<K>;
   using Point = typename K::Point_3;
@@ -543,6 +550,21 @@ PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2
 
     std::vector<Box> boxes_a = face_boxes(va), boxes_b = face_boxes(vb);
 
+    // Flat contact (issue 3: flat sides of two tows in one plane): coplanar faces that meet, in
+    // any way, lie where the two surfaces coincide. That region is bounded where a face of one
+    // mesh leaves the common plane, and there it meets a face of the other that is not coplanar
+    // with it: such pairs are tested like all others (only along the curves), which is what
+    // requires the region's boundary to be curves. A face with a border edge is not accepted (an
+    // open surface can end inside the region without leaving the plane). Exact predicates; tested
+    // only for pairs that would otherwise be a problem.
+    auto on_border = [](const M& m, F f) {
+      for (auto h : CGAL::halfedges_around_face(m.halfedge(f), m))
+        if (m.is_border(m.opposite(h))) return true;
+      return false;
+    };
+    auto flat_contact = [&](F fa, F fb, const std::array<V, 3>& ca, const std::array<V, 3>& cb) {
+      return coplanar_faces(va.geometry(ca), vb.geometry(cb)) && !on_border(a2, fa) && !on_border(b2, fb);
+    };
     std::vector<std::string> examples;
     auto off_curve = [&](F fa, F fb, const char* why) {
       if (report.intersecting_face_pairs_off_curve++ < max_examples)
@@ -569,6 +591,7 @@ PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2
         case Meet::apart:
           return;
         case Meet::beyond:
+          if (flat_contact(fa, fb, ca, cb)) return;
           off_curve(fa, fb, beyond_text(shared));
           return;
         case Meet::at_vertex: {
@@ -576,7 +599,7 @@ PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2
           while (ia[k] < 0) ++k;
           if (on_curve_a[std::size_t(ca[ia[k]])])
             ++report.face_pairs_on_curve;
-          else
+          else if (!flat_contact(fa, fb, ca, cb))
             off_curve(fa, fb, "touch at a vertex that is not a curve point");
           return;
         }
@@ -586,7 +609,7 @@ PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2
           const auto u = std::uint32_t(ca[ia[(k + 1) % 3]]), w = std::uint32_t(ca[ia[(k + 2) % 3]]);
           if (curve_edges_a.count({std::min(u, w), std::max(u, w)}))
             ++report.face_pairs_on_curve;
-          else
+          else if (!flat_contact(fa, fb, ca, cb))
             off_curve(fa, fb, "share an edge that is not a curve segment");
           return;
         }

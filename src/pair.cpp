@@ -96,18 +96,189 @@ template <class Point> std::vector<std::vector<Point>> chain(std::vector<std::ve
 
 template <class K>
 std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b, std::size_t* touching_points) {
-  std::vector<std::vector<typename K::Point_3>> pieces;
+  using Point = typename K::Point_3;
+  using F = typename Mesh<K>::Face_index;
+  std::vector<std::vector<Point>> pieces;
   CGAL::Polygon_mesh_processing::surface_intersection(a, b, std::back_inserter(pieces));
-  if (touching_points) {
-    *touching_points = 0;
-    for (const auto& piece : pieces)
-      if (std::all_of(piece.begin(), piece.end(), [&](const auto& p) { return p == piece.front(); }))
-        ++*touching_points;
+  std::size_t touching = 0;
+  for (auto& piece : pieces) {
+    for (auto& p : piece) make_exact(p);  // kept points: cut the expression trees once
+    if (std::all_of(piece.begin(), piece.end(), [&](const Point& p) { return p == piece.front(); })) ++touching;
   }
-  auto curves = chain(std::move(pieces));
-  for (auto& c : curves)
-    for (auto& p : c) make_exact(p);  // kept points: cut the expression trees once
-  return curves;
+
+  // surface_intersection returns every common point: also where the surfaces only touch, and the
+  // whole common arrangement of coplanar faces. Each segment pq is classified by the faces of
+  // each mesh that contain it (a segment never crosses an edge inside: that would be a curve
+  // point), seen as half-planes bounded by the line pq: one face around it gives the two halves
+  // of its plane, two faces with pq on their common edge give one half-plane each.
+  //   - an A half-plane equal to a B half-plane (flat contact): one is the boundary of the
+  //     contact region (kept), two or more is its inside (dropped);
+  //   - otherwise the B half-planes on both sides of the A pair: the surfaces cross (kept), on
+  //     one side: they touch (dropped, counted as touching).
+  // Every test is an exact predicate on the points as given; a segment whose faces are not found
+  // that way (rounded points of an inexact kernel, a border edge, a non-manifold edge) is kept.
+  std::vector<std::pair<const Point*, const Point*>> segments;
+  for (const auto& piece : pieces)
+    for (std::size_t i = 0; i + 1 < piece.size(); ++i)
+      if (!(piece[i] == piece[i + 1])) segments.emplace_back(&piece[i], &piece[i + 1]);
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
+  std::vector<Box> segment_boxes;
+  segment_boxes.reserve(segments.size());
+  CGAL::Bbox_3 all_segments;
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    segment_boxes.emplace_back(segments[s].first->bbox() + segments[s].second->bbox(), s);
+    all_segments += segment_boxes.back().bbox();
+  }
+  // Fast path, certified interval arithmetic: it rules out most faces, and a segment left with one
+  // candidate face in each mesh, the two planes surely different, is a crossing (the segment lies
+  // on both surfaces, so each candidate contains it; where rounded points of an inexact kernel do
+  // not, "kept" is the default anyway). No exact evaluation then: on a face that contains the
+  // segment the exact kernel's own filters always fail.
+  using I = CGAL::Interval_nt<false>;  // needs the rounding mode set by Protect_FPU_rounding
+  using IP = std::array<I, 3>;
+  auto interval = [](const Point& p) -> IP {
+    if constexpr (std::is_same_v<K, Exact>) {
+      const auto& x = CGAL::approx(p);
+      return {x.x(), x.y(), x.z()};
+    } else {
+      return {I(CGAL::to_double(p.x())), I(CGAL::to_double(p.y())), I(CGAL::to_double(p.z()))};
+    }
+  };
+  auto surely_off_plane = [](const std::array<IP, 3>& c, const IP& p) {  // p not in the plane of c
+    const I ax = c[0][0] - p[0], ay = c[0][1] - p[1], az = c[0][2] - p[2];
+    const I bx = c[1][0] - p[0], by = c[1][1] - p[1], bz = c[1][2] - p[2];
+    const I cx = c[2][0] - p[0], cy = c[2][1] - p[1], cz = c[2][2] - p[2];
+    const I det = ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+    return det.inf() > 0 || det.sup() < 0;
+  };
+  auto face_intervals = [&](const Mesh<K>& m, F f) {
+    const auto h = m.halfedge(f);
+    return std::array<IP, 3>{interval(m.point(m.source(h))), interval(m.point(m.target(h))),
+                             interval(m.point(m.target(m.next(h))))};
+  };
+  // Per segment, the faces of m that may contain it (in whose plane both ends may lie).
+  auto candidate_faces = [&](const Mesh<K>& m) {
+    std::vector<std::vector<F>> result(segments.size());
+    std::vector<Box> face_boxes;
+    for (F f : m.faces()) {
+      CGAL::Bbox_3 box;
+      for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) box += m.point(v).bbox();
+      if (CGAL::do_overlap(box, all_segments)) face_boxes.emplace_back(box, std::size_t(f));
+    }
+    CGAL::Protect_FPU_rounding<true> rounding;
+    CGAL::box_intersection_d(segment_boxes.begin(), segment_boxes.end(), face_boxes.begin(), face_boxes.end(),
+                             [&](const Box& sb, const Box& fb) {
+                               const F f(static_cast<typename F::size_type>(fb.info()));
+                               const auto c = face_intervals(m, f);
+                               const auto& seg = segments[sb.info()];
+                               if (!surely_off_plane(c, interval(*seg.first)) &&
+                                   !surely_off_plane(c, interval(*seg.second)))
+                                 result[sb.info()].push_back(f);
+                             });
+    return result;
+  };
+  const auto candidates_a = candidate_faces(a), candidates_b = candidate_faces(b);
+  auto surely_crossing = [&](std::size_t s) {
+    if (candidates_a[s].size() != 1 || candidates_b[s].size() != 1) return false;
+    CGAL::Protect_FPU_rounding<true> rounding;
+    const auto ca = face_intervals(a, candidates_a[s][0]), cb = face_intervals(b, candidates_b[s][0]);
+    return surely_off_plane(ca, cb[0]) || surely_off_plane(ca, cb[1]) || surely_off_plane(ca, cb[2]);
+  };
+  // Exactly: the faces of m that contain the segment, among the candidates.
+  auto faces_containing = [&](const Mesh<K>& m, const std::vector<F>& candidates, std::size_t s) {
+    std::vector<F> result;
+    for (F f : candidates) {
+      const auto h = m.halfedge(f);
+      const typename K::Triangle_3 t(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h))));
+      if (t.has_on(*segments[s].first) && t.has_on(*segments[s].second)) result.push_back(f);
+    }
+    return result;
+  };
+  // The two half-planes of m around pq, each given by a point of it off the line pq.
+  auto half_planes = [](const Mesh<K>& m, const std::vector<F>& faces, const Point& p, const Point& q,
+                        std::array<Point, 2>& r) {
+    auto corners = [&](F f) {
+      const auto h = m.halfedge(f);
+      return std::array<Point, 3>{m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h)))};
+    };
+    if (faces.size() == 1) {  // pq inside the face: a corner on each side of it
+      const auto c = corners(faces[0]);
+      int off = -1, other = -1;
+      for (int i = 0; i < 3 && off < 0; ++i)
+        if (!CGAL::collinear(p, q, c[i])) off = i;
+      if (off < 0) return false;
+      for (int i = 0; i < 3 && other < 0; ++i)
+        if (i != off && !CGAL::collinear(p, q, c[i]) &&
+            CGAL::coplanar_orientation(p, q, c[off], c[i]) == CGAL::NEGATIVE)
+          other = i;
+      if (other < 0) return false;  // pq on a border edge
+      r = {c[off], c[other]};
+      return true;
+    }
+    if (faces.size() == 2) {  // pq on their common edge: the corner of each face off it
+      for (int k = 0; k < 2; ++k) {
+        const auto c = corners(faces[k]);
+        int off = -1, count = 0;
+        for (int i = 0; i < 3; ++i)
+          if (!CGAL::collinear(p, q, c[i])) off = i, ++count;
+        if (count != 1) return false;
+        r[k] = c[off];
+      }
+      return true;
+    }
+    return false;
+  };
+  enum class Kind { cross, contact_boundary, contact_inside, touch };
+  auto classify = [&](std::size_t s) {
+    const Point &p = *segments[s].first, &q = *segments[s].second;
+    if (surely_crossing(s)) return Kind::cross;
+    std::array<Point, 2> ra, rb;
+    if (!half_planes(a, faces_containing(a, candidates_a[s], s), p, q, ra) ||
+        !half_planes(b, faces_containing(b, candidates_b[s], s), p, q, rb))
+      return Kind::cross;
+    int same = 0;
+    for (const auto& x : ra)
+      for (const auto& y : rb)
+        if (CGAL::coplanar(p, q, x, y) && CGAL::coplanar_orientation(p, q, x, y) == CGAL::POSITIVE) ++same;
+    if (same >= 2) return Kind::contact_inside;
+    if (same == 1) return Kind::contact_boundary;
+    // Turning about pq (positive: CGAL::orientation(p, q, x, y) > 0), is y strictly inside the
+    // wedge from ra[0] to ra[1]? (no B half-plane equals an A half-plane here)
+    auto turn = [&](const Point& x, const Point& y) { return CGAL::orientation(p, q, x, y); };
+    const auto o = turn(ra[0], ra[1]);
+    if (o == CGAL::COPLANAR && CGAL::coplanar_orientation(p, q, ra[0], ra[1]) == CGAL::POSITIVE)
+      return Kind::cross;  // A folded onto itself: not decided here
+    auto inside = [&](const Point& y) {
+      if (o == CGAL::POSITIVE) return turn(ra[0], y) == CGAL::POSITIVE && turn(y, ra[1]) == CGAL::POSITIVE;
+      if (o == CGAL::NEGATIVE) return !(turn(ra[1], y) == CGAL::POSITIVE && turn(y, ra[0]) == CGAL::POSITIVE);
+      return turn(ra[0], y) == CGAL::POSITIVE;  // a flat wedge: half a turn
+    };
+    return inside(rb[0]) != inside(rb[1]) ? Kind::cross : Kind::touch;
+  };
+
+  // Runs of kept segments are the curves' pieces; runs of touching ones are counted.
+  std::vector<std::vector<Point>> kept, touched;
+  std::size_t s = 0;
+  for (const auto& piece : pieces) {
+    std::vector<Point> run;
+    int run_of = -1;  // 0 kept, 1 touching, 2 inside a flat contact
+    auto flush = [&]() {
+      if (run.size() >= 2 && run_of == 0) kept.push_back(run);
+      if (run.size() >= 2 && run_of == 1) touched.push_back(run);
+      run.clear();
+    };
+    for (std::size_t i = 0; i + 1 < piece.size(); ++i) {
+      if (piece[i] == piece[i + 1]) continue;
+      const Kind kind = classify(s++);
+      const int of = kind == Kind::cross || kind == Kind::contact_boundary ? 0 : kind == Kind::touch ? 1 : 2;
+      if (of != run_of) flush(), run_of = of;
+      if (run.empty()) run.push_back(piece[i]);
+      run.push_back(piece[i + 1]);
+    }
+    flush();
+  }
+  if (touching_points) *touching_points = touching + chain(std::move(touched)).size();
+  return chain(std::move(kept));
 }
 
 template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions& options) {
