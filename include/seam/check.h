@@ -18,7 +18,10 @@
 //          point, and neither face's opposite edge meets the other face (then the intersection
 //          is exactly that vertex), or
 //        - the two faces share two vertices, the edge between them is a curve segment, and the
-//          faces do not overlap in a common plane (then the intersection is exactly that edge).
+//          faces do not overlap in a common plane (then the intersection is exactly that edge), or
+//        - the two faces lie in one plane (flat contact, common in compressed textile models):
+//          accepted except at an open border; the contact region's boundary is where faces leave
+//          the plane, and those pairs are tested as above, so it must be a curve.
 //      Given 1 and 2 this accepts exactly the pairs whose intersection lies on the curves. With
 //      no curves, any intersection (touching at a point included) is a problem. Only predicates
 //      are used, no constructed intersection: the test is exact under the exact and filtered

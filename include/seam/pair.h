@@ -5,7 +5,10 @@
 // per connected curve (closed where both surfaces are closed), duplicate points merged, each
 // closed curve starting at its lexicographically smallest point. Every curve point lies on both
 // surfaces, so embedding keeps all of them (they are the crossing points of one mesh or the
-// other) and both meshes receive the identical curve.
+// other) and both meshes receive the identical curve. Each piece is classified from the faces of
+// each mesh that contain it (exact tests): where the surfaces cross it is kept; where they only
+// touch (at a point or along an edge) it is dropped and counted (PairStats::touching_only); of a
+// flat contact (coplanar faces overlapping) only the boundary of the contact region is kept.
 //
 // Snapping (report step 1), when snap_tol > 0: vertices of either mesh within snap_tol of a curve
 // point move onto it (a move that would flip or flatten a face is refused), and the curves are
