@@ -73,6 +73,8 @@ int run_pair(const PairArgs& args) {
         j["snap"] = {{"snap_tol", st.snap_tol},
                      {"vertices_snapped_a", st.vertices_snapped_a},
                      {"vertices_snapped_b", st.vertices_snapped_b},
+                     {"edges_snapped_a", st.edges_snapped_a},
+                     {"edges_snapped_b", st.edges_snapped_b},
                      {"snaps_refused", st.snaps_refused}};
         j["touching_only"] = st.touching_only;
         j["given_curves"] = st.given_curves;
@@ -88,7 +90,7 @@ int run_pair(const PairArgs& args) {
     const auto& qa = result.a.stats;
     const auto& qb = result.b.stats;
     std::cout << "seam pair: " << st.curves << " curve(s) (" << st.closed_curves << " closed), " << st.curve_vertices
-              << " shared vertices; " << (st.vertices_snapped_a + st.vertices_snapped_b)
+              << " shared vertices; " << (st.vertices_snapped_a + st.vertices_snapped_b + st.edges_snapped_a + st.edges_snapped_b)
               << " vertices snapped (snap tolerance " << st.snap_tol << "); A: "
               << qa.faces_crossed << " faces -> " << qa.faces_added << " (min angle " << qa.min_angle_deg_new
               << "), B: " << qb.faces_crossed << " faces -> " << qb.faces_added << " (min angle "

@@ -2,6 +2,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/internal/snap.h>
 
+#include <CGAL/boost/graph/Euler_operations.h>
+#include <set>
+
 #include <CGAL/AABB_segment_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -161,14 +164,110 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
   return report;
 }
 
+template <class K>
+EdgeSnapReport<K> snap_edges_to_points(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, double tolerance) {
+  EdgeSnapReport<K> report;
+  if (!(tolerance > 0)) return report;
+  using Point = typename K::Point_3;
+  using T = MeshTypes<K>;
+  using E = typename T::E;
+  using F = typename T::F;
+  using DK = CGAL::Exact_predicates_inexact_constructions_kernel;
+  // The mesh edges on doubles, for the search.
+  std::vector<DK::Segment_3> segments;
+  std::vector<E> edge_of;
+  for (E e : mesh.edges()) {
+    segments.emplace_back(to_filtered(mesh.point(mesh.vertex(e, 0))), to_filtered(mesh.point(mesh.vertex(e, 1))));
+    edge_of.push_back(e);
+  }
+  if (segments.empty()) return report;
+  using Prim = CGAL::AABB_segment_primitive<DK, std::vector<DK::Segment_3>::const_iterator>;
+  CGAL::AABB_tree<CGAL::AABB_traits<DK, Prim>> tree(segments.cbegin(), segments.cend());
+  tree.accelerate_distance_queries();
+  // Candidates: (distance, curve, point, edge), the closest edge of each curve point.
+  std::vector<std::tuple<double, std::size_t, std::size_t, std::size_t>> candidates;
+  for (std::size_t c = 0; c < curves.size(); ++c)
+    for (std::size_t i = 0; i < curves[c].size(); ++i) {
+      const auto q = to_filtered(curves[c][i]);
+      const auto [cp, it] = tree.closest_point_and_primitive(q);
+      const double d = std::sqrt(CGAL::squared_distance(q, cp));
+      if (d > 0 && d <= tolerance) candidates.emplace_back(d, c, i, std::size_t(it - segments.cbegin()));
+    }
+  std::sort(candidates.begin(), candidates.end());
+  std::set<std::size_t> used_faces, used_edges;
+  for (const auto& [d, c, i, si] : candidates) {
+    const E e = edge_of[si];
+    const auto h = mesh.halfedge(e, 0);
+    const Point& P = curves[c][i];
+    const Point& a = mesh.point(mesh.source(h));
+    const Point& b = mesh.point(mesh.target(h));
+    // Only inside the edge, farther than the tolerance from its ends (vertex snapping's domain),
+    // and not already on it.
+    if (used_edges.count(std::size_t(e)) || CGAL::collinear(a, b, P)) continue;
+    const double da = std::sqrt(CGAL::to_double(CGAL::squared_distance(a, P)));
+    const double db = std::sqrt(CGAL::to_double(CGAL::squared_distance(b, P)));
+    if (da <= tolerance || db <= tolerance) continue;
+    const auto ab = b - a;
+    const auto t = ((P - a) * ab) / ab.squared_length();
+    if (!(CGAL::is_positive(t) && t < 1)) continue;
+    // The faces beside the edge, each (a, b, apex) or (b, a, apex) in its orientation, and the
+    // two triangles each becomes with P in place of the edge's inside.
+    bool ok = true;
+    std::vector<F> faces;
+    for (int side = 0; side < 2 && ok; ++side) {
+      const auto g = side == 0 ? h : mesh.opposite(h);
+      if (mesh.is_border(g)) continue;
+      const F f = mesh.face(g);
+      if (used_faces.count(std::size_t(f))) ok = false;
+      faces.push_back(f);
+      const Point& s = mesh.point(mesh.source(g));
+      const Point& r = mesh.point(mesh.target(g));
+      const Point& apex = mesh.point(mesh.target(mesh.next(g)));
+      const auto n = CGAL::cross_product(r - s, apex - s);
+      for (const auto& [x, y] : {std::make_pair(&s, &P), std::make_pair(&P, &r)}) {
+        const auto m = CGAL::cross_product(*y - *x, apex - *x);
+        if (!CGAL::is_positive(m * n)) ok = false;
+      }
+    }
+    if (!ok) {
+      ++report.refused;
+      continue;
+    }
+    // Split the edge, then cut each face beside it from the new vertex to its apex.
+    const auto hnew = CGAL::Euler::split_edge(h, mesh);  // source(h) -> v, then h: v -> target
+    const auto v = mesh.target(hnew);
+    mesh.point(v) = P;
+    used_edges.insert(std::size_t(e));
+    for (int side = 0; side < 2; ++side) {
+      const auto g1 = side == 0 ? hnew : mesh.opposite(h);  // a halfedge into v on this side
+      if (mesh.is_border(g1)) continue;
+      const F f = mesh.face(g1);
+      const auto g2 = side == 0 ? mesh.next(h) : mesh.next(mesh.opposite(hnew));  // into the apex
+      const std::size_t before = mesh.number_of_faces();
+      CGAL::Euler::split_face(g1, g2, mesh);
+      const F added(static_cast<typename F::size_type>(before));
+      used_faces.insert(std::size_t(f));
+      used_faces.insert(std::size_t(added));
+      report.added.emplace_back(added, f);
+      report.reshaped.push_back(f);
+    }
+    ++report.snapped;
+    report.max_move = std::max(report.max_move, d);
+  }
+  return report;
+}
+
 template SnapReport<Exact> snap_vertices<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double);
 template SnapReport<Exact> snap_vertices_to_segments<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double);
+template EdgeSnapReport<Exact> snap_edges_to_points<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double);
 template bool move_keeps_faces<Exact>(const Mesh<Exact>&, typename MeshTypes<Exact>::V, const Exact::Point_3&);
 template SnapReport<Filtered> snap_vertices<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double);
 template SnapReport<Filtered> snap_vertices_to_segments<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double);
+template EdgeSnapReport<Filtered> snap_edges_to_points<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double);
 template bool move_keeps_faces<Filtered>(const Mesh<Filtered>&, typename MeshTypes<Filtered>::V, const Filtered::Point_3&);
 template SnapReport<Float> snap_vertices<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double);
 template SnapReport<Float> snap_vertices_to_segments<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double);
+template EdgeSnapReport<Float> snap_edges_to_points<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double);
 template bool move_keeps_faces<Float>(const Mesh<Float>&, typename MeshTypes<Float>::V, const Float::Point_3&);
 
 }  // namespace seam::internal

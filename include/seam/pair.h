@@ -40,6 +40,8 @@ struct PairOptions {
 struct PairStats {
   std::size_t curves = 0, curve_vertices = 0, closed_curves = 0;
   std::size_t vertices_snapped_a = 0, vertices_snapped_b = 0, snaps_refused = 0;
+  /// Edges split to give a curve point next to them a vertex (internal::snap_edges_to_points).
+  std::size_t edges_snapped_a = 0, edges_snapped_b = 0;
   double snap_tol = 0;  ///< the snapping tolerance in effect (pass at least this to `seam check --tol`)
   /// True when the surfaces touch (a common point) without crossing: nothing to embed.
   bool touching_only = false;

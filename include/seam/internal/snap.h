@@ -29,6 +29,26 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
 
 /// Would moving v to `target` keep every incident face non-degenerate, with its orientation?
 /// Exact under the exact kernel.
+/// Faces created or reshaped by snap_edges_to_points.
+template <class K> struct EdgeSnapReport {
+  std::size_t snapped = 0, refused = 0;
+  double max_move = 0;
+  /// For each face added by a split (index >= the face count before), the face it was cut from.
+  std::vector<std::pair<typename MeshTypes<K>::F, typename MeshTypes<K>::F>> added;
+  std::vector<typename MeshTypes<K>::F> reshaped;  ///< existing faces cut by a split
+};
+
+/// Snapping for points next to an edge (report step 1, carried over from vertices to edges): a
+/// curve point within `tolerance` of an edge of the mesh, but farther than that from the edge's
+/// end points and not on the edge, gets a vertex of its own: the edge is split at the point's
+/// projection, the two faces beside it are cut in two, and the new vertex moves onto the curve
+/// point (the surface moves by less than the tolerance). Splits that would flip or flatten a face
+/// are refused (exact test). Each edge and each face is split at most once per call. Cuts
+/// across the intersection the tiny features (a crossing next to an edge) that no
+/// re-triangulation of the face can mesh well.
+template <class K>
+EdgeSnapReport<K> snap_edges_to_points(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, double tolerance);
+
 template <class K>
 bool move_keeps_faces(const Mesh<K>& mesh, typename MeshTypes<K>::V v, const typename K::Point_3& target);
 
