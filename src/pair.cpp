@@ -8,10 +8,17 @@
 
 #include <CGAL/Polygon_mesh_processing/intersection.h>
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <optional>
 #include <sstream>
+
+#ifndef CGAL_HAS_THREADS
+#error "seam::pair embeds the two meshes in parallel: CGAL must be thread-aware (CGAL_HAS_THREADS)"
+#endif
 
 namespace seam {
 
@@ -317,8 +324,9 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
 template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions& options) {
   validate_options(options.embed);
   PairResult<K> result;
-  // Edge snapping adds faces: each mesh face's input face, and whether its shape changed.
-  Provenance<K> prov_a(a), prov_b(b);
+  // Edge snapping adds faces: each mesh face's input face, and whether its shape changed
+  // (recorded only when snapping).
+  std::optional<Provenance<K>> prov_a, prov_b;
   PairStats& st = result.stats;
   const double la = mean_edge_length<K>(a), lb = mean_edge_length<K>(b);
   const double snap_tol = options.embed.snap_tol < 0 ? 0.1 * std::min(la, lb) : options.embed.snap_tol;
@@ -333,6 +341,8 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     // Report step 1 on both meshes, against the exact intersection points; then the curves of
     // the moved surfaces.
     t = Clock::now();
+    prov_a.emplace(a);
+    prov_b.emplace(b);
     // Onto the closest point of the curves (they lie on both surfaces), not only their nodes,
     // which are sparse: one per crossing of an edge.
     const auto sa = internal::snap_vertices_to_segments<K>(a, curves, snap_tol);
@@ -354,7 +364,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     for (int m = 0, idle = 0; m < 2 && idle < 2 && !curves.empty(); ++m) {
       t = Clock::now();
       auto& mesh = m % 2 == 0 ? a : b;
-      auto& prov = m % 2 == 0 ? prov_a : prov_b;
+      auto& prov = m % 2 == 0 ? *prov_a : *prov_b;
       const auto se = internal::snap_edges_to_points<K>(mesh, curves, snap_tol);
       for (const auto& [added, from] : se.added) {
         prov.origin.resize(mesh.number_of_faces());
@@ -393,17 +403,28 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   eo.keep_all_nodes = true;
   eo.curve_tol = 0;
   eo.max_distance = std::numeric_limits<double>::max();  // the points lie on both surfaces
-  t = Clock::now();
-  result.a = embed<K>(a, curves, eo);
-  st.stage_seconds["embed_a"] = seconds_since(t);
-  t = Clock::now();
-  result.b = embed<K>(b, curves, eo);
-  st.stage_seconds["embed_b"] = seconds_since(t);
+  // The two embeddings are independent: they run concurrently. They share the curves, read
+  // only; CGAL's lazy exact numbers are safe to read from several threads when
+  // CGAL_HAS_THREADS is defined (exact values computed once, reference counts atomic).
+  double seconds_a = 0, seconds_b = 0;
+  tbb::parallel_invoke(
+      [&] {
+        const auto ta = Clock::now();
+        result.a = embed<K>(a, curves, eo);
+        seconds_a = seconds_since(ta);
+      },
+      [&] {
+        const auto tb = Clock::now();
+        result.b = embed<K>(b, curves, eo);
+        seconds_b = seconds_since(tb);
+      });
+  st.stage_seconds["embed_a"] = seconds_a;
+  st.stage_seconds["embed_b"] = seconds_b;
   result.a.stats.vertices_snapped = st.vertices_snapped_a + st.edges_snapped_a;
   result.b.stats.vertices_snapped = st.vertices_snapped_b + st.edges_snapped_b;
   if (st.edges_snapped_a + st.edges_snapped_b > 0) {
-    prov_a.apply(a, result.a.stats);
-    prov_b.apply(b, result.b.stats);
+    prov_a->apply(a, result.a.stats);
+    prov_b->apply(b, result.b.stats);
   }
 
   // Both meshes must have received the identical curve.
