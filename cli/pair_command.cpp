@@ -96,6 +96,8 @@ int run_pair(const PairArgs& args) {
                      {"vertices_snapped_b", st.vertices_snapped_b},
                      {"edges_snapped_a", st.edges_snapped_a},
                      {"edges_snapped_b", st.edges_snapped_b},
+                     {"curve_vertices_collapsed", st.curve_vertices_collapsed},
+                     {"short_segments_left", st.short_segments_left},
                      {"snaps_refused", st.snaps_refused}};
         j["touching_only"] = st.touching_only;
         j["given_curves"] = st.given_curves;

@@ -1,5 +1,6 @@
 // seam::pair: two tows, one interface. See seam/pair.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/internal/collapse.h>
 #include <seam/internal/improve.h>
 #include <seam/internal/snap.h>
 #include <seam/quality.h>
@@ -329,6 +330,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   std::optional<Provenance<K>> prov_a, prov_b;
   PairStats& st = result.stats;
   const double la = mean_edge_length<K>(a), lb = mean_edge_length<K>(b);
+  const std::size_t input_vertices_a = a.number_of_vertices(), input_vertices_b = b.number_of_vertices();
   const double snap_tol = options.embed.snap_tol < 0 ? 0.1 * std::min(la, lb) : options.embed.snap_tol;
   st.snap_tol = snap_tol;
 
@@ -422,10 +424,6 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   st.stage_seconds["embed_b"] = seconds_b;
   result.a.stats.vertices_snapped = st.vertices_snapped_a + st.edges_snapped_a;
   result.b.stats.vertices_snapped = st.vertices_snapped_b + st.edges_snapped_b;
-  if (st.edges_snapped_a + st.edges_snapped_b > 0) {
-    prov_a->apply(a, result.a.stats);
-    prov_b->apply(b, result.b.stats);
-  }
 
   // Both meshes must have received the identical curve.
   if (result.a.curves.size() != result.b.curves.size())
@@ -438,6 +436,34 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
       throw InternalError(msg.str());
     }
   result.curves = result.a.curves;
+
+  // With a snapping tolerance, curve segments shorter than it are collapsed in both meshes at
+  // once where that improves the angles and the meshes still meet only along the curves (see
+  // internal/collapse.h): a crossing of A's edge next to a crossing of B's edge otherwise leaves
+  // a sliver no re-triangulation avoids.
+  if (prov_a) {
+    t = Clock::now();
+    const auto cr = internal::collapse_short_curve_segments<K>(a, b, result.curves, result.a.curve_vertices,
+                                                               result.b.curve_vertices, snap_tol, input_vertices_a,
+                                                               input_vertices_b);
+    st.curve_vertices_collapsed = cr.collapsed;
+    st.short_segments_left = cr.refused;
+    if (cr.collapsed > 0) {
+      result.a.curves = result.b.curves = result.curves;
+      st.curve_vertices = 0;
+      for (const auto& c : result.curves) st.curve_vertices += is_closed(c) ? c.size() - 1 : c.size();
+      for (auto* r : {&result.a, &result.b}) {
+        const auto& m = r == &result.a ? a : b;
+        r->stats.output_vertices = m.number_of_vertices();
+        r->stats.output_faces = m.number_of_faces();
+        r->stats.curve_nodes_out = st.curve_vertices;
+      }
+    }
+    st.stage_seconds["collapse"] = seconds_since(t);
+    // Faces mapped back to the input faces, quality measured against the input's own angles.
+    prov_a->apply(a, result.a.stats);
+    prov_b->apply(b, result.b.stats);
+  }
 
   // Experimental: coarsen the curve to about the edge length and remesh both meshes next to it
   // (see internal/improve.h and PairOptions::remesh_near_curves). Kept only when both succeed.

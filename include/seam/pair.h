@@ -42,6 +42,9 @@ struct PairStats {
   std::size_t vertices_snapped_a = 0, vertices_snapped_b = 0, snaps_refused = 0;
   /// Edges split to give a curve point next to them a vertex (internal::snap_edges_to_points).
   std::size_t edges_snapped_a = 0, edges_snapped_b = 0;
+  /// Curve vertices removed from both meshes by collapsing a short curve segment (shorter than
+  /// the snapping tolerance; internal/collapse.h), and the short segments left.
+  std::size_t curve_vertices_collapsed = 0, short_segments_left = 0;
   double snap_tol = 0;  ///< the snapping tolerance in effect (pass at least this to `seam check --tol`)
   /// True when the surfaces touch (a common point) without crossing: nothing to embed.
   bool touching_only = false;
