@@ -98,6 +98,7 @@ int run_pair(const PairArgs& args) {
                      {"edges_snapped_b", st.edges_snapped_b},
                      {"curve_vertices_collapsed", st.curve_vertices_collapsed},
                      {"short_segments_left", st.short_segments_left},
+                     {"tiny_edges_collapsed", st.tiny_edges_collapsed},
                      {"snaps_refused", st.snaps_refused}};
         j["touching_only"] = st.touching_only;
         j["given_curves"] = st.given_curves;
@@ -155,6 +156,10 @@ Command add_pair_command(CLI::App& app) {
   cmd->add_option("--min-angle", pa.options.embed.min_angle_deg,
                   "Minimum angle (degrees, 0..60) refinement aims for in re-triangulated faces (default: 20)");
   cmd->add_option("--max-area", pa.options.embed.max_area, "Largest area of a new triangle; 0: no bound");
+  cmd->add_flag_callback(
+      "--no-collapse", [&pa] { pa.options.collapse_short_segments = false; },
+      "Keep curve segments shorter than the snapping tolerance (by default they are collapsed in both meshes "
+      "where that improves the angles)");
   cmd->add_flag("--remesh", pa.options.remesh_near_curves,
                 "Experimental: coarsen the curves to about the edge length and remesh both meshes next to them "
                 "(far better angles, but the outputs may cross next to the curves: run seam check)");

@@ -223,135 +223,187 @@ template <class K> void compact(Mesh<K>& m, VertexLists<K>& lists) {
 template <class K>
 CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::vector<Polyline<K>>& curves,
                                                   VertexLists<K>& cva, VertexLists<K>& cvb, double max_length,
-                                                  std::size_t input_vertices_a, std::size_t input_vertices_b) {
+                                                  double tiny_length, std::size_t input_vertices_a,
+                                                  std::size_t input_vertices_b) {
   using V = typename MeshTypes<K>::V;
   using F = typename MeshTypes<K>::F;
+  constexpr std::size_t no_curve = std::numeric_limits<std::size_t>::max();
   CurveCollapseReport report;
-  if (!(max_length > 0) || curves.empty()) return report;
+  if (!(max_length > 0) && !(tiny_length > 0)) return report;
   if (cva.size() != curves.size() || cvb.size() != curves.size())
     throw InternalError("collapse: curve vertex lists do not match the curves");
+  Mesh<K>* meshes[2] = {&a, &b};
+  VertexLists<K>* lists[2] = {&cva, &cvb};
+  const std::size_t input_vertices[2] = {input_vertices_a, input_vertices_b};
 
-  std::set<std::array<std::size_t, 3>> excluded;  // candidates (curve, P, Q) refused or undone
-  for (int round = 0; round < 12; ++round) {
+  /// P merged into Q in A (mask 1), B (mask 2) or both (3: a curve segment, at positions
+  /// at_p / at_q of curve `curve`).
+  struct Op {
+    int mask;
+    V p[2], q[2];
+    std::size_t curve, at_p, at_q;
+    double length;
+    bool tiny;
+  };
+  std::set<std::array<std::size_t, 4>> excluded;  // (mask, P in A, P in B, Q in A or B) refused or undone
+  auto key = [](const Op& op) {
+    return std::array<std::size_t, 4>{std::size_t(op.mask), op.mask & 1 ? std::size_t(op.p[0]) : 0,
+                                      op.mask & 2 ? std::size_t(op.p[1]) : 0,
+                                      op.mask & 1 ? std::size_t(op.q[0]) : std::size_t(op.q[1])};
+  };
+
+  for (int round = 0; round < 16; ++round) {
     // How often each vertex appears on the curves (closing repeats once): only vertices on one
-    // curve, once, are merged.
-    std::vector<int> uses_a(a.number_of_vertices() + a.number_of_removed_vertices(), 0),
-        uses_b(b.number_of_vertices() + b.number_of_removed_vertices(), 0);
-    std::vector<Candidate> candidates;
+    // curve, once, are merged along the curve; vertices off the curves only in tiny edges.
+    std::vector<int> uses[2];
+    for (int m = 0; m < 2; ++m) {
+      uses[m].assign(meshes[m]->number_of_vertices() + meshes[m]->number_of_removed_vertices(), 0);
+      for (std::size_t c = 0; c < curves.size(); ++c) {
+        const auto& vs = (*lists[m])[c];
+        for (std::size_t i = 0; i + (is_closed(curves[c]) ? 1 : 0) < vs.size(); ++i) ++uses[m][std::size_t(vs[i])];
+      }
+    }
+    std::vector<Op> ops;
     for (std::size_t c = 0; c < curves.size(); ++c) {
       const bool closed = is_closed(curves[c]);
       const std::size_t n = closed ? curves[c].size() - 1 : curves[c].size();
-      for (std::size_t i = 0; i < n; ++i) ++uses_a[std::size_t(cva[c][i])], ++uses_b[std::size_t(cvb[c][i])];
       if (n < (closed ? 4u : 3u)) continue;  // keep at least a triangle / a segment
       for (std::size_t i = closed ? 0 : 1; i < (closed ? n : n - 1); ++i)
         for (int dir : {-1, 1}) {
           const std::size_t j = (i + n + std::size_t(dir)) % n;
-          const auto& p = curves[c][i];
-          const auto& q = curves[c][j];
-          const double len = std::sqrt(CGAL::to_double(CGAL::squared_distance(p, q)));
-          if (len <= max_length) candidates.push_back({c, i, j, len});
+          const double len = std::sqrt(CGAL::to_double(CGAL::squared_distance(curves[c][i], curves[c][j])));
+          if (len <= std::max(max_length, tiny_length))
+            ops.push_back({3, {cva[c][i], cvb[c][i]}, {cva[c][j], cvb[c][j]}, c, i, j, len, len <= tiny_length});
         }
     }
-    if (candidates.empty()) break;
-    std::sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) {
-      return x.length != y.length ? x.length < y.length : std::tie(x.curve, x.at_p) < std::tie(y.curve, y.at_p);
+    // Tiny edges off the curves (one end off the curves and new): merged in their mesh alone.
+    if (tiny_length > 0)
+      for (int m = 0; m < 2; ++m) {
+        const Mesh<K>& mesh = *meshes[m];
+        for (auto e : mesh.edges()) {
+          const V u = mesh.vertex(e, 0), w = mesh.vertex(e, 1);
+          const double len = std::sqrt(CGAL::to_double(CGAL::squared_distance(mesh.point(u), mesh.point(w))));
+          if (!(len <= tiny_length)) continue;
+          auto movable = [&](V v) { return uses[m][std::size_t(v)] == 0 && std::size_t(v) >= input_vertices[m]; };
+          Op op{1 << m, {}, {}, no_curve, 0, 0, len, true};
+          if (movable(u)) op.p[m] = u, op.q[m] = w;
+          else if (movable(w)) op.p[m] = w, op.q[m] = u;
+          else continue;
+          ops.push_back(op);
+        }
+      }
+    if (ops.empty()) break;
+    // Tiny ones first, then the shortest.
+    std::sort(ops.begin(), ops.end(), [&](const Op& x, const Op& y) {
+      if (x.tiny != y.tiny) return x.tiny;
+      if (x.length != y.length) return x.length < y.length;
+      return key(x) < key(y);
     });
 
-    // Choose collapses whose neighbourhoods do not overlap, each improving the angles in both.
-    std::vector<char> locked_a(uses_a.size(), 0), locked_b(uses_b.size(), 0);
-    std::vector<Candidate> chosen;
-    std::vector<V> near;
-    for (const auto& cand : candidates) {
-      const std::array<std::size_t, 3> key{cand.curve, cand.at_p, cand.at_q};
-      if (excluded.count(key)) continue;
-      const V pa = cva[cand.curve][cand.at_p], qa = cva[cand.curve][cand.at_q];
-      const V pb = cvb[cand.curve][cand.at_p], qb = cvb[cand.curve][cand.at_q];
-      if (uses_a[std::size_t(pa)] != 1 || uses_b[std::size_t(pb)] != 1) continue;
-      near.clear();
-      ring<K>(a, pa, near), ring<K>(a, qa, near);
-      const bool free_a = std::none_of(near.begin(), near.end(), [&](V v) { return locked_a[std::size_t(v)]; });
-      std::vector<V> near_b;
-      ring<K>(b, pb, near_b), ring<K>(b, qb, near_b);
-      const bool free_b = std::none_of(near_b.begin(), near_b.end(), [&](V v) { return locked_b[std::size_t(v)]; });
-      if (!free_a || !free_b) continue;
-      Angles before_a, after_a, before_b, after_b;
-      const bool oka = collapse_allowed<K>(a, pa, qa, input_vertices_a, before_a, after_a);
-      const bool okb = oka && collapse_allowed<K>(b, pb, qb, input_vertices_b, before_b, after_b);
-      Angles before = before_a, after = after_a;  // both meshes' faces around P and Q together
-      before.min = std::min(before.min, before_b.min), before.below_10 += before_b.below_10;
-      after.min = std::min(after.min, after_b.min), after.below_10 += after_b.below_10;
-      if (!oka || !okb || !after.better_than(before)) {
-        excluded.insert(key);
+    // Choose collapses whose neighbourhoods do not overlap: tiny ones whenever allowed, the
+    // others when they improve the angles of both meshes together.
+    std::vector<char> locked[2];
+    for (int m = 0; m < 2; ++m) locked[m].assign(uses[m].size(), 0);
+    std::vector<Op> chosen;
+    std::vector<V> near[2];
+    for (const auto& op : ops) {
+      if (excluded.count(key(op))) continue;
+      if (op.mask == 3 && (uses[0][std::size_t(op.p[0])] != 1 || uses[1][std::size_t(op.p[1])] != 1)) continue;
+      bool free = true;
+      for (int m = 0; m < 2 && free; ++m) {
+        near[m].clear();
+        if (!(op.mask & (1 << m))) continue;
+        ring<K>(*meshes[m], op.p[m], near[m]), ring<K>(*meshes[m], op.q[m], near[m]);
+        free = std::none_of(near[m].begin(), near[m].end(), [&](V v) { return locked[m][std::size_t(v)]; });
+      }
+      if (!free) continue;
+      Angles before, after;
+      bool allowed = true;
+      for (int m = 0; m < 2 && allowed; ++m) {
+        if (!(op.mask & (1 << m))) continue;
+        Angles bm, am;
+        allowed = collapse_allowed<K>(*meshes[m], op.p[m], op.q[m], input_vertices[m], bm, am);
+        before.min = std::min(before.min, bm.min), before.below_10 += bm.below_10;
+        after.min = std::min(after.min, am.min), after.below_10 += am.below_10;
+      }
+      if (!allowed || (!op.tiny && !after.better_than(before))) {
+        excluded.insert(key(op));
         continue;
       }
-      for (V v : near) locked_a[std::size_t(v)] = 1;
-      for (V v : near_b) locked_b[std::size_t(v)] = 1;
-      chosen.push_back(cand);
+      for (int m = 0; m < 2; ++m)
+        for (V v : near[m]) locked[m][std::size_t(v)] = 1;
+      chosen.push_back(op);
     }
     if (chosen.empty()) break;
 
     // Apply them; undo (start again from the copies without them) those whose faces cross.
     const Mesh<K> a0 = a, b0 = b;
     for (;;) {
-      std::vector<V> kept_a, kept_b;
-      for (const auto& cand : chosen) {
-        kept_a.push_back(merge<K>(a, cva[cand.curve][cand.at_p], cva[cand.curve][cand.at_q]));
-        kept_b.push_back(merge<K>(b, cvb[cand.curve][cand.at_p], cvb[cand.curve][cand.at_q]));
-      }
+      std::vector<std::array<V, 2>> kept(chosen.size());
+      for (std::size_t k = 0; k < chosen.size(); ++k)
+        for (int m = 0; m < 2; ++m)
+          if (chosen[k].mask & (1 << m)) kept[k][m] = merge<K>(*meshes[m], chosen[k].p[m], chosen[k].q[m]);
       // The curves after the collapses, by the vertices that stay.
-      auto lists_a = cva, lists_b = cvb;
-      auto without_p = [&](VertexLists<K>& lists, const std::vector<V>& kept) {
-        std::vector<std::vector<char>> drop(lists.size());
-        for (std::size_t c = 0; c < lists.size(); ++c) drop[c].assign(lists[c].size(), 0);
+      VertexLists<K> after_lists[2] = {cva, cvb};
+      for (int m = 0; m < 2; ++m) {
+        auto& ls = after_lists[m];
+        std::vector<std::vector<char>> drop(ls.size());
+        for (std::size_t c = 0; c < ls.size(); ++c) drop[c].assign(ls[c].size(), 0);
         for (std::size_t k = 0; k < chosen.size(); ++k) {
-          auto& vs = lists[chosen[k].curve];
+          const Op& op = chosen[k];
+          if (!(op.mask & (1 << m))) continue;
+          if (op.curve == no_curve) {  // Q may be a curve vertex whose index went to P's
+            if (kept[k][m] != op.q[m])
+              for (auto& vs : ls)
+                for (auto& v : vs)
+                  if (v == op.q[m]) v = kept[k][m];
+            continue;
+          }
+          auto& vs = ls[op.curve];
           const bool closed = vs.size() > 1 && vs.front() == vs.back();
-          drop[chosen[k].curve][chosen[k].at_p] = 1;
-          vs[chosen[k].at_q] = kept[k];
-          if (closed && chosen[k].at_q == 0) vs.back() = kept[k];
-          if (closed && chosen[k].at_p == 0) drop[chosen[k].curve].back() = 1;
+          drop[op.curve][op.at_p] = 1;
+          vs[op.at_q] = kept[k][m];
+          if (closed && op.at_q == 0) vs.back() = kept[k][m];
+          if (closed && op.at_p == 0) drop[op.curve].back() = 1;
         }
-        for (std::size_t c = 0; c < lists.size(); ++c) {
+        for (std::size_t c = 0; c < ls.size(); ++c) {
+          const bool closed = ls[c].size() > 1 && ls[c].front() == ls[c].back();
           std::vector<V> out;
-          for (std::size_t i = 0; i < lists[c].size(); ++i)
-            if (!drop[c][i]) out.push_back(lists[c][i]);
-          if (drop[c].back() && !out.empty() && lists[c].front() == lists[c].back()) out.push_back(out.front());
-          lists[c] = std::move(out);
+          for (std::size_t i = 0; i < ls[c].size(); ++i)
+            if (!drop[c][i]) out.push_back(ls[c][i]);
+          if (closed && drop[c].back() && !out.empty()) out.push_back(out.front());
+          ls[c] = std::move(out);
         }
-      };
-      without_p(lists_a, kept_a);
-      without_p(lists_b, kept_b);
-
-      std::vector<char> on_a, on_b;
-      std::set<std::pair<std::uint32_t, std::uint32_t>> edges_a, edges_b;
-      curve_marks<K>(a, lists_a, on_a, edges_a);
-      curve_marks<K>(b, lists_b, on_b, edges_b);
-      std::vector<F> faces_a, faces_b;
-      std::vector<std::size_t> owner_a, owner_b;
-      for (std::size_t k = 0; k < chosen.size(); ++k) {
-        for (auto f : CGAL::faces_around_target(a.halfedge(kept_a[k]), a)) faces_a.push_back(f), owner_a.push_back(k);
-        for (auto f : CGAL::faces_around_target(b.halfedge(kept_b[k]), b)) faces_b.push_back(f), owner_b.push_back(k);
       }
-      const auto bad_a = crossing_faces<K>(a, faces_a, b, on_b, edges_b);
-      const auto bad_b = crossing_faces<K>(b, faces_b, a, on_a, edges_a);
+
+      std::vector<char> on_curve[2];
+      std::set<std::pair<std::uint32_t, std::uint32_t>> curve_edges[2];
+      for (int m = 0; m < 2; ++m) curve_marks<K>(*meshes[m], after_lists[m], on_curve[m], curve_edges[m]);
       std::vector<char> undo(chosen.size(), 0);
-      for (std::size_t i = 0; i < faces_a.size(); ++i)
-        if (bad_a[i]) undo[owner_a[i]] = 1;
-      for (std::size_t i = 0; i < faces_b.size(); ++i)
-        if (bad_b[i]) undo[owner_b[i]] = 1;
+      std::vector<F> faces[2];
+      for (int m = 0; m < 2; ++m) {
+        std::vector<std::size_t> owner;
+        for (std::size_t k = 0; k < chosen.size(); ++k)
+          if (chosen[k].mask & (1 << m))
+            for (auto f : CGAL::faces_around_target(meshes[m]->halfedge(kept[k][m]), *meshes[m]))
+              faces[m].push_back(f), owner.push_back(k);
+        const auto bad = crossing_faces<K>(*meshes[m], faces[m], *meshes[1 - m], on_curve[1 - m], curve_edges[1 - m]);
+        for (std::size_t i = 0; i < faces[m].size(); ++i)
+          if (bad[i]) undo[owner[i]] = 1;
+      }
       if (std::none_of(undo.begin(), undo.end(), [](char u) { return u != 0; })) {
-        auto is_new_a = a.template property_map<F, bool>(new_face_property);
-        auto is_new_b = b.template property_map<F, bool>(new_face_property);
-        if (is_new_a.second)
-          for (auto f : faces_a) is_new_a.first[f] = true;
-        if (is_new_b.second)
-          for (auto f : faces_b) is_new_b.first[f] = true;
+        for (int m = 0; m < 2; ++m) {
+          auto is_new = meshes[m]->template property_map<F, bool>(new_face_property);
+          if (is_new.second)
+            for (auto f : faces[m]) is_new.first[f] = true;
+        }
         // The shared curves lose the merged points.
         std::vector<std::vector<char>> drop(curves.size());
         for (std::size_t c = 0; c < curves.size(); ++c) drop[c].assign(curves[c].size(), 0);
-        for (const auto& cand : chosen) {
-          drop[cand.curve][cand.at_p] = 1;
-          if (cand.at_p == 0 && is_closed(curves[cand.curve])) drop[cand.curve].back() = 1;
+        for (const auto& op : chosen) {
+          if (op.curve == no_curve) continue;
+          drop[op.curve][op.at_p] = 1;
+          if (op.at_p == 0 && is_closed(curves[op.curve])) drop[op.curve].back() = 1;
         }
         for (std::size_t c = 0; c < curves.size(); ++c) {
           const bool closed = is_closed(curves[c]);
@@ -361,27 +413,26 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
           if (closed && drop[c].back()) out.push_back(out.front());
           curves[c] = std::move(out);
         }
-        cva = std::move(lists_a);
-        cvb = std::move(lists_b);
-        report.collapsed += chosen.size();
+        cva = std::move(after_lists[0]);
+        cvb = std::move(after_lists[1]);
+        for (const auto& op : chosen) (op.curve == no_curve ? report.tiny_edges_collapsed : report.collapsed) += 1;
         break;
       }
       a = a0;
       b = b0;
-      std::vector<Candidate> keep;
+      std::vector<Op> keep;
       for (std::size_t k = 0; k < chosen.size(); ++k)
-        if (undo[k]) {
-          excluded.insert({chosen[k].curve, chosen[k].at_p, chosen[k].at_q});
-        } else {
+        if (undo[k])
+          excluded.insert(key(chosen[k]));
+        else
           keep.push_back(chosen[k]);
-        }
       chosen = std::move(keep);
       if (chosen.empty()) break;
     }
     if (chosen.empty()) continue;
     compact<K>(a, cva);
     compact<K>(b, cvb);
-    excluded.clear();  // positions moved: the next round evaluates every short segment again
+    excluded.clear();  // indices moved: the next round evaluates every candidate again
   }
   for (const auto& c : curves)  // what is left
     for (std::size_t i = 0; i + 1 < c.size(); ++i)
@@ -391,8 +442,8 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
 
 #define SEAM_INSTANTIATE(K)                                                                                     \
   template CurveCollapseReport collapse_short_curve_segments<K>(                                                 \
-      Mesh<K>&, Mesh<K>&, std::vector<Polyline<K>>&, VertexLists<K>&, VertexLists<K>&, double, std::size_t, \
-      std::size_t);
+      Mesh<K>&, Mesh<K>&, std::vector<Polyline<K>>&, VertexLists<K>&, VertexLists<K>&, double, double,     \
+      std::size_t, std::size_t);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)
 SEAM_INSTANTIATE(Float)

@@ -7,6 +7,7 @@
 #include <seam/check.h>
 #include <seam/pair.h>
 
+#include <CGAL/Polygon_mesh_processing/bbox.h>
 #include <CGAL/Polygon_mesh_processing/intersection.h>
 
 #include <tbb/parallel_invoke.h>
@@ -443,12 +444,20 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   // a sliver no re-triangulation avoids.
   if (prov_a) {
     t = Clock::now();
+    // Edges below 1e-9 of the size of the pair go whatever the angles: written in doubles they
+    // would be flat or fold (see internal/collapse.h).
+    const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(a) + CGAL::Polygon_mesh_processing::bbox(b);
+    const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                      CGAL::square(box.zmax() - box.zmin()));
     const auto cr = internal::collapse_short_curve_segments<K>(a, b, result.curves, result.a.curve_vertices,
-                                                               result.b.curve_vertices, snap_tol, input_vertices_a,
-                                                               input_vertices_b);
+                                                               result.b.curve_vertices,
+                                                               options.collapse_short_segments ? snap_tol : 0.0,
+                                                               1e-9 * diagonal,
+                                                               input_vertices_a, input_vertices_b);
     st.curve_vertices_collapsed = cr.collapsed;
+    st.tiny_edges_collapsed = cr.tiny_edges_collapsed;
     st.short_segments_left = cr.refused;
-    if (cr.collapsed > 0) {
+    if (cr.collapsed + cr.tiny_edges_collapsed > 0) {
       result.a.curves = result.b.curves = result.curves;
       st.curve_vertices = 0;
       for (const auto& c : result.curves) st.curve_vertices += is_closed(c) ? c.size() - 1 : c.size();

@@ -27,6 +27,7 @@ namespace seam::internal {
 
 struct CurveCollapseReport {
   std::size_t collapsed = 0;  ///< curve vertices removed from both meshes
+  std::size_t tiny_edges_collapsed = 0;  ///< vertices off the curves merged over a tiny edge
   std::size_t refused = 0;    ///< short segments left (topology, fold, no gain, or a crossing)
 };
 
@@ -34,11 +35,16 @@ struct CurveCollapseReport {
 /// `curve_vertices_a` and `curve_vertices_b` (as in EmbedResult) are updated; both meshes have
 /// no garbage afterwards and their vertices below `input_vertices_a` / `_b` keep their indices.
 /// Faces around a merged vertex are marked new (new_face_property).
+/// Edges not longer than `tiny_length` are collapsed whenever allowed, whatever the angles: on
+/// the curves in both meshes, elsewhere in their own mesh when one end is a new vertex off the
+/// curves. They are the features (down to 1e-17 here) that exact constructions leave where a
+/// snapped vertex lies on the other surface; rounded to doubles on output, their faces would be
+/// flat or would cross the other mesh.
 template <class K>
 CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::vector<Polyline<K>>& curves,
                                                   std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_a,
                                                   std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_b,
-                                                  double max_length, std::size_t input_vertices_a,
-                                                  std::size_t input_vertices_b);
+                                                  double max_length, double tiny_length,
+                                                  std::size_t input_vertices_a, std::size_t input_vertices_b);
 
 }  // namespace seam::internal
