@@ -34,9 +34,10 @@
 //   timeout    the child was killed after --timeout seconds
 //
 //   seam_robustness [--seed N] [--cases N] [--timeout S] [--filter SUBSTR] [--kernels LIST]
-//                   [--json] [--verbose]
-// --filter keeps the cases whose family or description contains SUBSTR; --kernels is a comma
-// list of exact, filtered, float. Exit status: 1 when the exact kernel has any non-valid run.
+//                   [--json] [--verbose] [--dump DIR]
+// --filter keeps the cases whose family or description contains SUBSTR (or "case:N": case N);
+// --kernels is a comma list of exact, filtered, float; --dump DIR writes each case's meshes (as
+// the filtered kernel gets them: rounded) and curves to DIR, for `seam pair` / `seam embed`. Exit status: 1 when the exact kernel has any non-valid run.
 //
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/check.h>
@@ -363,7 +364,8 @@ void make_family_case(Case& c, Rng& r) {
     c.a = grid_box(zero, two, {n, n, n}, r.coin());
     const bool edge = r.coin();
     if (!edge) {
-      c.b = octahedron({x, y, z + rad}, rad);
+      c.b = octahedron({x, y, 2 + rad}, rad);
+      c.b.points[5][2] = z;  // the lowest vertex, exactly (2 + rad - rad would round to 2)
     } else {
       const double ex = rad * (r.coin() ? 1 : 0.5), ey = rad * (r.coin() ? 0.5 : 0);
       c.b = tetrahedron({x - ex, y - ey, z}, {x + ex, y + ey, z}, {x + ey, y - ex, z + rad}, {x - ey, y + ex, z + rad});
@@ -796,12 +798,12 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   int cases = 252;
   double timeout = 60;
-  std::string filter;
+  std::string filter, dump;
   std::vector<seam::KernelKind> kernels = {seam::KernelKind::exact, seam::KernelKind::filtered, seam::KernelKind::float_};
   bool json = false, verbose = false;
   auto usage = [] {
     std::cerr << "usage: seam_robustness [--seed N] [--cases N] [--timeout S] [--filter SUBSTR] "
-                 "[--kernels exact,filtered,float] [--json] [--verbose]\n";
+                 "[--kernels exact,filtered,float] [--json] [--verbose] [--dump DIR]\n";
     return 2;
   };
   for (int i = 1; i < argc; ++i) {
@@ -815,6 +817,7 @@ int main(int argc, char** argv) {
       else if (a == "--cases") cases = std::stoi(value());
       else if (a == "--timeout") timeout = std::stod(value());
       else if (a == "--filter") filter = value();
+      else if (a == "--dump") dump = value();
       else if (a == "--json") json = true;
       else if (a == "--verbose") verbose = true;
       else if (a == "--kernels") {
@@ -855,8 +858,16 @@ int main(int argc, char** argv) {
       return 3;
     }
     if (!filter.empty() && c.family.find(filter) == std::string::npos &&
-        c.description.find(filter) == std::string::npos)
+        c.description.find(filter) == std::string::npos && filter != "case:" + std::to_string(id))
       continue;
+    if (!dump.empty()) {  // the inputs as the filtered kernel gets them (rounded), for `seam pair`
+      for (int m = 0; m < (c.embed ? 1 : 2); ++m) {
+        const auto mesh = input_mesh<seam::Filtered>(m ? c.b : c.a, m ? c.map_b : c.map_a, c.keep_exact);
+        seam::write_triangle_mesh(seam::soup_from_mesh<seam::Filtered>(mesh),
+                                  dump + "/case" + std::to_string(id) + (m ? "_b.off" : "_a.off"));
+      }
+      if (c.embed) seam::write_polylines(c.curves, dump + "/case" + std::to_string(id) + "_curves.txt");
+    }
     for (auto kind : kernels) {
       const std::string kn = seam::kernel_name(kind);
       const RunResult r = run_in_child(c, kind, timeout);

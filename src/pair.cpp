@@ -273,7 +273,11 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
     for (const auto& x : ra)
       for (const auto& y : rb)
         if (CGAL::coplanar(p, q, x, y) && CGAL::coplanar_orientation(p, q, x, y) == CGAL::POSITIVE) ++same;
-    if (same >= 2) return Kind::contact_inside;
+    // Both surfaces the same on both sides of pq: inside a flat contact, unless they bend there
+    // together (a ridge of both, where two flat contacts meet at an angle): that edge is where
+    // faces of A and B that are not coplanar meet, so it is kept as a curve.
+    if (same >= 2)
+      return CGAL::coplanar(p, q, ra[0], ra[1]) ? Kind::contact_inside : Kind::contact_boundary;
     if (same == 1) return Kind::contact_boundary;
     // Turning about pq (positive: CGAL::orientation(p, q, x, y) > 0), is y strictly inside the
     // wedge from ra[0] to ra[1]? (no B half-plane equals an A half-plane here)
@@ -330,6 +334,13 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   st.stage_seconds["intersect"] = seconds_since(t);
 
   if (snap_tol > 0 && !curves.empty()) {
+    // Snapping can turn a crossing into a touching contact (a vertex a few units in the last
+    // place inside the other surface moves onto it): then nothing is embedded there and the
+    // outputs meet off the curves. The unsnapped state is kept to go back to (see below).
+    const Mesh<K> a_unsnapped = a, b_unsnapped = b;
+    const Provenance<K> prov_a_unsnapped = prov_a, prov_b_unsnapped = prov_b;
+    const std::vector<Polyline<K>> curves_unsnapped = curves;
+    const std::size_t touching_unsnapped = touching;
     // Report step 1 on both meshes, against the exact intersection points; then the curves of
     // the moved surfaces.
     t = Clock::now();
@@ -372,6 +383,17 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
         curves = intersection_curves<K>(a, b, &touching);
         st.stage_seconds["intersect"] += seconds_since(t);
       }
+    }
+    if (curves.empty() || touching > touching_unsnapped) {
+      a = a_unsnapped;
+      b = b_unsnapped;
+      prov_a = prov_a_unsnapped;
+      prov_b = prov_b_unsnapped;
+      curves = curves_unsnapped;
+      touching = touching_unsnapped;
+      st.vertices_snapped_a = st.vertices_snapped_b = st.edges_snapped_a = st.edges_snapped_b = 0;
+      st.snaps_refused = 0;
+      st.note = "snapping was undone: it turned a crossing into a touching contact";
     }
   }
 
