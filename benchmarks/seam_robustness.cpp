@@ -34,10 +34,12 @@
 //   timeout    the child was killed after --timeout seconds
 //
 //   seam_robustness [--seed N] [--cases N] [--timeout S] [--filter SUBSTR] [--kernels LIST]
-//                   [--json] [--verbose] [--dump DIR]
+//                   [--json] [--verbose] [--dump DIR] [--snap case|0|auto]
 // --filter keeps the cases whose family or description contains SUBSTR (or "case:N": case N);
 // --kernels is a comma list of exact, filtered, float; --dump DIR writes each case's meshes (as
-// the filtered kernel gets them: rounded) and curves to DIR, for `seam pair` / `seam embed`. Exit status: 1 when the exact kernel has any non-valid run.
+// the filtered kernel gets them: rounded) and curves to DIR, for `seam pair` / `seam embed`;
+// --snap 0 / auto runs every case without / with the default snapping (default: as the case says,
+// one case in three with snapping). Exit status: 1 when the exact kernel has any non-valid run.
 //
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/check.h>
@@ -281,7 +283,8 @@ seam::TowOptions small_tow(Rng& r) {
 }
 
 /// A weft along x and a warp along y crossing it, like one crossing of a plain weave.
-void tow_crossover(Rng& r, Case& c, int along_a, int around_a, int along_b, int around_b) {
+/// Returns the warp's height (translate z).
+double tow_crossover(Rng& r, Case& c, int along_a, int around_a, int along_b, int around_b) {
   seam::TowOptions weft;
   weft.segments_along = along_a;
   weft.segments_around = around_a;
@@ -295,6 +298,7 @@ void tow_crossover(Rng& r, Case& c, int along_a, int around_a, int along_b, int 
   warp.segments_around = around_b;
   c.a = seam::make_tow(weft);
   c.b = seam::make_tow(warp);
+  return warp.translate[2];
 }
 
 void make_family_case(Case& c, Rng& r) {
@@ -486,8 +490,10 @@ void make_family_case(Case& c, Rng& r) {
     }
     if (r.coin()) std::swap(c.a, c.b);
   } else if (f == "tows") {
-    tow_crossover(r, c, r.range(20, 120), r.range(8, 32), r.range(20, 120), r.range(8, 32));
-    d << "tows of " << c.a.triangles.size() << " and " << c.b.triangles.size() << " faces";
+    const int around_b = r.range(8, 32), along_b = r.range(20, 120), around_a = r.range(8, 32), along_a = r.range(20, 120);
+    const double dz = tow_crossover(r, c, along_a, around_a, along_b, around_b);
+    d << "tows of " << c.a.triangles.size() << " and " << c.b.triangles.size() << " faces (" << along_a << "x"
+      << around_a << ", " << along_b << "x" << around_b << ", warp at z " << dz << ")";
     if (r.coin()) {
       std::string what;
       c.map_a = c.map_b = random_rotation(r, {0, 0, 0}, what);
@@ -798,12 +804,12 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   int cases = 252;
   double timeout = 60;
-  std::string filter, dump;
+  std::string filter, dump, snap = "case";
   std::vector<seam::KernelKind> kernels = {seam::KernelKind::exact, seam::KernelKind::filtered, seam::KernelKind::float_};
   bool json = false, verbose = false;
   auto usage = [] {
     std::cerr << "usage: seam_robustness [--seed N] [--cases N] [--timeout S] [--filter SUBSTR] "
-                 "[--kernels exact,filtered,float] [--json] [--verbose] [--dump DIR]\n";
+                 "[--kernels exact,filtered,float] [--json] [--verbose] [--dump DIR] [--snap case|0|auto]\n";
     return 2;
   };
   for (int i = 1; i < argc; ++i) {
@@ -818,6 +824,7 @@ int main(int argc, char** argv) {
       else if (a == "--timeout") timeout = std::stod(value());
       else if (a == "--filter") filter = value();
       else if (a == "--dump") dump = value();
+      else if (a == "--snap") snap = value();
       else if (a == "--json") json = true;
       else if (a == "--verbose") verbose = true;
       else if (a == "--kernels") {
@@ -857,6 +864,8 @@ int main(int argc, char** argv) {
       std::cerr << "seam_robustness: case " << id << " could not be generated: " << e.what() << "\n";
       return 3;
     }
+    if (snap == "0") c.snap_tol = 0;
+    if (snap == "auto") c.snap_tol = -1;
     if (!filter.empty() && c.family.find(filter) == std::string::npos &&
         c.description.find(filter) == std::string::npos && filter != "case:" + std::to_string(id))
       continue;

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <optional>
 #include <sstream>
 
 namespace seam {
@@ -333,14 +334,31 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   std::vector<Polyline<K>> curves = intersection_curves<K>(a, b, &touching);
   st.stage_seconds["intersect"] = seconds_since(t);
 
+  // Snapping can turn a crossing into a touching contact (a vertex a few units in the last place
+  // inside the other surface moves onto it; nothing would be embedded there and the outputs would
+  // meet off the curves), or move a vertex so far that the curves of the snapped surfaces cannot
+  // be embedded. The unsnapped state is kept to go back to in both cases.
+  struct Unsnapped {
+    Mesh<K> a, b;
+    Provenance<K> prov_a, prov_b;
+    std::vector<Polyline<K>> curves;
+    std::size_t touching;
+  };
+  std::optional<Unsnapped> unsnapped;
+  auto undo_snapping = [&](const char* why) {
+    a = unsnapped->a;
+    b = unsnapped->b;
+    prov_a = unsnapped->prov_a;
+    prov_b = unsnapped->prov_b;
+    curves = unsnapped->curves;
+    touching = unsnapped->touching;
+    st.vertices_snapped_a = st.vertices_snapped_b = st.edges_snapped_a = st.edges_snapped_b = 0;
+    st.snaps_refused = 0;
+    st.note = std::string("snapping was undone: ") + why;
+    unsnapped.reset();
+  };
   if (snap_tol > 0 && !curves.empty()) {
-    // Snapping can turn a crossing into a touching contact (a vertex a few units in the last
-    // place inside the other surface moves onto it): then nothing is embedded there and the
-    // outputs meet off the curves. The unsnapped state is kept to go back to (see below).
-    const Mesh<K> a_unsnapped = a, b_unsnapped = b;
-    const Provenance<K> prov_a_unsnapped = prov_a, prov_b_unsnapped = prov_b;
-    const std::vector<Polyline<K>> curves_unsnapped = curves;
-    const std::size_t touching_unsnapped = touching;
+    unsnapped.emplace(Unsnapped{a, b, prov_a, prov_b, curves, touching});
     // Report step 1 on both meshes, against the exact intersection points; then the curves of
     // the moved surfaces.
     t = Clock::now();
@@ -384,17 +402,10 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
         st.stage_seconds["intersect"] += seconds_since(t);
       }
     }
-    if (curves.empty() || touching > touching_unsnapped) {
-      a = a_unsnapped;
-      b = b_unsnapped;
-      prov_a = prov_a_unsnapped;
-      prov_b = prov_b_unsnapped;
-      curves = curves_unsnapped;
-      touching = touching_unsnapped;
-      st.vertices_snapped_a = st.vertices_snapped_b = st.edges_snapped_a = st.edges_snapped_b = 0;
-      st.snaps_refused = 0;
-      st.note = "snapping was undone: it turned a crossing into a touching contact";
-    }
+    if (curves.empty() || touching > unsnapped->touching)
+      undo_snapping("it turned a crossing into a touching contact");
+    else if (st.vertices_snapped_a + st.vertices_snapped_b + st.edges_snapped_a + st.edges_snapped_b == 0)
+      unsnapped.reset();  // nothing moved
   }
 
   st.curves = curves.size();
@@ -415,12 +426,22 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   eo.keep_all_nodes = true;
   eo.curve_tol = 0;
   eo.max_distance = std::numeric_limits<double>::max();  // the points lie on both surfaces
-  t = Clock::now();
-  result.a = embed<K>(a, curves, eo);
-  st.stage_seconds["embed_a"] = seconds_since(t);
-  t = Clock::now();
-  result.b = embed<K>(b, curves, eo);
-  st.stage_seconds["embed_b"] = seconds_since(t);
+  auto embed_both = [&]() {
+    t = Clock::now();
+    result.a = embed<K>(a, curves, eo);
+    st.stage_seconds["embed_a"] = seconds_since(t);
+    t = Clock::now();
+    result.b = embed<K>(b, curves, eo);
+    st.stage_seconds["embed_b"] = seconds_since(t);
+  };
+  try {
+    embed_both();
+  } catch (const Error&) {
+    if (!unsnapped) throw;
+    undo_snapping("the curves of the snapped surfaces could not be embedded");
+    embed_both();
+  }
+  unsnapped.reset();
   result.a.stats.vertices_snapped = st.vertices_snapped_a + st.edges_snapped_a;
   result.b.stats.vertices_snapped = st.vertices_snapped_b + st.edges_snapped_b;
   if (st.edges_snapped_a + st.edges_snapped_b > 0) {
