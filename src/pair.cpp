@@ -12,6 +12,7 @@
 #include <chrono>
 #include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 
 namespace seam {
@@ -314,6 +315,24 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
       run.push_back(piece[i + 1]);
     }
     flush();
+  }
+  // A touching run that meets a kept curve (an edge of one surface lying in a face of the other,
+  // ending where the surfaces cross or a flat contact begins) is part of the same interface: the
+  // outputs meet along it, so it is kept as well. Only separate touching contacts are dropped.
+  std::set<Point, PointLess<Point>> on_kept;
+  for (const auto& run : kept) on_kept.insert(run.begin(), run.end());
+  for (bool grew = true; grew && !kept.empty();) {
+    grew = false;
+    for (auto it = touched.begin(); it != touched.end();) {
+      if (on_kept.count(it->front()) || on_kept.count(it->back())) {
+        on_kept.insert(it->begin(), it->end());
+        kept.push_back(std::move(*it));
+        it = touched.erase(it);
+        grew = true;
+      } else {
+        ++it;
+      }
+    }
   }
   if (touching_points) *touching_points = touching + chain(std::move(touched)).size();
   return chain(std::move(kept));

@@ -153,3 +153,28 @@ TEST_CASE("pair robustness: when the snapped surfaces cannot be embedded, pair e
   const auto r = pair_and_check<K>(a, b, -1.0);
   REQUIRE(r.curves.size() == 1);
 }
+
+TEST_CASE("pair robustness: an edge of one surface lying in a face of the other, next to a crossing, is a curve",
+          "[pair][robustness][touching]") {
+  using K = seam::Exact;
+  // seam_robustness case 234 (seed 1), smallest form: B = A = [0, 2]^3 turned about the line
+  // x = 1.5, z = 1 (along y) by the angle with cos 3/5, sin 4/5, exactly. A's edge x = 2, z = 0
+  // lies in a side of B, which only touches A there; the tops and bottoms y = 0, 2 overlap (flat
+  // contact) and the other sides cross. The touching segment ends on the crossing curves: it was
+  // dropped as a touching contact, and the outputs met along it off the curves.
+  const auto a = mesh<K>(grid_box({0, 0, 0}, {2, 2, 2}, 1));
+  auto b = a;
+  const K::FT c = K::FT(3) / K::FT(5), s = K::FT(4) / K::FT(5), cx = K::FT(3) / K::FT(2), cz = 1;
+  for (auto v : b.vertices()) {
+    const auto p = b.point(v);
+    b.point(v) = K::Point_3(cx + c * (p.x() - cx) - s * (p.z() - cz), p.y(), cz + s * (p.x() - cx) + c * (p.z() - cz));
+  }
+  const auto r = pair_and_check<K>(a, b, 0.0);
+  // The segment from (2, 0, 0) to (2, 2, 0) is made of curve segments.
+  const K::Segment_3 edge(K::Point_3(2, 0, 0), K::Point_3(2, 2, 0));
+  bool along = false;
+  for (const auto& cv : r.curves)
+    for (std::size_t i = 0; i + 1 < cv.size(); ++i)
+      if (edge.has_on(cv[i]) && edge.has_on(cv[i + 1])) along = true;
+  CHECK(along);
+}
