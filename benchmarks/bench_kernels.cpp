@@ -22,7 +22,7 @@
 //
 // memory/<tool>/faces:<N>: the same run (read, compute, write) in a fresh process (this program
 // re-executed with --kernels_memory_child=...), reporting input_mb, the heap in use once both
-// input meshes are read (mallinfo2, the OFF text and soups freed), and peak_mb, the peak resident
+// input meshes are read (mallinfo2: uordblks + hblkhd, the OFF text and soups freed), and peak_mb, the peak resident
 // size of the process (getrusage maxrss) minus its resident size before reading; peak_ratio =
 // peak_mb / input_mb.
 //
@@ -209,13 +209,18 @@ int memory_child(const std::string& tool, const std::string& fa, const std::stri
   size.a = fa;
   size.b = fb;
   const long base_kb = rss_kb();
-  const std::size_t heap0 = mallinfo2().uordblks;
+  // Heap in use: small blocks (uordblks) and the large ones glibc maps on their own (hblkhd).
+  auto heap = [] {
+    const struct mallinfo2 m = mallinfo2();
+    return m.uordblks + m.hblkhd;
+  };
+  const std::size_t heap0 = heap();
   std::size_t input_bytes = 0;
   auto run = [&](auto k) {
     using K = decltype(k);
     std::optional<seam::Mesh<K>> a, b;
     read_both<K>(size, a, b);
-    input_bytes = mallinfo2().uordblks - heap0;
+    input_bytes = heap() - heap0;
     if constexpr (std::is_same_v<K, seam::Exact>) {
       if (tool == "corefine") {
         CGAL::Polygon_mesh_processing::corefine(*a, *b);

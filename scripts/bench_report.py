@@ -139,7 +139,7 @@ def kernels_report(report, out):
     if memory:
         out.append("Peak memory of a whole run in a fresh process (getrusage maxrss, minus the process's "
                    "resident size before reading) against the heap holding the two input meshes of the "
-                   "same kernel once read (mallinfo2), MB:\n")
+                   "same kernel once read (mallinfo2: small and mapped blocks), MB:\n")
         out.append("| faces per tow | " + " | ".join("%s input / peak / ratio" % t for t in TOOLS) + " |")
         out.append("|---:|" + "---:|" * len(TOOLS))
         for f in sizes:
