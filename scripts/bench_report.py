@@ -116,8 +116,7 @@ def kernels_report(report, out):
 
     # Stages at the largest size where all tools ran.
     full = [f for f in sizes if all((t, f) in runs for t in TOOLS)]
-    if full:
-        f = full[-1]
+    for f in sorted({f for f in full if f == 10000} | set(full[-1:])):
         out.append("Where the time goes at {:,} faces per tow (seconds, median over the runs; `locate` and "
                    "later stages summed over both meshes):\n".format(f))
         stages = [("read", "read"), ("intersection curves", "intersect"), ("snap", "snap"),
