@@ -7,6 +7,7 @@
 #include <seam/io.h>
 #include <seam/pair.h>
 
+#include <array>
 #include <cmath>
 #include <map>
 #include <string>
@@ -17,8 +18,9 @@ namespace {
 using seam::Point3d;
 
 /// The closed surface of the box [lo, hi], each side a grid of n x n squares split by a
-/// diagonal, outward orientation (as in test_pair_degenerate.cpp).
-seam::TriangleSoup grid_box(const Point3d& lo, const Point3d& hi, int n) {
+/// diagonal (alternating between squares when `alternate`), outward orientation (as in
+/// test_pair_degenerate.cpp and benchmarks/seam_robustness.cpp).
+seam::TriangleSoup grid_box(const Point3d& lo, const Point3d& hi, int n, bool alternate = false) {
   seam::TriangleSoup s;
   std::map<Point3d, std::size_t> index;
   auto add = [&](const Point3d& p) {
@@ -40,13 +42,11 @@ seam::TriangleSoup grid_box(const Point3d& lo, const Point3d& hi, int n) {
       for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j) {
           const std::size_t p00 = at(i, j), p10 = at(i + 1, j), p11 = at(i + 1, j + 1), p01 = at(i, j + 1);
-          if (side) {
-            s.triangles.push_back({p00, p10, p11});
-            s.triangles.push_back({p00, p11, p01});
-          } else {
-            s.triangles.push_back({p00, p11, p10});
-            s.triangles.push_back({p00, p01, p11});
-          }
+          std::array<std::size_t, 3> t1 = {p00, p10, p11}, t2 = {p00, p11, p01};
+          if (alternate && (i + j) % 2 == 1) t1 = {p00, p10, p01}, t2 = {p10, p11, p01};
+          if (!side) std::swap(t1[1], t1[2]), std::swap(t2[1], t2[2]);
+          s.triangles.push_back(t1);
+          s.triangles.push_back(t2);
         }
     }
   return s;
@@ -177,4 +177,30 @@ TEST_CASE("pair robustness: an edge of one surface lying in a face of the other,
     for (std::size_t i = 0; i + 1 < cv.size(); ++i)
       if (edge.has_on(cv[i]) && edge.has_on(cv[i + 1])) along = true;
   CHECK(along);
+}
+
+TEST_CASE("pair robustness: under the filtered kernel a curve segment between points of other faces is an error, "
+          "not a crash", "[pair][robustness][filtered]") {
+  using K = seam::Filtered;
+  // seam_robustness case 91 (seed 1): A = [0, 2]^3 on a 4 x 4 grid (diagonals alternating), B = A sheared by
+  // z += 4/5 (y - 1), computed exactly and rounded to double; default snapping. The rounded
+  // curves gave a face a segment whose end points were not among its points, and the
+  // re-triangulation passed null vertex handles to CGAL (segmentation fault). Now it is an
+  // InternalError (or a valid result).
+  const auto soup = grid_box({0, 0, 0}, {2, 2, 2}, 4, true);
+  auto sheared = soup;
+  for (auto& p : sheared.points) {
+    const seam::Exact::FT z = seam::Exact::FT(p[2]) + seam::Exact::FT(4) / seam::Exact::FT(5) * (seam::Exact::FT(p[1]) - 1);
+    p[2] = CGAL::to_double(CGAL::exact(z));
+  }
+  auto a = mesh<K>(soup), b = mesh<K>(sheared);
+  seam::PairOptions o;  // default snapping
+  bool valid = false, internal_error = false;
+  try {
+    const auto r = seam::pair<K>(a, b, o);
+    valid = seam::check_pair<K>(mesh<K>(soup), mesh<K>(sheared), a, b, r.curves, r.stats.snap_tol * (1 + 1e-9)).ok();
+  } catch (const seam::InternalError&) {
+    internal_error = true;
+  }
+  CHECK((valid || internal_error));
 }
