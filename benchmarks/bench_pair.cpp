@@ -42,6 +42,7 @@
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 
 #include <benchmark/benchmark.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <array>
@@ -170,16 +171,16 @@ void set_quality_counters(benchmark::State& state, const Quality& q) {
 /// Read both files into exact meshes (what `seam pair` and the corefine run both do).
 void read_both(std::optional<Mesh>& a, std::optional<Mesh>& b) {
   const Input& in = input();
-  const seam::TriangleSoup sa = seam::read_triangle_mesh(in.a);
-  const seam::TriangleSoup sb = seam::read_triangle_mesh(in.b);
-  a.emplace(seam::mesh_from_soup<K>(sa, in.a));
-  b.emplace(seam::mesh_from_soup<K>(sb, in.b));
+  // Concurrently, as `seam pair` does.
+  tbb::parallel_invoke([&] { a.emplace(seam::mesh_from_soup<K>(seam::read_triangle_mesh(in.a), in.a)); },
+                       [&] { b.emplace(seam::mesh_from_soup<K>(seam::read_triangle_mesh(in.b), in.b)); });
 }
 
 void write_both(const Mesh& a, const Mesh& b, const char* prefix) {
   const Input& in = input();
-  seam::write_triangle_mesh(seam::soup_from_mesh<K>(a), (in.dir / (std::string(prefix) + "_a.off")).string());
-  seam::write_triangle_mesh(seam::soup_from_mesh<K>(b), (in.dir / (std::string(prefix) + "_b.off")).string());
+  tbb::parallel_invoke(
+      [&] { seam::write_triangle_mesh(seam::soup_from_mesh<K>(a), (in.dir / (std::string(prefix) + "_a.off")).string()); },
+      [&] { seam::write_triangle_mesh(seam::soup_from_mesh<K>(b), (in.dir / (std::string(prefix) + "_b.off")).string()); });
 }
 
 void BM_seam_pair_whole(benchmark::State& state) {

@@ -5,6 +5,8 @@
 #include <seam/pair.h>
 #include <seam/vtk.h>
 
+#include <tbb/parallel_invoke.h>
+
 #include <iostream>
 #include <memory>
 
@@ -23,16 +25,19 @@ int run_pair(const PairArgs& args) {
   if (!args.curves.empty()) inputs.push_back(args.curves);
   refuse_overwrite(inputs, {args.out_a, args.out_b, args.curves_out, args.report, args.vtk});
   const auto t0 = Clock::now();
-  const seam::TriangleSoup soup_a = seam::read_triangle_mesh(args.a);
-  const seam::TriangleSoup soup_b = seam::read_triangle_mesh(args.b);
+  // The two files are read concurrently (parsing dominates).
+  seam::TriangleSoup soup_a, soup_b;
+  tbb::parallel_invoke([&] { soup_a = seam::read_triangle_mesh(args.a); },
+                       [&] { soup_b = seam::read_triangle_mesh(args.b); });
   std::vector<std::vector<seam::Point3d>> given;
   if (!args.curves.empty()) given = seam::read_polylines(args.curves);
   const double read_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
 
   return seam::with_kernel(parse_kernel(args.kernel), [&](auto kernel) {
     using K = decltype(kernel);
-    auto a = seam::mesh_from_soup<K>(soup_a, args.a);
-    auto b = seam::mesh_from_soup<K>(soup_b, args.b);
+    seam::Mesh<K> a, b;
+    tbb::parallel_invoke([&] { a = seam::mesh_from_soup<K>(soup_a, args.a); },
+                         [&] { b = seam::mesh_from_soup<K>(soup_b, args.b); });
     seam::PairResult<K> result;
     if (args.curves.empty()) {
       result = seam::pair<K>(a, b, args.options);
@@ -47,9 +52,25 @@ int run_pair(const PairArgs& args) {
     st.stage_seconds["read"] = read_seconds;
     const auto t1 = Clock::now();
     write_all_or_nothing([&](std::vector<std::string>& written) {
-      seam::write_triangle_mesh(seam::soup_from_mesh<K>(a), args.out_a);
+      // Both meshes are written concurrently (formatting dominates); each into a temporary
+      // file renamed at the end, so a failure leaves neither half-written.
+      bool wrote_a = false, wrote_b = false;
+      try {
+        tbb::parallel_invoke(
+            [&] {
+              seam::write_triangle_mesh(seam::soup_from_mesh<K>(a), args.out_a);
+              wrote_a = true;
+            },
+            [&] {
+              seam::write_triangle_mesh(seam::soup_from_mesh<K>(b), args.out_b);
+              wrote_b = true;
+            });
+      } catch (...) {
+        if (wrote_a) written.push_back(args.out_a);
+        if (wrote_b) written.push_back(args.out_b);
+        throw;
+      }
       written.push_back(args.out_a);
-      seam::write_triangle_mesh(seam::soup_from_mesh<K>(b), args.out_b);
       written.push_back(args.out_b);
       if (!args.curves_out.empty()) {
         seam::write_polylines(seam::to_doubles<K>(result.curves), args.curves_out);
@@ -75,6 +96,9 @@ int run_pair(const PairArgs& args) {
                      {"vertices_snapped_b", st.vertices_snapped_b},
                      {"edges_snapped_a", st.edges_snapped_a},
                      {"edges_snapped_b", st.edges_snapped_b},
+                     {"curve_vertices_collapsed", st.curve_vertices_collapsed},
+                     {"short_segments_left", st.short_segments_left},
+                     {"tiny_edges_collapsed", st.tiny_edges_collapsed},
                      {"snaps_refused", st.snaps_refused}};
         j["touching_only"] = st.touching_only;
         j["given_curves"] = st.given_curves;
@@ -132,6 +156,10 @@ Command add_pair_command(CLI::App& app) {
   cmd->add_option("--min-angle", pa.options.embed.min_angle_deg,
                   "Minimum angle (degrees, 0..60) refinement aims for in re-triangulated faces (default: 20)");
   cmd->add_option("--max-area", pa.options.embed.max_area, "Largest area of a new triangle; 0: no bound");
+  cmd->add_flag_callback(
+      "--no-collapse", [&pa] { pa.options.collapse_short_segments = false; },
+      "Keep curve segments shorter than the snapping tolerance (by default they are collapsed in both meshes "
+      "where that improves the angles)");
   cmd->add_flag("--remesh", pa.options.remesh_near_curves,
                 "Experimental: coarsen the curves to about the edge length and remesh both meshes next to them "
                 "(far better angles, but the outputs may cross next to the curves: run seam check)");

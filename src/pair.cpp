@@ -1,12 +1,16 @@
 // seam::pair: two tows, one interface. See seam/pair.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/internal/collapse.h>
 #include <seam/internal/improve.h>
 #include <seam/internal/snap.h>
 #include <seam/quality.h>
 #include <seam/check.h>
 #include <seam/pair.h>
 
+#include <CGAL/Polygon_mesh_processing/bbox.h>
 #include <CGAL/Polygon_mesh_processing/intersection.h>
+
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <chrono>
@@ -14,6 +18,10 @@
 #include <optional>
 #include <set>
 #include <sstream>
+
+#ifndef CGAL_HAS_THREADS
+#error "seam::pair embeds the two meshes in parallel: CGAL must be thread-aware (CGAL_HAS_THREADS)"
+#endif
 
 namespace seam {
 
@@ -341,10 +349,12 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
 template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions& options) {
   validate_options(options.embed);
   PairResult<K> result;
-  // Edge snapping adds faces: each mesh face's input face, and whether its shape changed.
-  Provenance<K> prov_a(a), prov_b(b);
+  // Edge snapping adds faces: each mesh face's input face, and whether its shape changed
+  // (recorded only when snapping).
+  std::optional<Provenance<K>> prov_a, prov_b;
   PairStats& st = result.stats;
   const double la = mean_edge_length<K>(a), lb = mean_edge_length<K>(b);
+  const std::size_t input_vertices_a = a.number_of_vertices(), input_vertices_b = b.number_of_vertices();
   const double snap_tol = options.embed.snap_tol < 0 ? 0.1 * std::min(la, lb) : options.embed.snap_tol;
   st.snap_tol = snap_tol;
 
@@ -359,7 +369,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   // be embedded. The unsnapped state is kept to go back to in both cases.
   struct Unsnapped {
     Mesh<K> a, b;
-    Provenance<K> prov_a, prov_b;
+    std::optional<Provenance<K>> prov_a, prov_b;  // none: no provenance before snapping
     std::vector<Polyline<K>> curves;
     std::size_t touching;
   };
@@ -381,6 +391,8 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     // Report step 1 on both meshes, against the exact intersection points; then the curves of
     // the moved surfaces.
     t = Clock::now();
+    prov_a.emplace(a);
+    prov_b.emplace(b);
     // Onto the closest point of the curves (they lie on both surfaces), not only their nodes,
     // which are sparse: one per crossing of an edge.
     const auto sa = internal::snap_vertices_to_segments<K>(a, curves, snap_tol);
@@ -402,7 +414,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     for (int m = 0, idle = 0; m < 2 && idle < 2 && !curves.empty(); ++m) {
       t = Clock::now();
       auto& mesh = m % 2 == 0 ? a : b;
-      auto& prov = m % 2 == 0 ? prov_a : prov_b;
+      auto& prov = m % 2 == 0 ? *prov_a : *prov_b;
       const auto se = internal::snap_edges_to_points<K>(mesh, curves, snap_tol);
       for (const auto& [added, from] : se.added) {
         prov.origin.resize(mesh.number_of_faces());
@@ -445,13 +457,22 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   eo.keep_all_nodes = true;
   eo.curve_tol = 0;
   eo.max_distance = std::numeric_limits<double>::max();  // the points lie on both surfaces
+  // The two embeddings are independent: they run concurrently. They share the curves, read
+  // only; CGAL's lazy exact numbers are safe to read from several threads when
+  // CGAL_HAS_THREADS is defined (exact values computed once, reference counts atomic).
+  double seconds_a = 0, seconds_b = 0;
   auto embed_both = [&]() {
-    t = Clock::now();
-    result.a = embed<K>(a, curves, eo);
-    st.stage_seconds["embed_a"] = seconds_since(t);
-    t = Clock::now();
-    result.b = embed<K>(b, curves, eo);
-    st.stage_seconds["embed_b"] = seconds_since(t);
+    tbb::parallel_invoke(
+        [&] {
+          const auto ta = Clock::now();
+          result.a = embed<K>(a, curves, eo);
+          seconds_a = seconds_since(ta);
+        },
+        [&] {
+          const auto tb = Clock::now();
+          result.b = embed<K>(b, curves, eo);
+          seconds_b = seconds_since(tb);
+        });
   };
   try {
     embed_both();
@@ -461,12 +482,10 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     embed_both();
   }
   unsnapped.reset();
+  st.stage_seconds["embed_a"] = seconds_a;
+  st.stage_seconds["embed_b"] = seconds_b;
   result.a.stats.vertices_snapped = st.vertices_snapped_a + st.edges_snapped_a;
   result.b.stats.vertices_snapped = st.vertices_snapped_b + st.edges_snapped_b;
-  if (st.edges_snapped_a + st.edges_snapped_b > 0) {
-    prov_a.apply(a, result.a.stats);
-    prov_b.apply(b, result.b.stats);
-  }
 
   // Both meshes must have received the identical curve.
   if (result.a.curves.size() != result.b.curves.size())
@@ -479,6 +498,42 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
       throw InternalError(msg.str());
     }
   result.curves = result.a.curves;
+
+  // With a snapping tolerance, curve segments shorter than it are collapsed in both meshes at
+  // once where that improves the angles and the meshes still meet only along the curves (see
+  // internal/collapse.h): a crossing of A's edge next to a crossing of B's edge otherwise leaves
+  // a sliver no re-triangulation avoids.
+  if (prov_a) {
+    t = Clock::now();
+    // Edges below 1e-9 of the size of the pair go whatever the angles: written in doubles they
+    // would be flat or fold (see internal/collapse.h).
+    const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(a) + CGAL::Polygon_mesh_processing::bbox(b);
+    const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                      CGAL::square(box.zmax() - box.zmin()));
+    const auto cr = internal::collapse_short_curve_segments<K>(a, b, result.curves, result.a.curve_vertices,
+                                                               result.b.curve_vertices,
+                                                               options.collapse_short_segments ? snap_tol : 0.0,
+                                                               1e-9 * diagonal,
+                                                               input_vertices_a, input_vertices_b);
+    st.curve_vertices_collapsed = cr.collapsed;
+    st.tiny_edges_collapsed = cr.tiny_edges_collapsed;
+    st.short_segments_left = cr.refused;
+    if (cr.collapsed + cr.tiny_edges_collapsed > 0) {
+      result.a.curves = result.b.curves = result.curves;
+      st.curve_vertices = 0;
+      for (const auto& c : result.curves) st.curve_vertices += is_closed(c) ? c.size() - 1 : c.size();
+      for (auto* r : {&result.a, &result.b}) {
+        const auto& m = r == &result.a ? a : b;
+        r->stats.output_vertices = m.number_of_vertices();
+        r->stats.output_faces = m.number_of_faces();
+        r->stats.curve_nodes_out = st.curve_vertices;
+      }
+    }
+    st.stage_seconds["collapse"] = seconds_since(t);
+    // Faces mapped back to the input faces, quality measured against the input's own angles.
+    prov_a->apply(a, result.a.stats);
+    prov_b->apply(b, result.b.stats);
+  }
 
   // Experimental: coarsen the curve to about the edge length and remesh both meshes next to it
   // (see internal/improve.h and PairOptions::remesh_near_curves). Kept only when both succeed.

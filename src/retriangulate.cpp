@@ -311,7 +311,9 @@ FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const Retriangul
   bool patch_refinement_undone = false, refined_ok = false;
   CDT refined;
   const bool refine = options.min_angle_deg > 0 || options.max_area > 0;
-  if (refine && options.max_steiner > 0) {
+  // Nothing to refine when no triangle is below the bound and no area bound is asked for.
+  const bool needed = options.max_area > 0 || domain_quality(cdt, std::min(options.min_angle_deg, 60.0)).below > 0;
+  if (refine && needed && options.max_steiner > 0) {
     // Refine a second copy; keep it only if every constraint survived as an edge.
     // A copy shares the (already exact) points instead of building the triangulation again.
     refined = cdt;

@@ -7,7 +7,11 @@
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
 
+#include <algorithm>
 #include <chrono>
+#include <memory>
+#include <optional>
+#include <tuple>
 #include <cmath>
 #include <sstream>
 #include <unordered_map>
@@ -34,25 +38,34 @@ template <class K> class Tracer {
   using SP = SurfacePoint<K>;
 
  public:
-  explicit Tracer(const Mesh<K>& mesh, double feature_tol = 0) : m_(mesh), feature_tol_(feature_tol) {
-    triangles_.reserve(mesh.number_of_faces());
-    for (F f : mesh.faces()) {
-      auto h = mesh.halfedge(f);
-      triangles_.emplace_back(to_filtered(mesh.point(mesh.source(h))), to_filtered(mesh.point(mesh.target(h))),
-                              to_filtered(mesh.point(mesh.target(mesh.next(h)))));
-    }
-    tree_.insert(triangles_.begin(), triangles_.end());
-    tree_.build();
-    tree_.accelerate_distance_queries();
+  /// The search covers the faces whose bounding box meets `region` (all faces when it is null).
+  /// A node whose closest point found there is not surely the closest on the whole mesh (the
+  /// ball around it reaches out of the region) is searched again among all faces.
+  Tracer(const Mesh<K>& mesh, double feature_tol, const CGAL::Bbox_3* region)
+      : m_(mesh), feature_tol_(feature_tol), near_(build_search(region)) {
+    if (region) region_ = *region;
   }
 
   /// Projects q onto the closest face and classifies the projection. `distance` gets the
   /// (rounded) distance from q to the surface.
   SP locate(const Point& q, double& distance) const {
     const auto dq = to_filtered(q);
-    const auto [dp, it] = tree_.closest_point_and_primitive(dq);
+    const Search* search = near_.get();
+    auto [dp, it] = search->tree.closest_point_and_primitive(dq);
     distance = std::sqrt(CGAL::to_double(CGAL::squared_distance(dq, dp)));
-    F f(static_cast<typename F::size_type>(it - triangles_.begin()));
+    if (region_) {
+      // Faces outside the region lie farther from dq than the region's walls.
+      const auto& r = *region_;
+      const double wall = std::min({dq.x() - r.xmin(), r.xmax() - dq.x(), dq.y() - r.ymin(), r.ymax() - dq.y(),
+                                    dq.z() - r.zmin(), r.zmax() - dq.z()});
+      if (!(distance * (1 + 1e-12) < wall)) {
+        if (!all_) all_ = build_search(nullptr);
+        search = all_.get();
+        std::tie(dp, it) = search->tree.closest_point_and_primitive(dq);
+        distance = std::sqrt(CGAL::to_double(CGAL::squared_distance(dq, dp)));
+      }
+    }
+    F f = search->face_of[std::size_t(it - search->triangles.begin())];
     auto project = [&](F g) {
       auto hg = m_.halfedge(g);
       return typename K::Construct_projected_point_3()(
@@ -290,10 +303,35 @@ template <class K> class Tracer {
   }
 
  private:
+  /// An AABB tree over some of the faces, on doubles.
+  struct Search {
+    std::vector<DTriangle> triangles;
+    std::vector<F> face_of;  ///< the face of each triangle
+    DTree tree;
+  };
+  /// The faces whose bounding box meets `region` (all faces when it is null or none does).
+  std::unique_ptr<Search> build_search(const CGAL::Bbox_3* region) const {
+    auto s = std::make_unique<Search>();
+    for (int pass = 0; pass < 2 && s->triangles.empty(); ++pass)
+      for (F f : m_.faces()) {
+        auto h = m_.halfedge(f);
+        DTriangle t(to_filtered(m_.point(m_.source(h))), to_filtered(m_.point(m_.target(h))),
+                    to_filtered(m_.point(m_.target(m_.next(h)))));
+        if (pass == 0 && region && !CGAL::do_overlap(t.bbox(), *region)) continue;
+        s->triangles.push_back(t);
+        s->face_of.push_back(f);
+      }
+    s->tree.insert(s->triangles.begin(), s->triangles.end());
+    s->tree.build();
+    s->tree.accelerate_distance_queries();
+    return s;
+  }
+
   const Mesh<K>& m_;
   double feature_tol_ = 0;
-  std::vector<DTriangle> triangles_;
-  DTree tree_;
+  std::optional<CGAL::Bbox_3> region_;  ///< where near_ is complete; none: near_ holds all faces
+  std::unique_ptr<Search> near_;
+  mutable std::unique_ptr<Search> all_;  ///< built on the first node near the region's walls
 };
 
 template <class P> std::string describe_point(const P& p) {
@@ -311,7 +349,26 @@ std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<
                                          double feature_tol) {
   using Clock = std::chrono::steady_clock;
   auto t0 = Clock::now();
-  Tracer<K> tracer(mesh, feature_tol);
+  // The region the nodes can be located in: their bounding box, grown by max_distance (or by a
+  // relative 1e-9 when that is unbounded: nodes on the surface), so that the search tree holds
+  // only the faces near the curves.
+  CGAL::Bbox_3 nodes_box;
+  bool any_node = false;
+  for (const auto& c : curves)
+    for (const auto& p : c) {
+      nodes_box += to_filtered(p).bbox();
+      any_node = true;
+    }
+  const double diagonal = std::sqrt(CGAL::square(nodes_box.xmax() - nodes_box.xmin()) +
+                                    CGAL::square(nodes_box.ymax() - nodes_box.ymin()) +
+                                    CGAL::square(nodes_box.zmax() - nodes_box.zmin()));
+  const double grow = std::isfinite(max_distance) && max_distance < 1e300 ? max_distance : 0.0;
+  const double margin = grow + 1e-9 * (diagonal + std::max({std::abs(nodes_box.xmin()), std::abs(nodes_box.xmax()),
+                                                              std::abs(nodes_box.ymin()), std::abs(nodes_box.ymax()),
+                                                              std::abs(nodes_box.zmin()), std::abs(nodes_box.zmax())}));
+  const CGAL::Bbox_3 region(nodes_box.xmin() - margin, nodes_box.ymin() - margin, nodes_box.zmin() - margin,
+                            nodes_box.xmax() + margin, nodes_box.ymax() + margin, nodes_box.zmax() + margin);
+  Tracer<K> tracer(mesh, feature_tol, any_node && std::isfinite(margin) ? &region : nullptr);
 
   // Locate every node.
   std::vector<std::vector<SurfacePoint<K>>> located(curves.size());

@@ -228,3 +228,57 @@ TEST_CASE("pair: the seam pair command conforms two tow files and seam check acc
   // An output equal to an input is refused.
   CHECK(run("pair a.off b.off --out-a a.off --out-b y.off") == 2);
 }
+
+TEST_CASE("pair: with snapping, the outputs written in doubles and read back still conform", "[pair][collapse]") {
+  // Snapping puts vertices of one mesh on the other; the exact intersection then has features
+  // down to 1e-17 that, rounded on writing, made flat faces or crossings (these crossovers did).
+  // pair collapses them (internal/collapse.h): the files themselves must pass seam check.
+  using K = seam::Exact;
+  seam_test::TempDir dir("seam_test_pair_rounded");
+  const std::vector<Crossover> cases = {crossover(10, seam::Section::elliptical, 0.15),
+                                        crossover(8, seam::Section::elliptical, 0.25),
+                                        crossover(10, seam::Section::lenticular, 0.3)};
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    INFO("crossover " << i);
+    const auto a = mesh_of<K>(cases[i].weft), b = mesh_of<K>(cases[i].warp);
+    auto a2 = a, b2 = b;
+    const auto r = seam::pair<K>(a2, b2, {});
+    REQUIRE(r.stats.curves >= 1);
+    seam::write_triangle_mesh(seam::soup_from_mesh<K>(a2), dir.file("a2.off"));
+    seam::write_triangle_mesh(seam::soup_from_mesh<K>(b2), dir.file("b2.off"));
+    seam::write_polylines(seam::to_doubles<K>(r.curves), dir.file("c.txt"));
+    // Read back: valid meshes (no flat face), conforming, within the tolerance.
+    const auto a2r = seam::mesh_from_soup<K>(seam::read_triangle_mesh(dir.file("a2.off")), "a2.off");
+    const auto b2r = seam::mesh_from_soup<K>(seam::read_triangle_mesh(dir.file("b2.off")), "b2.off");
+    const auto curves = seam::to_kernel<K>(seam::read_polylines(dir.file("c.txt")));
+    require_check<K>(seam::check_pair<K>(a, b, a2r, b2r, curves, r.stats.snap_tol * (1 + 1e-9)));
+  }
+}
+
+TEST_CASE("pair: collapsing short curve segments leaves fewer thin triangles and still conforms", "[pair][collapse]") {
+  using K = seam::Exact;
+  const auto c = crossover(8, seam::Section::lenticular, 0.25);
+  const auto a = mesh_of<K>(c.weft), b = mesh_of<K>(c.warp);
+  auto below_10 = [](const seam::PairResult<K>& r) {
+    return r.a.stats.new_faces_below_10 + r.b.stats.new_faces_below_10;
+  };
+  seam::PairOptions kept;
+  kept.collapse_short_segments = false;
+  auto a1 = a, b1 = b;
+  const auto without = seam::pair<K>(a1, b1, kept);
+  auto a2 = a, b2 = b;
+  const auto with = seam::pair<K>(a2, b2, {});
+  // Without, only segments below 1e-9 of the size go (they would be flat once written).
+  REQUIRE(with.stats.curve_vertices_collapsed > without.stats.curve_vertices_collapsed);
+  CHECK(with.stats.curve_vertices + with.stats.curve_vertices_collapsed ==
+        without.stats.curve_vertices + without.stats.curve_vertices_collapsed);
+  CHECK(below_10(with) < below_10(without));
+  // Both still share every curve vertex and segment and meet only along them.
+  CHECK(seam::check_curves_embedded<K>(a2, with.a).empty());
+  CHECK(seam::check_curves_embedded<K>(b2, with.b).empty());
+  require_check<K>(seam::check_pair<K>(a, b, a2, b2, with.curves, with.stats.snap_tol * (1 + 1e-9)));
+  // The outputs stay valid meshes whose input vertices keep their indices and places or snapped
+  // positions (no input vertex is merged away).
+  CHECK(a2.number_of_vertices() >= a.number_of_vertices());
+  CHECK(b2.number_of_vertices() >= b.number_of_vertices());
+}

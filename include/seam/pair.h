@@ -41,6 +41,10 @@ struct PairOptions {
   /// 30%, but the remeshed surfaces can cross each other next to the curve: the result is then
   /// checked (seam::check_pair) and the remeshing undone if they do (PairStats::note says so).
   bool remesh_near_curves = false;
+  /// With snapping: collapse curve segments shorter than the snapping tolerance in both meshes
+  /// where that improves the angles (see internal/collapse.h). Edges below 1e-9 of the pair's
+  /// size are collapsed even when this is off: written in doubles, their faces would be flat.
+  bool collapse_short_segments = true;
 };
 
 struct PairStats {
@@ -48,6 +52,11 @@ struct PairStats {
   std::size_t vertices_snapped_a = 0, vertices_snapped_b = 0, snaps_refused = 0;
   /// Edges split to give a curve point next to them a vertex (internal::snap_edges_to_points).
   std::size_t edges_snapped_a = 0, edges_snapped_b = 0;
+  /// Curve vertices removed from both meshes by collapsing a short curve segment (shorter than
+  /// the snapping tolerance; internal/collapse.h), and the short segments left.
+  std::size_t curve_vertices_collapsed = 0, short_segments_left = 0;
+  /// New vertices off the curves merged over an edge below 1e-9 of the pair's size (with snapping).
+  std::size_t tiny_edges_collapsed = 0;
   double snap_tol = 0;  ///< the snapping tolerance in effect (pass at least this to `seam check --tol`)
   /// True when the surfaces touch (a common point) without crossing: nothing to embed.
   bool touching_only = false;

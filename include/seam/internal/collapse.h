@@ -1,0 +1,50 @@
+// seam internal, pair step after the embedding: collapse short curve segments in both meshes.
+//
+// The curve points of a computed intersection are the crossings of both meshes' edges, so two of
+// them can lie very close together along the curve: a crossing of an edge of A just next to a
+// crossing of an edge of B. No re-triangulation of the faces around such a short segment avoids
+// a thin triangle: its corner facing the segment is tiny. With a snapping tolerance, the curve
+// may move by that much: the short segment (P, Q) is collapsed in both meshes at once (P merged
+// into Q, an edge collapse in A and the same in B), so both keep sharing the curve, now without
+// P. No vertex moves; the faces around P tilt by at most |PQ|.
+//
+// A collapse is made only when, in both meshes, it keeps the mesh a 2-manifold (link
+// condition), keeps every remaining face around P non-degenerate with its orientation (exact
+// under the exact kernel), removes no input vertex, and raises the smallest angle of the faces
+// around P and Q. After the collapses, the faces around each merged vertex are tested against
+// the other mesh (bounding boxes, then exact triangle tests): they may meet it only in a common
+// curve vertex or along a common curve segment. Collapses whose faces fail are undone.
+//
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <seam/internal/surface_point.h>
+
+#include <cstddef>
+#include <vector>
+
+namespace seam::internal {
+
+struct CurveCollapseReport {
+  std::size_t collapsed = 0;  ///< curve vertices removed from both meshes
+  std::size_t tiny_edges_collapsed = 0;  ///< vertices off the curves merged over a tiny edge
+  std::size_t refused = 0;    ///< short segments left (topology, fold, no gain, or a crossing)
+};
+
+/// Collapses curve segments shorter than `max_length` in both meshes (see above). `curves`,
+/// `curve_vertices_a` and `curve_vertices_b` (as in EmbedResult) are updated; both meshes have
+/// no garbage afterwards and their vertices below `input_vertices_a` / `_b` keep their indices.
+/// Faces around a merged vertex are marked new (new_face_property).
+/// Edges not longer than `tiny_length` are collapsed whenever allowed, whatever the angles: on
+/// the curves in both meshes, elsewhere in their own mesh when one end is a new vertex off the
+/// curves. They are the features (down to 1e-17 here) that exact constructions leave where a
+/// snapped vertex lies on the other surface; rounded to doubles on output, their faces would be
+/// flat or would cross the other mesh.
+template <class K>
+CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::vector<Polyline<K>>& curves,
+                                                  std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_a,
+                                                  std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_b,
+                                                  double max_length, double tiny_length,
+                                                  std::size_t input_vertices_a, std::size_t input_vertices_b);
+
+}  // namespace seam::internal

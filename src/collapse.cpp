@@ -1,0 +1,452 @@
+// seam, pair: collapse short curve segments in both meshes. See seam/internal/collapse.h.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/internal/collapse.h>
+#include <seam/quality.h>
+
+#include <CGAL/boost/graph/Euler_operations.h>
+#include <CGAL/boost/graph/helpers.h>
+#include <CGAL/box_intersection_d.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <set>
+#include <utility>
+
+namespace seam::internal {
+
+namespace {
+
+template <class K> using VertexLists = std::vector<std::vector<typename MeshTypes<K>::V>>;
+
+/// One mesh's side of a collapse of the curve segment (P, Q): P is merged into Q.
+template <class K> struct Side {
+  using T = MeshTypes<K>;
+  typename T::V p, q;
+};
+
+/// A candidate: curve c, the positions of P and Q in it, |PQ| (rounded).
+struct Candidate {
+  std::size_t curve, at_p, at_q;
+  double length;
+};
+
+/// The smallest angle of some faces and how many are below 10 degrees.
+struct Angles {
+  double min = 180;
+  std::size_t below_10 = 0;
+  void add(double angle) {
+    min = std::min(min, angle);
+    below_10 += angle < 10 ? 1 : 0;
+  }
+  /// Better: fewer faces below 10 degrees without the smallest angle halving, or as many and a
+  /// larger smallest angle.
+  bool better_than(const Angles& o) const {
+    if (below_10 != o.below_10) return below_10 < o.below_10 && min >= 0.5 * o.min;
+    return min > o.min;
+  }
+};
+
+template <class K> double face_min_angle(const Mesh<K>& m, typename MeshTypes<K>::F f) {
+  const auto h = m.halfedge(f);
+  return min_angle_deg(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h))));
+}
+
+/// Can P merge into Q in `m`? Fills the smallest angle of the faces around P and Q before and
+/// after. Exact tests for degeneracy and orientation under the exact kernel.
+template <class K>
+bool collapse_allowed(const Mesh<K>& m, typename MeshTypes<K>::V p, typename MeshTypes<K>::V q,
+                      std::size_t input_vertices, Angles& before, Angles& after) {
+  using V = typename MeshTypes<K>::V;
+  const auto h = m.halfedge(p, q);
+  if (h == Mesh<K>::null_halfedge() || m.is_border(p) || m.is_border(q)) return false;
+  if (std::size_t(p) < input_vertices) return false;
+  // CGAL keeps the target of the edge's own halfedge: the other vertex's index goes away.
+  const auto e = m.edge(h);
+  const V kept = m.target(m.halfedge(e));
+  if (kept == p && std::size_t(q) < input_vertices) return false;
+  if (!CGAL::Euler::does_satisfy_link_condition(e, m)) return false;
+  before = after = Angles{};
+  const auto& pq = m.point(q);
+  for (auto f : CGAL::faces_around_target(m.halfedge(q), m)) {
+    const double angle = face_min_angle<K>(m, f);
+    before.add(angle);
+    bool has_p = false;
+    for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) has_p = has_p || v == p;
+    if (!has_p) after.add(angle);
+  }
+  for (auto f : CGAL::faces_around_target(m.halfedge(p), m)) {
+    std::array<typename K::Point_3, 3> c;
+    bool has_q = false;
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) {
+      has_q = has_q || v == q;
+      c[k++] = m.point(v);
+    }
+    if (!has_q) before.add(min_angle_deg(c[0], c[1], c[2]));  // faces with Q were counted above
+    if (has_q) continue;  // removed by the collapse
+    std::array<typename K::Point_3, 3> d = c;
+    int kp = 0;
+    for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) {
+      if (v == p) break;
+      ++kp;
+    }
+    d[kp] = pq;
+    if (CGAL::collinear(d[0], d[1], d[2])) return false;
+    const auto n0 = CGAL::cross_product(c[1] - c[0], c[2] - c[0]);
+    const auto n1 = CGAL::cross_product(d[1] - d[0], d[2] - d[0]);
+    if (CGAL::sign(n0 * n1) != CGAL::POSITIVE) return false;
+    after.add(min_angle_deg(d[0], d[1], d[2]));
+  }
+  return true;
+}
+
+/// Vertices of the faces around v.
+template <class K> void ring(const Mesh<K>& m, typename MeshTypes<K>::V v, std::vector<typename MeshTypes<K>::V>& out) {
+  out.push_back(v);
+  for (auto u : CGAL::vertices_around_target(m.halfedge(v), m)) out.push_back(u);
+}
+
+/// Merges P into Q; returns the vertex that stays (it holds Q's point).
+template <class K> typename MeshTypes<K>::V merge(Mesh<K>& m, typename MeshTypes<K>::V p, typename MeshTypes<K>::V q) {
+  const auto point = m.point(q);
+  const auto kept = CGAL::Euler::collapse_edge(m.edge(m.halfedge(p, q)), m);
+  m.point(kept) = point;
+  return kept;
+}
+
+/// Faces of `m` in `faces` that meet `other` anywhere but in a common curve vertex or along a
+/// common curve segment. Exact predicates (do_intersect, coplanarity) on the kernel's points.
+template <class K>
+std::vector<char> crossing_faces(const Mesh<K>& m, const std::vector<typename MeshTypes<K>::F>& faces,
+                                 const Mesh<K>& other, const std::vector<char>& on_curve_other,
+                                 const std::set<std::pair<std::uint32_t, std::uint32_t>>& curve_edges_other) {
+  using F = typename MeshTypes<K>::F;
+  using V = typename MeshTypes<K>::V;
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
+  auto box_of = [](const Mesh<K>& mesh, F f, std::size_t info) {
+    CGAL::Bbox_3 b;
+    for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) b += to_filtered(mesh.point(v)).bbox();
+    return Box(b, info);
+  };
+  std::vector<Box> mine, theirs;
+  for (std::size_t i = 0; i < faces.size(); ++i) mine.push_back(box_of(m, faces[i], i));
+  for (auto f : other.faces()) theirs.push_back(box_of(other, f, std::size_t(f)));
+  std::vector<char> bad(faces.size(), 0);
+  auto corners = [](const Mesh<K>& mesh, F f) {
+    std::array<V, 3> c;
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) c[k++] = v;
+    return c;
+  };
+  using Triangle = typename K::Triangle_3;
+  using Segment = typename K::Segment_3;
+  auto test = [&](const Box& bm, const Box& bo) {
+    const std::size_t i = bm.info();
+    if (bad[i]) return;
+    const auto cm = corners(m, faces[i]);
+    const auto co = corners(other, F(typename F::size_type(bo.info())));
+    std::array<typename K::Point_3, 3> pm, po;
+    for (int k = 0; k < 3; ++k) pm[k] = m.point(cm[k]), po[k] = other.point(co[k]);
+    int shared = 0, jm[3] = {-1, -1, -1};  // jm[k]: corner of the face of m at corner k of the other's
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < 3; ++j)
+        if (pm[j] == po[k]) jm[k] = j, ++shared;
+    const Triangle tm(pm[0], pm[1], pm[2]), to(po[0], po[1], po[2]);
+    bool crossing = false;
+    if (shared == 0) {
+      crossing = CGAL::do_intersect(tm, to);
+    } else if (shared == 1) {
+      int k = 0;
+      while (jm[k] < 0) ++k;
+      const int j = jm[k];
+      // They meet in more than the common corner iff an opposite edge meets the other face.
+      crossing = !on_curve_other[std::size_t(co[k])] ||
+                 CGAL::do_intersect(Segment(pm[(j + 1) % 3], pm[(j + 2) % 3]), to) ||
+                 CGAL::do_intersect(Segment(po[(k + 1) % 3], po[(k + 2) % 3]), tm);
+    } else if (shared == 2) {
+      int k = 0;
+      while (jm[k] >= 0) ++k;
+      const auto u = std::uint32_t(co[(k + 1) % 3]), w = std::uint32_t(co[(k + 2) % 3]);
+      const int j = 3 - jm[(k + 1) % 3] - jm[(k + 2) % 3];
+      const auto &p = po[(k + 1) % 3], &q = po[(k + 2) % 3];
+      // Faces with a common edge overlap iff they are coplanar and on the same side of it.
+      crossing = !curve_edges_other.count({std::min(u, w), std::max(u, w)}) ||
+                 (CGAL::coplanar(p, q, po[k], pm[j]) && CGAL::coplanar_orientation(p, q, po[k], pm[j]) == CGAL::POSITIVE);
+    } else {
+      crossing = true;
+    }
+    if (crossing) bad[i] = 1;
+  };
+  CGAL::box_intersection_d(mine.begin(), mine.end(), theirs.begin(), theirs.end(), test);
+  return bad;
+}
+
+template <class K>
+void curve_marks(const Mesh<K>& m, const VertexLists<K>& lists, std::vector<char>& on_curve,
+                 std::set<std::pair<std::uint32_t, std::uint32_t>>& edges) {
+  on_curve.assign(m.number_of_vertices() + m.number_of_removed_vertices(), 0);
+  edges.clear();
+  for (const auto& vs : lists)
+    for (std::size_t i = 0; i < vs.size(); ++i) {
+      on_curve[std::size_t(vs[i])] = 1;
+      if (i + 1 < vs.size()) {
+        const auto u = std::uint32_t(vs[i]), w = std::uint32_t(vs[i + 1]);
+        edges.insert({std::min(u, w), std::max(u, w)});
+      }
+    }
+}
+
+/// Removes garbage and maps the vertex lists to the new indices.
+template <class K> void compact(Mesh<K>& m, VertexLists<K>& lists) {
+  using V = typename MeshTypes<K>::V;
+  auto [old_index, created] = m.template add_property_map<V, std::uint32_t>("v:seam_collapse_old_index", 0);
+  for (auto v : m.vertices()) old_index[v] = std::uint32_t(v);
+  m.collect_garbage();
+  std::vector<std::pair<std::uint32_t, V>> pairs;
+  for (auto v : m.vertices()) pairs.push_back({old_index[v], v});
+  std::sort(pairs.begin(), pairs.end());
+  for (auto& vs : lists)
+    for (auto& v : vs) {
+      const auto it = std::lower_bound(pairs.begin(), pairs.end(), std::uint32_t(v),
+                                       [](const std::pair<std::uint32_t, V>& x, std::uint32_t y) { return x.first < y; });
+      if (it == pairs.end() || it->first != std::uint32_t(v)) throw InternalError("collapse: a curve vertex was lost");
+      v = it->second;
+    }
+  m.remove_property_map(old_index);
+}
+
+}  // namespace
+
+template <class K>
+CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::vector<Polyline<K>>& curves,
+                                                  VertexLists<K>& cva, VertexLists<K>& cvb, double max_length,
+                                                  double tiny_length, std::size_t input_vertices_a,
+                                                  std::size_t input_vertices_b) {
+  using V = typename MeshTypes<K>::V;
+  using F = typename MeshTypes<K>::F;
+  constexpr std::size_t no_curve = std::numeric_limits<std::size_t>::max();
+  CurveCollapseReport report;
+  if (!(max_length > 0) && !(tiny_length > 0)) return report;
+  if (cva.size() != curves.size() || cvb.size() != curves.size())
+    throw InternalError("collapse: curve vertex lists do not match the curves");
+  Mesh<K>* meshes[2] = {&a, &b};
+  VertexLists<K>* lists[2] = {&cva, &cvb};
+  const std::size_t input_vertices[2] = {input_vertices_a, input_vertices_b};
+
+  /// P merged into Q in A (mask 1), B (mask 2) or both (3: a curve segment, at positions
+  /// at_p / at_q of curve `curve`).
+  struct Op {
+    int mask;
+    V p[2], q[2];
+    std::size_t curve, at_p, at_q;
+    double length;
+    bool tiny;
+  };
+  std::set<std::array<std::size_t, 4>> excluded;  // (mask, P in A, P in B, Q in A or B) refused or undone
+  auto key = [](const Op& op) {
+    return std::array<std::size_t, 4>{std::size_t(op.mask), op.mask & 1 ? std::size_t(op.p[0]) : 0,
+                                      op.mask & 2 ? std::size_t(op.p[1]) : 0,
+                                      op.mask & 1 ? std::size_t(op.q[0]) : std::size_t(op.q[1])};
+  };
+
+  for (int round = 0; round < 16; ++round) {
+    // How often each vertex appears on the curves (closing repeats once): only vertices on one
+    // curve, once, are merged along the curve; vertices off the curves only in tiny edges.
+    std::vector<int> uses[2];
+    for (int m = 0; m < 2; ++m) {
+      uses[m].assign(meshes[m]->number_of_vertices() + meshes[m]->number_of_removed_vertices(), 0);
+      for (std::size_t c = 0; c < curves.size(); ++c) {
+        const auto& vs = (*lists[m])[c];
+        for (std::size_t i = 0; i + (is_closed(curves[c]) ? 1 : 0) < vs.size(); ++i) ++uses[m][std::size_t(vs[i])];
+      }
+    }
+    std::vector<Op> ops;
+    for (std::size_t c = 0; c < curves.size(); ++c) {
+      const bool closed = is_closed(curves[c]);
+      const std::size_t n = closed ? curves[c].size() - 1 : curves[c].size();
+      if (n < (closed ? 4u : 3u)) continue;  // keep at least a triangle / a segment
+      for (std::size_t i = closed ? 0 : 1; i < (closed ? n : n - 1); ++i)
+        for (int dir : {-1, 1}) {
+          const std::size_t j = (i + n + std::size_t(dir)) % n;
+          const double len = std::sqrt(CGAL::to_double(CGAL::squared_distance(curves[c][i], curves[c][j])));
+          if (len <= std::max(max_length, tiny_length))
+            ops.push_back({3, {cva[c][i], cvb[c][i]}, {cva[c][j], cvb[c][j]}, c, i, j, len, len <= tiny_length});
+        }
+    }
+    // Tiny edges off the curves (one end off the curves and new): merged in their mesh alone.
+    if (tiny_length > 0)
+      for (int m = 0; m < 2; ++m) {
+        const Mesh<K>& mesh = *meshes[m];
+        for (auto e : mesh.edges()) {
+          const V u = mesh.vertex(e, 0), w = mesh.vertex(e, 1);
+          const double len = std::sqrt(CGAL::to_double(CGAL::squared_distance(mesh.point(u), mesh.point(w))));
+          if (!(len <= tiny_length)) continue;
+          auto movable = [&](V v) { return uses[m][std::size_t(v)] == 0 && std::size_t(v) >= input_vertices[m]; };
+          Op op{1 << m, {}, {}, no_curve, 0, 0, len, true};
+          if (movable(u)) op.p[m] = u, op.q[m] = w;
+          else if (movable(w)) op.p[m] = w, op.q[m] = u;
+          else continue;
+          ops.push_back(op);
+        }
+      }
+    if (ops.empty()) break;
+    // Tiny ones first, then the shortest.
+    std::sort(ops.begin(), ops.end(), [&](const Op& x, const Op& y) {
+      if (x.tiny != y.tiny) return x.tiny;
+      if (x.length != y.length) return x.length < y.length;
+      return key(x) < key(y);
+    });
+
+    // Choose collapses whose neighbourhoods do not overlap: tiny ones whenever allowed, the
+    // others when they improve the angles of both meshes together.
+    std::vector<char> locked[2];
+    for (int m = 0; m < 2; ++m) locked[m].assign(uses[m].size(), 0);
+    std::vector<Op> chosen;
+    std::vector<V> near[2];
+    for (const auto& op : ops) {
+      if (excluded.count(key(op))) continue;
+      if (op.mask == 3 && (uses[0][std::size_t(op.p[0])] != 1 || uses[1][std::size_t(op.p[1])] != 1)) continue;
+      bool free = true;
+      for (int m = 0; m < 2 && free; ++m) {
+        near[m].clear();
+        if (!(op.mask & (1 << m))) continue;
+        ring<K>(*meshes[m], op.p[m], near[m]), ring<K>(*meshes[m], op.q[m], near[m]);
+        free = std::none_of(near[m].begin(), near[m].end(), [&](V v) { return locked[m][std::size_t(v)]; });
+      }
+      if (!free) continue;
+      Angles before, after;
+      bool allowed = true;
+      for (int m = 0; m < 2 && allowed; ++m) {
+        if (!(op.mask & (1 << m))) continue;
+        Angles bm, am;
+        allowed = collapse_allowed<K>(*meshes[m], op.p[m], op.q[m], input_vertices[m], bm, am);
+        before.min = std::min(before.min, bm.min), before.below_10 += bm.below_10;
+        after.min = std::min(after.min, am.min), after.below_10 += am.below_10;
+      }
+      if (!allowed || (!op.tiny && !after.better_than(before))) {
+        excluded.insert(key(op));
+        continue;
+      }
+      for (int m = 0; m < 2; ++m)
+        for (V v : near[m]) locked[m][std::size_t(v)] = 1;
+      chosen.push_back(op);
+    }
+    if (chosen.empty()) break;
+
+    // Apply them; undo (start again from the copies without them) those whose faces cross.
+    const Mesh<K> a0 = a, b0 = b;
+    for (;;) {
+      std::vector<std::array<V, 2>> kept(chosen.size());
+      for (std::size_t k = 0; k < chosen.size(); ++k)
+        for (int m = 0; m < 2; ++m)
+          if (chosen[k].mask & (1 << m)) kept[k][m] = merge<K>(*meshes[m], chosen[k].p[m], chosen[k].q[m]);
+      // The curves after the collapses, by the vertices that stay.
+      VertexLists<K> after_lists[2] = {cva, cvb};
+      for (int m = 0; m < 2; ++m) {
+        auto& ls = after_lists[m];
+        std::vector<std::vector<char>> drop(ls.size());
+        for (std::size_t c = 0; c < ls.size(); ++c) drop[c].assign(ls[c].size(), 0);
+        for (std::size_t k = 0; k < chosen.size(); ++k) {
+          const Op& op = chosen[k];
+          if (!(op.mask & (1 << m))) continue;
+          if (op.curve == no_curve) {  // Q may be a curve vertex whose index went to P's
+            if (kept[k][m] != op.q[m])
+              for (auto& vs : ls)
+                for (auto& v : vs)
+                  if (v == op.q[m]) v = kept[k][m];
+            continue;
+          }
+          auto& vs = ls[op.curve];
+          const bool closed = vs.size() > 1 && vs.front() == vs.back();
+          drop[op.curve][op.at_p] = 1;
+          vs[op.at_q] = kept[k][m];
+          if (closed && op.at_q == 0) vs.back() = kept[k][m];
+          if (closed && op.at_p == 0) drop[op.curve].back() = 1;
+        }
+        for (std::size_t c = 0; c < ls.size(); ++c) {
+          const bool closed = ls[c].size() > 1 && ls[c].front() == ls[c].back();
+          std::vector<V> out;
+          for (std::size_t i = 0; i < ls[c].size(); ++i)
+            if (!drop[c][i]) out.push_back(ls[c][i]);
+          if (closed && drop[c].back() && !out.empty()) out.push_back(out.front());
+          ls[c] = std::move(out);
+        }
+      }
+
+      std::vector<char> on_curve[2];
+      std::set<std::pair<std::uint32_t, std::uint32_t>> curve_edges[2];
+      for (int m = 0; m < 2; ++m) curve_marks<K>(*meshes[m], after_lists[m], on_curve[m], curve_edges[m]);
+      std::vector<char> undo(chosen.size(), 0);
+      std::vector<F> faces[2];
+      for (int m = 0; m < 2; ++m) {
+        std::vector<std::size_t> owner;
+        for (std::size_t k = 0; k < chosen.size(); ++k)
+          if (chosen[k].mask & (1 << m))
+            for (auto f : CGAL::faces_around_target(meshes[m]->halfedge(kept[k][m]), *meshes[m]))
+              faces[m].push_back(f), owner.push_back(k);
+        const auto bad = crossing_faces<K>(*meshes[m], faces[m], *meshes[1 - m], on_curve[1 - m], curve_edges[1 - m]);
+        for (std::size_t i = 0; i < faces[m].size(); ++i)
+          if (bad[i]) undo[owner[i]] = 1;
+      }
+      if (std::none_of(undo.begin(), undo.end(), [](char u) { return u != 0; })) {
+        for (int m = 0; m < 2; ++m) {
+          auto is_new = meshes[m]->template property_map<F, bool>(new_face_property);
+          if (is_new.second)
+            for (auto f : faces[m]) is_new.first[f] = true;
+        }
+        // The shared curves lose the merged points.
+        std::vector<std::vector<char>> drop(curves.size());
+        for (std::size_t c = 0; c < curves.size(); ++c) drop[c].assign(curves[c].size(), 0);
+        for (const auto& op : chosen) {
+          if (op.curve == no_curve) continue;
+          drop[op.curve][op.at_p] = 1;
+          if (op.at_p == 0 && is_closed(curves[op.curve])) drop[op.curve].back() = 1;
+        }
+        for (std::size_t c = 0; c < curves.size(); ++c) {
+          const bool closed = is_closed(curves[c]);
+          Polyline<K> out;
+          for (std::size_t i = 0; i < curves[c].size(); ++i)
+            if (!drop[c][i]) out.push_back(curves[c][i]);
+          if (closed && drop[c].back()) out.push_back(out.front());
+          curves[c] = std::move(out);
+        }
+        cva = std::move(after_lists[0]);
+        cvb = std::move(after_lists[1]);
+        for (const auto& op : chosen) (op.curve == no_curve ? report.tiny_edges_collapsed : report.collapsed) += 1;
+        break;
+      }
+      a = a0;
+      b = b0;
+      std::vector<Op> keep;
+      for (std::size_t k = 0; k < chosen.size(); ++k)
+        if (undo[k])
+          excluded.insert(key(chosen[k]));
+        else
+          keep.push_back(chosen[k]);
+      chosen = std::move(keep);
+      if (chosen.empty()) break;
+    }
+    if (chosen.empty()) continue;
+    compact<K>(a, cva);
+    compact<K>(b, cvb);
+    excluded.clear();  // indices moved: the next round evaluates every candidate again
+  }
+  for (const auto& c : curves)  // what is left
+    for (std::size_t i = 0; i + 1 < c.size(); ++i)
+      if (std::sqrt(CGAL::to_double(CGAL::squared_distance(c[i], c[i + 1]))) <= max_length) ++report.refused;
+  return report;
+}
+
+#define SEAM_INSTANTIATE(K)                                                                                     \
+  template CurveCollapseReport collapse_short_curve_segments<K>(                                                 \
+      Mesh<K>&, Mesh<K>&, std::vector<Polyline<K>>&, VertexLists<K>&, VertexLists<K>&, double, double,     \
+      std::size_t, std::size_t);
+SEAM_INSTANTIATE(Exact)
+SEAM_INSTANTIATE(Filtered)
+SEAM_INSTANTIATE(Float)
+#undef SEAM_INSTANTIATE
+
+}  // namespace seam::internal
