@@ -117,12 +117,14 @@ def kernels_report(report, out):
     # Stages at the largest size where all tools ran.
     full = [f for f in sizes if all((t, f) in runs for t in TOOLS)]
     for f in sorted({f for f in full if f == 10000} | set(full[-1:])):
-        out.append("Where the time goes at {:,} faces per tow (seconds, median over the runs; `locate` and "
-                   "later stages summed over both meshes):\n".format(f))
+        out.append("Where the time goes at {:,} faces per tow (seconds, median over the runs; `locate` to "
+                   "`rest of embed` summed over both meshes, whose embeddings run concurrently: `embedding "
+                   "(wall)` is the longer of the two):\n".format(f))
         stages = [("read", "read"), ("intersection curves", "intersect"), ("snap", "snap"),
                   ("locate", "locate"), ("cross", "cross"), ("coarsen", "coarsen"),
                   ("re-triangulate", "retriangulate"), ("splice", "splice"),
-                  ("rest of embed", "embed_rest"), ("rest of pair", "pair_other"), ("corefine", "corefine"),
+                  ("rest of embed", "embed_rest"), ("embedding (wall)", "embed_wall"),
+                  ("rest of pair", "pair_other"), ("corefine", "corefine"),
                   ("write", "write")]
         out.append("| stage | " + " | ".join(TOOLS) + " |")
         out.append("|---|" + "---:|" * len(TOOLS))
