@@ -13,8 +13,42 @@
 # run (default: "embed pair"); SEAM_BENCH_PAIR_ARGS, extra bench_pair arguments (e.g.
 # --pair_runs=5, the number of alternating seam/corefine pairs, default 3); SEAM_NO_BUILD=1 to
 # skip the build and use the binaries already in the build directory.
+#
+#   scripts/bench.sh kernels [extra bench_kernels arguments, e.g. --kernels_max_faces=100000]
+# runs the exact-versus-float comparison instead (issue 4): seam_robustness --json (the degenerate
+# configurations under each kernel; extra arguments in SEAM_ROBUSTNESS_ARGS) into
+# out/robustness.json, bench_kernels (each stage per kernel, 1k..1M faces per tow, corefine as the
+# peer, peak memory) into out/bench_kernels.json, then scripts/bench_report.py writes
+# benchmarks/results/kernels.md and benchmarks/results/kernels.png (the plot needs
+# python3-matplotlib). The full run takes about ten minutes on 2 cores.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+if [[ "${1:-}" == kernels ]]; then
+  shift
+  build_dir="${SEAM_BUILD_DIR:-build}"
+  if [[ "${SEAM_NO_BUILD:-0}" != 1 ]]; then
+    SEAM_BUILD_DIR="$build_dir" bash scripts/build.sh
+  fi
+  for exe in bench_kernels seam_robustness; do
+    if [[ ! -x "$build_dir/benchmarks/$exe" ]]; then
+      echo "bench.sh: $build_dir/benchmarks/$exe was not built (is libbenchmark-dev installed?)" >&2
+      exit 1
+    fi
+  done
+  mkdir -p out benchmarks/results
+  status=0
+  # shellcheck disable=SC2086  # a list of arguments
+  "$build_dir/benchmarks/seam_robustness" --json ${SEAM_ROBUSTNESS_ARGS:-} >out/robustness.json || status=$?
+  "$build_dir/benchmarks/bench_kernels" --benchmark_format=json --benchmark_out=out/bench_kernels.json \
+    --benchmark_out_format=json "$@" >/dev/null
+  py=python3  # the plot needs Debian's python3-matplotlib, which a python3 of its own may not see
+  if ! python3 -c 'import matplotlib' 2>/dev/null && [[ -x /usr/bin/python3 ]]; then py=/usr/bin/python3; fi
+  "$py" scripts/bench_report.py --kernels out/bench_kernels.json --robustness out/robustness.json \
+    --markdown benchmarks/results/kernels.md --plot benchmarks/results/kernels.png
+  [[ $status -eq 0 ]] || echo "bench.sh: seam_robustness: the exact kernel has runs that are not valid (exit $status)" >&2
+  exit 0
+fi
 
 build_dir="${SEAM_BUILD_DIR:-build}"
 benches="${SEAM_BENCH:-embed pair}"

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #ifndef CGAL_HAS_THREADS
@@ -282,7 +283,11 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
     for (const auto& x : ra)
       for (const auto& y : rb)
         if (CGAL::coplanar(p, q, x, y) && CGAL::coplanar_orientation(p, q, x, y) == CGAL::POSITIVE) ++same;
-    if (same >= 2) return Kind::contact_inside;
+    // Both surfaces the same on both sides of pq: inside a flat contact, unless they bend there
+    // together (a ridge of both, where two flat contacts meet at an angle): that edge is where
+    // faces of A and B that are not coplanar meet, so it is kept as a curve.
+    if (same >= 2)
+      return CGAL::coplanar(p, q, ra[0], ra[1]) ? Kind::contact_inside : Kind::contact_boundary;
     if (same == 1) return Kind::contact_boundary;
     // Turning about pq (positive: CGAL::orientation(p, q, x, y) > 0), is y strictly inside the
     // wedge from ra[0] to ra[1]? (no B half-plane equals an A half-plane here)
@@ -319,6 +324,24 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
     }
     flush();
   }
+  // A touching run that meets a kept curve (an edge of one surface lying in a face of the other,
+  // ending where the surfaces cross or a flat contact begins) is part of the same interface: the
+  // outputs meet along it, so it is kept as well. Only separate touching contacts are dropped.
+  std::set<Point, PointLess<Point>> on_kept;
+  for (const auto& run : kept) on_kept.insert(run.begin(), run.end());
+  for (bool grew = true; grew && !kept.empty();) {
+    grew = false;
+    for (auto it = touched.begin(); it != touched.end();) {
+      if (on_kept.count(it->front()) || on_kept.count(it->back())) {
+        on_kept.insert(it->begin(), it->end());
+        kept.push_back(std::move(*it));
+        it = touched.erase(it);
+        grew = true;
+      } else {
+        ++it;
+      }
+    }
+  }
   if (touching_points) *touching_points = touching + chain(std::move(touched)).size();
   return chain(std::move(kept));
 }
@@ -340,7 +363,31 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   std::vector<Polyline<K>> curves = intersection_curves<K>(a, b, &touching);
   st.stage_seconds["intersect"] = seconds_since(t);
 
+  // Snapping can turn a crossing into a touching contact (a vertex a few units in the last place
+  // inside the other surface moves onto it; nothing would be embedded there and the outputs would
+  // meet off the curves), or move a vertex so far that the curves of the snapped surfaces cannot
+  // be embedded. The unsnapped state is kept to go back to in both cases.
+  struct Unsnapped {
+    Mesh<K> a, b;
+    std::optional<Provenance<K>> prov_a, prov_b;  // none: no provenance before snapping
+    std::vector<Polyline<K>> curves;
+    std::size_t touching;
+  };
+  std::optional<Unsnapped> unsnapped;
+  auto undo_snapping = [&](const char* why) {
+    a = unsnapped->a;
+    b = unsnapped->b;
+    prov_a = unsnapped->prov_a;
+    prov_b = unsnapped->prov_b;
+    curves = unsnapped->curves;
+    touching = unsnapped->touching;
+    st.vertices_snapped_a = st.vertices_snapped_b = st.edges_snapped_a = st.edges_snapped_b = 0;
+    st.snaps_refused = 0;
+    st.note = std::string("snapping was undone: ") + why;
+    unsnapped.reset();
+  };
   if (snap_tol > 0 && !curves.empty()) {
+    unsnapped.emplace(Unsnapped{a, b, prov_a, prov_b, curves, touching});
     // Report step 1 on both meshes, against the exact intersection points; then the curves of
     // the moved surfaces.
     t = Clock::now();
@@ -386,6 +433,10 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
         st.stage_seconds["intersect"] += seconds_since(t);
       }
     }
+    if (curves.empty() || touching > unsnapped->touching)
+      undo_snapping("it turned a crossing into a touching contact");
+    else if (st.vertices_snapped_a + st.vertices_snapped_b + st.edges_snapped_a + st.edges_snapped_b == 0)
+      unsnapped.reset();  // nothing moved
   }
 
   st.curves = curves.size();
@@ -410,17 +461,27 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   // only; CGAL's lazy exact numbers are safe to read from several threads when
   // CGAL_HAS_THREADS is defined (exact values computed once, reference counts atomic).
   double seconds_a = 0, seconds_b = 0;
-  tbb::parallel_invoke(
-      [&] {
-        const auto ta = Clock::now();
-        result.a = embed<K>(a, curves, eo);
-        seconds_a = seconds_since(ta);
-      },
-      [&] {
-        const auto tb = Clock::now();
-        result.b = embed<K>(b, curves, eo);
-        seconds_b = seconds_since(tb);
-      });
+  auto embed_both = [&]() {
+    tbb::parallel_invoke(
+        [&] {
+          const auto ta = Clock::now();
+          result.a = embed<K>(a, curves, eo);
+          seconds_a = seconds_since(ta);
+        },
+        [&] {
+          const auto tb = Clock::now();
+          result.b = embed<K>(b, curves, eo);
+          seconds_b = seconds_since(tb);
+        });
+  };
+  try {
+    embed_both();
+  } catch (const Error&) {
+    if (!unsnapped) throw;
+    undo_snapping("the curves of the snapped surfaces could not be embedded");
+    embed_both();
+  }
+  unsnapped.reset();
   st.stage_seconds["embed_a"] = seconds_a;
   st.stage_seconds["embed_b"] = seconds_b;
   result.a.stats.vertices_snapped = st.vertices_snapped_a + st.edges_snapped_a;

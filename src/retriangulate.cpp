@@ -10,6 +10,7 @@
 #include <map>
 #include <queue>
 #include <set>
+#include <type_traits>
 #include <sstream>
 
 namespace seam::internal {
@@ -20,7 +21,13 @@ template <class K> struct Cdt {
   using Vb = CGAL::Triangulation_vertex_base_with_info_2<long, K>;
   using Fb = CGAL::Constrained_triangulation_face_base_2<K>;
   using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
-  using type = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::Exact_predicates_tag>;
+  // Constraints that cross are split at a constructed intersection point (an error for seam,
+  // detected below). With rounded constructions that point can make the triangulation
+  // inconsistent (a segmentation fault inside CGAL::Triangulation_2, found by seam_robustness):
+  // the rounded kernels refuse such crossings instead, with an exception.
+  using Itag = std::conditional_t<kernel_traits<K>::exact_constructions, CGAL::Exact_predicates_tag,
+                                  CGAL::No_constraint_intersection_requiring_constructions_tag>;
+  using type = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, Itag>;
 };
 
 constexpr long kNoId = std::numeric_limits<long>::min();
@@ -271,8 +278,18 @@ FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const Retriangul
       }
       constraints.emplace_back(handle[prev], handle[long(face.corner_ids[(i + 1) % 3])]);
     }
-    for (const auto& [s, t] : face.segments) constraints.emplace_back(handle[long(s)], handle[long(t)]);
-    for (const auto& [s, t] : constraints) cdt.insert_constraint(s, t);
+    for (const auto& [s, t] : face.segments) {
+      // A segment between points that are not in this face (rounded kernels only): an error,
+      // not a null vertex handle for the triangulation.
+      if (!handle.count(long(s)) || !handle.count(long(t))) return false;
+      constraints.emplace_back(handle[long(s)], handle[long(t)]);
+    }
+    try {
+      for (const auto& [s, t] : constraints) cdt.insert_constraint(s, t);
+    } catch (const typename CDT::Intersection_of_constraints_exception&) {
+      return false;  // rounded kernels only (see Cdt)
+    }
+    return true;
   };
   auto check = [&](const CDT& cdt, const std::vector<std::pair<VH, VH>>& constraints) {
     for (const auto& [s, t] : constraints)
@@ -282,8 +299,8 @@ FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const Retriangul
 
   CDT cdt;
   std::vector<std::pair<VH, VH>> constraints;
-  build(cdt, constraints);
-  if (cdt.number_of_vertices() != points.size() || !check(cdt, constraints)) {
+  const bool built = build(cdt, constraints);
+  if (!built || cdt.number_of_vertices() != points.size() || !check(cdt, constraints)) {
     std::ostringstream msg;
     msg << "curve segments cross each other (or an edge) inside the face with corners " << face.corner_ids[0]
         << ", " << face.corner_ids[1] << ", " << face.corner_ids[2];

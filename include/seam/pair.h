@@ -7,12 +7,18 @@
 // surfaces, so embedding keeps all of them (they are the crossing points of one mesh or the
 // other) and both meshes receive the identical curve. Each piece is classified from the faces of
 // each mesh that contain it (exact tests): where the surfaces cross it is kept; where they only
-// touch (at a point or along an edge) it is dropped and counted (PairStats::touching_only); of a
-// flat contact (coplanar faces overlapping) only the boundary of the contact region is kept.
+// touch (at a point or along an edge) it is dropped and counted (PairStats::touching_only), unless
+// it meets a kept curve (an edge of one lying in a face of the other next to a crossing: the
+// outputs meet along it, so it is kept); of a flat contact (coplanar faces overlapping) only the
+// boundary of the contact region is kept, and the ridges where it bends (where two flat contacts
+// meet at an angle).
 //
 // Snapping (report step 1), when snap_tol > 0: vertices of either mesh within snap_tol of a curve
 // point move onto it (a move that would flip or flatten a face is refused), and the curves are
 // computed again on the moved surfaces; crossings next to vertices become curves through vertices.
+// Snapping is undone (PairStats::note says so) when it turns a crossing into a touching contact
+// (a vertex a few units in the last place inside the other surface), or when the curves of the
+// snapped surfaces cannot be embedded.
 //
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once

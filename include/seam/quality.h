@@ -3,6 +3,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <seam/kernels.h>
 #include <seam/types.h>
 
 #include <algorithm>
@@ -13,11 +14,12 @@
 namespace seam {
 
 /// Smallest interior angle of the triangle (p, q, r) in degrees; 0 for a degenerate one.
+/// (Under Epeck the coordinates come from the points' interval approximations: p.x() would build
+/// a lazy number per coordinate, which made these reports a visible part of a whole run.)
 template <class Point> double min_angle_deg(const Point& p, const Point& q, const Point& r) {
-  const double P[3] = {CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())};
-  const double Q[3] = {CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z())};
-  const double R[3] = {CGAL::to_double(r.x()), CGAL::to_double(r.y()), CGAL::to_double(r.z())};
-  auto angle = [](const double* a, const double* b, const double* c) {  // at a
+  const auto P = to_filtered(p), Q = to_filtered(q), R = to_filtered(r);
+  using P3 = Filtered::Point_3;
+  auto angle = [](const P3& a, const P3& b, const P3& c) {  // at a
     double u[3], v[3], uu = 0, vv = 0, uv = 0;
     for (int i = 0; i < 3; ++i) {
       u[i] = b[i] - a[i];
