@@ -1,0 +1,423 @@
+// seam::textile: all pairs of a unit cell, in parallel. See seam/textile.h.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/pair.h>
+#include <seam/quality.h>
+#include <seam/textile.h>
+
+#include <CGAL/Gmpq.h>
+#include <CGAL/box_intersection_d.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <exception>
+#include <limits>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <type_traits>
+
+// Lazy exact numbers (Epeck) are only safe in threads with CGAL's thread support on (atomic
+// reference counts, exact values computed under std::call_once); see cgal-notes.md.
+#if !defined(CGAL_HAS_THREADS)
+#error "seam::textile needs CGAL_HAS_THREADS (build with -pthread; CGAL::CGAL links Threads::Threads)"
+#endif
+
+namespace seam {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// ---------------------------------------------------------------- objects that cross threads
+//
+// Under Epeck a point is a node of a lazy-evaluation DAG: copying it shares the node, and
+// evaluating it (CGAL::exact, or a predicate whose interval filter fails) updates the node in
+// place. CGAL makes that safe with CGAL_HAS_THREADS, but sharing would still let one thread's
+// evaluation tighten another thread's intervals (different filter outcomes, a cache line
+// bounced between cores). So nothing lazy crosses a task boundary: the meshes go to the pair
+// tasks as plain values (FrozenMesh: doubles, or exact rationals deep-copied), and each pair
+// task hands each of its two tows its own copy of the curves, made from the exact coordinates
+// (`detached`). Every lazy node is then created, evaluated and destroyed by one task.
+
+using ExactNT = std::decay_t<decltype(CGAL::exact(std::declval<const Exact::FT&>()))>;
+
+/// A copy of an exact rational that shares no memory with it (CGAL::Gmpq is reference counted).
+template <class T> T deep_copy(const T& x) {
+  if constexpr (std::is_same_v<T, CGAL::Gmpq>) return CGAL::Gmpq(x.mpq());
+  else return T(x);  // mpq_class and the other exact types copy their value
+}
+
+/// A copy of `p` that shares no lazy node with it: under Epeck a new point built from p's exact
+/// coordinates (from doubles when p's interval approximation is a single double, which is then
+/// p's exact value). Call it in the thread that owns `p`.
+template <class K> typename K::Point_3 detached(const typename K::Point_3& p) {
+  if constexpr (std::is_same_v<K, Exact>) {
+    const auto& a = CGAL::approx(p);
+    if (a.x().is_point() && a.y().is_point() && a.z().is_point())
+      return typename K::Point_3(a.x().inf(), a.y().inf(), a.z().inf());
+    const auto& e = CGAL::exact(p);
+    using FT = typename K::FT;
+    return typename K::Point_3(FT(deep_copy(e.x())), FT(deep_copy(e.y())), FT(deep_copy(e.z())));
+  } else {
+    return p;  // plain doubles
+  }
+}
+
+template <class K> std::vector<Polyline<K>> detached(const std::vector<Polyline<K>>& curves) {
+  std::vector<Polyline<K>> out;
+  out.reserve(curves.size());
+  for (const auto& c : curves) {
+    out.emplace_back();
+    out.back().reserve(c.size());
+    for (const auto& p : c) out.back().push_back(detached<K>(p));
+  }
+  return out;
+}
+
+/// A mesh as plain values, read concurrently by the pair tasks, each building its own Mesh<K>.
+template <class K> struct FrozenMesh {
+  std::vector<std::array<double, 3>> doubles;      ///< every coordinate, when each is a double
+  std::vector<std::array<ExactNT, 3>> rationals;   ///< otherwise (exact kernel only)
+  std::vector<std::array<std::uint32_t, 3>> faces;
+  CGAL::Bbox_3 bbox;
+};
+
+template <class K> FrozenMesh<K> freeze(const Mesh<K>& m) {
+  FrozenMesh<K> f;
+  bool all_doubles = true;
+  f.doubles.reserve(m.number_of_vertices());
+  for (auto v : m.vertices()) {
+    const auto& p = m.point(v);
+    if constexpr (std::is_same_v<K, Exact>) {
+      const auto& a = CGAL::approx(p);
+      all_doubles = all_doubles && a.x().is_point() && a.y().is_point() && a.z().is_point();
+      f.doubles.push_back({a.x().inf(), a.y().inf(), a.z().inf()});
+    } else {
+      f.doubles.push_back({CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())});
+    }
+    f.bbox += p.bbox();
+  }
+  if constexpr (std::is_same_v<K, Exact>) {
+    if (!all_doubles) {
+      f.doubles.clear();
+      for (auto v : m.vertices()) {
+        const auto& e = CGAL::exact(m.point(v));
+        f.rationals.push_back({deep_copy(e.x()), deep_copy(e.y()), deep_copy(e.z())});
+      }
+    }
+  }
+  for (auto face : m.faces()) {
+    std::array<std::uint32_t, 3> t{};
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(m.halfedge(face), m)) t[std::min(k++, 2)] = std::uint32_t(std::size_t(v));
+    if (k != 3) throw InvalidInput("the mesh is not a triangle mesh");
+    f.faces.push_back(t);
+  }
+  return f;
+}
+
+/// The mesh again, with points of its own (call it in the task that uses it).
+template <class K> Mesh<K> thaw(const FrozenMesh<K>& f) {
+  Mesh<K> m;
+  const std::size_t nv = f.doubles.empty() ? f.rationals.size() : f.doubles.size();
+  m.reserve(typename Mesh<K>::size_type(nv), typename Mesh<K>::size_type(3 * f.faces.size() / 2 + 3),
+            typename Mesh<K>::size_type(f.faces.size()));
+  for (const auto& p : f.doubles) m.add_vertex(typename K::Point_3(p[0], p[1], p[2]));
+  if constexpr (std::is_same_v<K, Exact>) {
+    using FT = typename K::FT;
+    for (const auto& p : f.rationals)
+      m.add_vertex(typename K::Point_3(FT(deep_copy(p[0])), FT(deep_copy(p[1])), FT(deep_copy(p[2]))));
+  }
+  using V = typename Mesh<K>::Vertex_index;
+  for (const auto& t : f.faces)
+    if (m.add_face(V(t[0]), V(t[1]), V(t[2])) == Mesh<K>::null_face())
+      throw InternalError("textile: a copy of a mesh could not be rebuilt");
+  return m;
+}
+
+// ---------------------------------------------------------------- parallel loops
+
+/// Runs body(i) for i in [0, n), one task per index, in `arena`. An exception thrown by body(i) is
+/// kept per index; afterwards the first one in index order is rethrown (deterministic errors).
+/// `done(i)` is called after each success, serialised by a mutex.
+template <class Body, class Done>
+void for_each_index(tbb::task_arena& arena, std::size_t n, Body&& body, Done&& done) {
+  std::vector<std::exception_ptr> errors(n);
+  std::mutex mutex;
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                          try {
+                            body(i);
+                            std::lock_guard<std::mutex> lock(mutex);
+                            done(i);
+                          } catch (...) {
+                            errors[i] = std::current_exception();
+                          }
+                        }
+                      },
+                      tbb::simple_partitioner());
+  });
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
+}
+
+template <class K> struct PairWork {
+  std::size_t a = 0, b = 0;
+  std::vector<Polyline<K>> for_a, for_b;  ///< the curves, one copy per consuming tow
+  std::vector<Polyline<K>> embedded_a, embedded_b;  ///< as embedded into each tow
+  TextilePairStats stats;
+};
+
+std::string quoted(const std::string& name) { return "'" + name + "'"; }
+
+}  // namespace
+
+template <class K>
+TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::string>& names,
+                         const TextileOptions& options) {
+  using Point = typename K::Point_3;
+  const auto t_start = Clock::now();
+  if (names.size() != meshes.size()) throw InvalidInput("textile: one name per mesh is needed");
+  validate_options(options.embed);
+  if (options.embed.snap_tol > 0)
+    throw InvalidInput("--snap-tol: seam textile does not snap (snapping onto one neighbour's curves would move "
+                       "the intersections with the others); use 0");
+  if (options.threads < 0) throw InvalidInput("--threads: must be >= 0 (0: every core)");
+  for (std::size_t i = 0; i < meshes.size(); ++i)
+    if (!CGAL::is_triangle_mesh(meshes[i]) || meshes[i].is_empty())
+      throw InvalidInput(names[i] + ": not a triangle mesh");
+
+  TextileResult<K> result;
+  TextileStats& st = result.stats;
+  st.tows = meshes.size();
+  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  st.threads = arena.max_concurrency();
+  std::mutex progress_mutex;
+  auto report = [&](const char* stage, std::size_t done, std::size_t total) {
+    if (!options.progress) return;
+    std::lock_guard<std::mutex> lock(progress_mutex);
+    options.progress(TextileProgress{stage, done, total, seconds_since(t_start)});
+  };
+
+  // ---- plain copies of the meshes for the pair tasks
+  auto t = Clock::now();
+  std::vector<FrozenMesh<K>> frozen(meshes.size());
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    if (meshes[i].has_garbage()) meshes[i].collect_garbage();
+    frozen[i] = freeze<K>(meshes[i]);
+  }
+  st.stage_seconds["prepare"] = seconds_since(t);
+
+  // ---- candidate pairs: overlapping bounding boxes (closed boxes: touching counts)
+  t = Clock::now();
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
+  std::vector<Box> boxes;
+  for (std::size_t i = 0; i < meshes.size(); ++i) boxes.emplace_back(frozen[i].bbox, i);
+  std::vector<std::pair<std::size_t, std::size_t>> candidates;
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
+    candidates.emplace_back(std::min(x.info(), y.info()), std::max(x.info(), y.info()));
+  });
+  std::sort(candidates.begin(), candidates.end());
+  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+  st.candidate_pairs = candidates.size();
+  st.stage_seconds["boxes"] = seconds_since(t);
+
+  // ---- pairs: the intersection curves of each candidate, concurrently
+  t = Clock::now();
+  std::vector<PairWork<K>> work(candidates.size());
+  std::size_t pairs_done = 0;
+  for_each_index(
+      arena, candidates.size(),
+      [&](std::size_t p) {
+        auto& w = work[p];
+        w.a = candidates[p].first;
+        w.b = candidates[p].second;
+        const auto tp = Clock::now();
+        std::vector<Polyline<K>> curves;
+        {
+          const Mesh<K> a = thaw<K>(frozen[w.a]), b = thaw<K>(frozen[w.b]);
+          std::size_t touching = 0;
+          curves = intersection_curves<K>(a, b, &touching);
+          w.stats.touching_only = curves.empty() && touching > 0;
+        }
+        w.stats.a = w.a;
+        w.stats.b = w.b;
+        w.stats.curves = curves.size();
+        for (const auto& c : curves) {
+          w.stats.closed_curves += is_closed(c) ? 1 : 0;
+          w.stats.curve_vertices += is_closed(c) ? c.size() - 1 : c.size();
+        }
+        w.for_a = detached<K>(curves);
+        w.for_b = detached<K>(curves);
+        w.stats.intersect_seconds = seconds_since(tp);
+      },
+      [&](std::size_t) { report("pairs", ++pairs_done, candidates.size()); });
+  st.stage_seconds["pairs"] = seconds_since(t);
+
+  // Each tow's pairs (with curves), in pair order.
+  std::vector<std::vector<std::size_t>> pairs_of(meshes.size());
+  for (std::size_t p = 0; p < work.size(); ++p)
+    if (!work[p].for_a.empty()) {
+      pairs_of[work[p].a].push_back(p);
+      pairs_of[work[p].b].push_back(p);
+    }
+  auto curves_for = [&](std::size_t p, std::size_t tow) -> std::vector<Polyline<K>>& {
+    return work[p].a == tow ? work[p].for_a : work[p].for_b;
+  };
+
+  // ---- triple overlaps: on each tow, the curves of two different neighbours must not meet
+  t = Clock::now();
+  std::vector<std::array<std::size_t, 3>> triple(meshes.size(), {0, 0, 0});  // pair p, pair q, 1 if found
+  std::vector<Point> triple_at(meshes.size());
+  for_each_index(
+      arena, meshes.size(),
+      [&](std::size_t tow) {
+        if (pairs_of[tow].size() < 2) return;
+        struct Seg {
+          std::size_t pair;
+          const Point *p, *q;
+        };
+        std::vector<Seg> segs;
+        for (std::size_t p : pairs_of[tow])
+          for (const auto& c : curves_for(p, tow))
+            for (std::size_t i = 0; i + 1 < c.size(); ++i) segs.push_back({p, &c[i], &c[i + 1]});
+        std::vector<Box> sboxes;
+        sboxes.reserve(segs.size());
+        for (std::size_t s = 0; s < segs.size(); ++s) sboxes.emplace_back(segs[s].p->bbox() + segs[s].q->bbox(), s);
+        std::pair<std::size_t, std::size_t> first{std::numeric_limits<std::size_t>::max(), 0};
+        CGAL::box_self_intersection_d(sboxes.begin(), sboxes.end(), [&](const Box& x, const Box& y) {
+          const Seg &u = segs[x.info()], &v = segs[y.info()];
+          if (u.pair == v.pair) return;
+          const std::pair<std::size_t, std::size_t> key{std::min(x.info(), y.info()), std::max(x.info(), y.info())};
+          if (!(key < first)) return;
+          if (CGAL::do_intersect(typename K::Segment_3(*u.p, *u.q), typename K::Segment_3(*v.p, *v.q))) first = key;
+        });
+        if (first.first == std::numeric_limits<std::size_t>::max()) return;
+        const Seg &u = segs[first.first], &v = segs[first.second];
+        triple[tow] = {std::min(u.pair, v.pair), std::max(u.pair, v.pair), 1};
+        triple_at[tow] = *u.p;
+      },
+      [](std::size_t) {});
+  for (std::size_t tow = 0; tow < meshes.size(); ++tow) {
+    if (!triple[tow][2]) continue;
+    const auto& pa = work[triple[tow][0]];
+    const auto& pb = work[triple[tow][1]];
+    const std::size_t j = pa.a == tow ? pa.b : pa.a, k = pb.a == tow ? pb.b : pb.a;
+    std::set<std::size_t> three{tow, j, k};
+    std::ostringstream msg;
+    msg << "tows";
+    std::size_t n = 0;
+    for (std::size_t x : three) msg << (n++ == 0 ? " " : n == 3 ? " and " : ", ") << quoted(names[x]);
+    const auto at = to_filtered(triple_at[tow]);
+    msg << " overlap in one place (triple overlap): the curves of " << quoted(names[tow]) << " with "
+        << quoted(names[j]) << " and with " << quoted(names[k]) << " meet on " << quoted(names[tow]) << " near ("
+        << at.x() << ", " << at.y() << ", " << at.z()
+        << "); seam textile cannot make such a meeting point conforming yet: separate the tows there";
+    throw InvalidInput(msg.str());
+  }
+  st.stage_seconds["triples"] = seconds_since(t);
+
+  // ---- tows: each receives all its curves in one embedding, concurrently
+  t = Clock::now();
+  EmbedOptions eo = options.embed;
+  eo.snap_tol = 0;
+  eo.keep_all_nodes = true;  // every curve point lies on the surface and is a crossing point
+  eo.curve_tol = 0;
+  eo.max_distance = std::numeric_limits<double>::max();
+  result.tows.resize(meshes.size());
+  std::size_t tows_done = 0;
+  for_each_index(
+      arena, meshes.size(),
+      [&](std::size_t tow) {
+        std::vector<Polyline<K>> curves;
+        std::vector<std::size_t> first_curve;  // per pair of this tow, index of its first curve
+        for (std::size_t p : pairs_of[tow]) {
+          first_curve.push_back(curves.size());
+          auto& mine = curves_for(p, tow);
+          curves.insert(curves.end(), mine.begin(), mine.end());
+        }
+        first_curve.push_back(curves.size());
+        Mesh<K>& mesh = meshes[tow];
+        EmbedResult<K> r = embed<K>(mesh, curves, eo);
+        if (r.curves.size() != curves.size() || r.curve_vertices.size() != curves.size())
+          throw InternalError("textile: " + names[tow] + ": the embedding returned a different number of curves");
+        for (auto& c : r.curves)
+          for (auto& p : c) make_exact(p);  // written by two tows: the same tight approximation in both
+        const auto is_new = mesh.template property_map<typename Mesh<K>::Face_index, bool>(new_face_property).first;
+        for (std::size_t k = 0; k < pairs_of[tow].size(); ++k) {
+          auto& w = work[pairs_of[tow][k]];
+          std::vector<Polyline<K>> embedded(r.curves.begin() + std::ptrdiff_t(first_curve[k]),
+                                            r.curves.begin() + std::ptrdiff_t(first_curve[k + 1]));
+          // Quality of the new faces with a vertex on these curves.
+          std::set<typename Mesh<K>::Face_index> faces;
+          for (std::size_t c = first_curve[k]; c < first_curve[k + 1]; ++c)
+            for (auto v : r.curve_vertices[c])
+              for (auto f : CGAL::faces_around_target(mesh.halfedge(v), mesh))
+                if (f != Mesh<K>::null_face() && is_new[f]) faces.insert(f);
+          CurveFaceQuality q;
+          q.min_angle_deg = faces.empty() ? 0.0 : 180.0;
+          for (auto f : faces) {
+            const auto h = mesh.halfedge(f);
+            const double angle = min_angle_deg(to_filtered(mesh.point(mesh.source(h))),
+                                               to_filtered(mesh.point(mesh.target(h))),
+                                               to_filtered(mesh.point(mesh.target(mesh.next(h)))));
+            ++q.faces;
+            q.below_10 += angle < 10 ? 1 : 0;
+            q.below_20 += angle < 20 ? 1 : 0;
+            q.min_angle_deg = std::min(q.min_angle_deg, angle);
+          }
+          if (w.a == tow) {
+            w.embedded_a = std::move(embedded);
+            w.stats.quality_a = q;
+          } else {
+            w.embedded_b = std::move(embedded);
+            w.stats.quality_b = q;
+          }
+        }
+        result.tows[tow] = r.stats;
+        // The curves handed to this tow are no longer needed: free them in the thread that used them.
+        for (std::size_t p : pairs_of[tow]) std::vector<Polyline<K>>().swap(curves_for(p, tow));
+      },
+      [&](std::size_t) { report("tows", ++tows_done, meshes.size()); });
+  st.stage_seconds["tows"] = seconds_since(t);
+
+  // ---- both tows of every pair received the identical curves
+  t = Clock::now();
+  for (auto& w : work) {
+    if (w.stats.curves == 0 && !w.stats.touching_only) continue;
+    if (w.embedded_a != w.embedded_b) {
+      std::ostringstream msg;
+      msg << "textile: the curves of " << names[w.a] << " and " << names[w.b]
+          << " were embedded differently into the two tows";
+      throw InternalError(msg.str());
+    }
+    TextilePair<K> pair;
+    pair.curves = std::move(w.embedded_a);
+    pair.stats = w.stats;
+    if (pair.stats.curves > 0) ++st.intersecting_pairs;
+    if (pair.stats.touching_only) ++st.touching_pairs;
+    result.pairs.push_back(std::move(pair));
+  }
+  st.stage_seconds["compare"] = seconds_since(t);
+  return result;
+}
+
+#define SEAM_INSTANTIATE(K)                                                                                 \
+  template TextileResult<K> textile<K>(std::vector<Mesh<K>>&, const std::vector<std::string>&,            \
+                                       const TextileOptions&);
+SEAM_INSTANTIATE(Exact)
+SEAM_INSTANTIATE(Filtered)
+SEAM_INSTANTIATE(Float)
+#undef SEAM_INSTANTIATE
+
+}  // namespace seam
