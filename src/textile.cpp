@@ -1,5 +1,6 @@
 // seam::textile: all pairs of a unit cell, in parallel. See seam/textile.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/internal/snap.h>
 #include <seam/pair.h>
 #include <seam/quality.h>
 #include <seam/textile.h>
@@ -15,6 +16,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <exception>
 #include <limits>
@@ -180,6 +182,11 @@ template <class K> struct PairWork {
 
 std::string quoted(const std::string& name) { return "'" + name + "'"; }
 
+double diagonal(const CGAL::Bbox_3& b) {
+  const double dx = b.xmax() - b.xmin(), dy = b.ymax() - b.ymin(), dz = b.zmax() - b.zmin();
+  return std::sqrt(dx * dx + dy * dy + dz * dz);
+}
+
 }  // namespace
 
 template <class K>
@@ -189,9 +196,6 @@ TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::st
   const auto t_start = Clock::now();
   if (names.size() != meshes.size()) throw InvalidInput("textile: one name per mesh is needed");
   validate_options(options.embed);
-  if (options.embed.snap_tol > 0)
-    throw InvalidInput("--snap-tol: seam textile does not snap (snapping onto one neighbour's curves would move "
-                       "the intersections with the others); use 0");
   if (options.threads < 0) throw InvalidInput("--threads: must be >= 0 (0: every core)");
   for (std::size_t i = 0; i < meshes.size(); ++i)
     if (!CGAL::is_triangle_mesh(meshes[i]) || meshes[i].is_empty())
@@ -203,10 +207,11 @@ TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::st
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
   st.threads = arena.max_concurrency();
   std::mutex progress_mutex;
+  Clock::time_point t_stage = t_start;
   auto report = [&](const char* stage, std::size_t done, std::size_t total) {
     if (!options.progress) return;
     std::lock_guard<std::mutex> lock(progress_mutex);
-    options.progress(TextileProgress{stage, done, total, seconds_since(t_start)});
+    options.progress(TextileProgress{stage, done, total, seconds_since(t_start), seconds_since(t_stage)});
   };
 
   // ---- plain copies of the meshes for the pair tasks
@@ -233,47 +238,101 @@ TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::st
   st.stage_seconds["boxes"] = seconds_since(t);
 
   // ---- pairs: the intersection curves of each candidate, concurrently
-  t = Clock::now();
+  t = t_stage = Clock::now();
   std::vector<PairWork<K>> work(candidates.size());
-  std::size_t pairs_done = 0;
-  for_each_index(
-      arena, candidates.size(),
-      [&](std::size_t p) {
-        auto& w = work[p];
-        w.a = candidates[p].first;
-        w.b = candidates[p].second;
-        const auto tp = Clock::now();
-        std::vector<Polyline<K>> curves;
-        {
-          const Mesh<K> a = thaw<K>(frozen[w.a]), b = thaw<K>(frozen[w.b]);
-          std::size_t touching = 0;
-          curves = intersection_curves<K>(a, b, &touching);
-          w.stats.touching_only = curves.empty() && touching > 0;
-        }
-        w.stats.a = w.a;
-        w.stats.b = w.b;
-        w.stats.curves = curves.size();
-        for (const auto& c : curves) {
-          w.stats.closed_curves += is_closed(c) ? 1 : 0;
-          w.stats.curve_vertices += is_closed(c) ? c.size() - 1 : c.size();
-        }
-        w.for_a = detached<K>(curves);
-        w.for_b = detached<K>(curves);
-        w.stats.intersect_seconds = seconds_since(tp);
-      },
-      [&](std::size_t) { report("pairs", ++pairs_done, candidates.size()); });
+  auto compute_pairs = [&](const std::vector<std::size_t>& which, const char* stage) {
+    std::size_t done = 0;
+    t_stage = Clock::now();
+    for_each_index(
+        arena, which.size(),
+        [&](std::size_t k) {
+          auto& w = work[which[k]];
+          w = PairWork<K>();
+          w.a = candidates[which[k]].first;
+          w.b = candidates[which[k]].second;
+          const auto tp = Clock::now();
+          std::vector<Polyline<K>> curves;
+          {
+            const Mesh<K> a = thaw<K>(frozen[w.a]), b = thaw<K>(frozen[w.b]);
+            std::size_t touching = 0;
+            curves = intersection_curves<K>(a, b, &touching);
+            w.stats.touching_only = curves.empty() && touching > 0;
+          }
+          w.stats.a = w.a;
+          w.stats.b = w.b;
+          w.stats.curves = curves.size();
+          for (const auto& c : curves) {
+            w.stats.closed_curves += is_closed(c) ? 1 : 0;
+            w.stats.curve_vertices += is_closed(c) ? c.size() - 1 : c.size();
+          }
+          w.for_a = detached<K>(curves);
+          w.for_b = detached<K>(curves);
+          w.stats.intersect_seconds += seconds_since(tp);
+        },
+        [&](std::size_t) { report(stage, ++done, which.size()); });
+  };
+  std::vector<std::size_t> all_pairs(candidates.size());
+  for (std::size_t p = 0; p < all_pairs.size(); ++p) all_pairs[p] = p;
+  compute_pairs(all_pairs, "pairs");
   st.stage_seconds["pairs"] = seconds_since(t);
 
   // Each tow's pairs (with curves), in pair order.
   std::vector<std::vector<std::size_t>> pairs_of(meshes.size());
-  for (std::size_t p = 0; p < work.size(); ++p)
-    if (!work[p].for_a.empty()) {
-      pairs_of[work[p].a].push_back(p);
-      pairs_of[work[p].b].push_back(p);
-    }
+  auto find_pairs_of = [&]() {
+    for (auto& v : pairs_of) v.clear();
+    for (std::size_t p = 0; p < work.size(); ++p)
+      if (!work[p].for_a.empty()) {
+        pairs_of[work[p].a].push_back(p);
+        pairs_of[work[p].b].push_back(p);
+      }
+  };
+  find_pairs_of();
   auto curves_for = [&](std::size_t p, std::size_t tow) -> std::vector<Polyline<K>>& {
     return work[p].a == tow ? work[p].for_a : work[p].for_b;
   };
+
+  // ---- snapping: each tow against all its curves at once, then every curve of a moved tow again
+  t = Clock::now();
+  std::vector<double> snap_tol(meshes.size(), 0.0);
+  std::vector<std::size_t> snapped(meshes.size(), 0), snaps_refused(meshes.size(), 0);
+  // Rounded kernels: no automatic snapping (a snapped vertex lies exactly on the other tow, a
+  // degeneracy only the exact kernel copes with; their curve points are doubles already).
+  const bool snap = options.embed.snap_tol > 0 || (options.embed.snap_tol < 0 && kernel_traits<K>::exact_constructions);
+  if (snap) {
+    for (std::size_t tow = 0; tow < meshes.size(); ++tow) {
+      if (options.embed.snap_tol > 0) {
+        snap_tol[tow] = options.embed.snap_tol;
+        continue;
+      }
+      double d = diagonal(frozen[tow].bbox);
+      for (std::size_t p : pairs_of[tow]) d = std::min(d, diagonal(frozen[work[p].a == tow ? work[p].b : work[p].a].bbox));
+      snap_tol[tow] = 1e-10 * d;
+    }
+    for_each_index(
+        arena, meshes.size(),
+        [&](std::size_t tow) {
+          if (pairs_of[tow].empty()) return;
+          std::vector<Polyline<K>> curves;
+          for (std::size_t p : pairs_of[tow]) {
+            const auto& mine = curves_for(p, tow);
+            curves.insert(curves.end(), mine.begin(), mine.end());
+          }
+          const auto r = internal::snap_vertices_to_segments<K>(meshes[tow], curves, snap_tol[tow]);
+          snapped[tow] = r.snapped;
+          snaps_refused[tow] = r.refused;
+        },
+        [](std::size_t) {});
+    std::vector<std::size_t> again;
+    for (std::size_t tow = 0; tow < meshes.size(); ++tow)
+      if (snapped[tow] > 0) frozen[tow] = freeze<K>(meshes[tow]);
+    for (std::size_t p = 0; p < candidates.size(); ++p)
+      if (snapped[candidates[p].first] > 0 || snapped[candidates[p].second] > 0) again.push_back(p);
+    if (!again.empty()) {
+      compute_pairs(again, "pairs (after snapping)");
+      find_pairs_of();
+    }
+  }
+  st.stage_seconds["snap"] = seconds_since(t);
 
   // ---- triple overlaps: on each tow, the curves of two different neighbours must not meet
   t = Clock::now();
@@ -328,7 +387,7 @@ TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::st
   st.stage_seconds["triples"] = seconds_since(t);
 
   // ---- tows: each receives all its curves in one embedding, concurrently
-  t = Clock::now();
+  t = t_stage = Clock::now();
   EmbedOptions eo = options.embed;
   eo.snap_tol = 0;
   eo.keep_all_nodes = true;  // every curve point lies on the surface and is a crossing point
@@ -385,6 +444,9 @@ TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::st
           }
         }
         result.tows[tow] = r.stats;
+        result.tows[tow].snap_tol = snap_tol[tow];
+        result.tows[tow].vertices_snapped = snapped[tow];
+        result.tows[tow].snaps_refused = snaps_refused[tow];
         // The curves handed to this tow are no longer needed: free them in the thread that used them.
         for (std::size_t p : pairs_of[tow]) std::vector<Polyline<K>>().swap(curves_for(p, tow));
       },

@@ -69,15 +69,18 @@ std::vector<Point3d> make_ring_curve(const TowOptions& options, double s_center,
 /// under = 1 is a plain weave, over = 2, under = 1 a 2/1 twill, 2 and 2 a 2/2 twill. Each tow is
 /// crimped (see TowOptions::heights) between the heights +-a at its crossings, a = half_height -
 /// overlap / 2, so that at every crossing the two tows interpenetrate by `overlap` (their
-/// vertical extents overlap by that much); overlap < 0 leaves a gap. Parallel tows touch only
-/// when half_width >= spacing / 2.
+/// vertical extents overlap by that much); overlap < 0 leaves a gap. This is the deepest
+/// interpenetration (the tows first meet at the centre of the crossing) only while the crimp
+/// bends less than the section: a pi^2 / spacing^2 < half_height / half_width^2 for elliptical
+/// sections (the defaults: 0.33 < 0.42); otherwise they also meet off centre. Parallel tows touch
+/// only when half_width >= spacing / 2.
 struct WeaveOptions {
   int warps = 2, wefts = 2;    ///< N x M tows
   int over = 1, under = 1;     ///< weave pattern (1, 1: plain weave)
   double spacing = 2.0;        ///< distance between neighbouring parallel tows
-  double half_width = 0.8;     ///< section semi-axes (see TowOptions)
-  double half_height = 0.2;
-  double overlap = 0.04;       ///< interpenetration depth at each crossing
+  double half_width = 0.6;     ///< section semi-axes (see TowOptions)
+  double half_height = 0.15;
+  double overlap = 0.03;       ///< interpenetration depth at each crossing
   Section section = Section::elliptical;
   int segments_per_crossing = 12;  ///< wefts: segments along per spacing; warps get one more
   int segments_around = 16;        ///< wefts: vertices per ring; warps get two more

@@ -12,12 +12,18 @@
 //      call (curve points kept at their own coordinates, as in seam::pair), so that for every
 //      pair both outputs share the pair's curves vertex for vertex and edge for edge.
 //
-// No snapping (textile v1): snapping a tow onto the curves of one neighbour moves its surface and
-// so changes its intersections with every other neighbour; doing it soundly needs every curve of
-// the tow recomputed after each move. Without it, under the exact kernel every output surface is
-// its input surface (new vertices lie exactly in their input face), so the curves of every pair
-// are exactly the intersection of the two outputs. The price is mesh quality next to the curves
-// (see seam::pair's snapping). EmbedOptions::snap_tol must therefore be 0 or negative.
+// Snapping: where an intersection point falls extremely close to a vertex, the new faces are
+// slivers whose orientation rounding to double (writing the outputs) can flip, so that the
+// written pair crosses next to its curve. Each tow is therefore snapped once against all its
+// curves together (internal::snap_vertices_to_segments: vertices within snap_tol of a curve move
+// onto it), and then the curves of every pair with a moved tow are computed again on the moved
+// surfaces, so every curve is still the exact intersection of its two tows. The automatic
+// tolerance is tiny, 1e-10 x the smallest bounding-box diagonal among the tow and its neighbours:
+// below the default tolerance of `seam check` (1e-9 x the diagonal of the pair), so the outputs
+// pass it without --tol. Snapping by a larger tolerance, as seam::pair does by default for mesh
+// quality, is not done: moving a tow towards one neighbour's curve changes its intersections with
+// the others and would need more rounds (a larger snap_tol can be given; pass it to
+// `seam check --tol`).
 //
 // Determinism: every pair and every tow is computed by a task that owns its inputs (copies made
 // from exact values, see src/textile.cpp), and results are stored by index, so the output is the
@@ -42,11 +48,14 @@ struct TextileProgress {
   const char* stage = "";  ///< "pairs" or "tows"
   std::size_t done = 0, total = 0;
   double elapsed_seconds = 0;  ///< since textile() started
+  double stage_seconds = 0;    ///< since this stage started
 };
 
 struct TextileOptions {
   /// Options of the embedding into each tow: min_angle_deg, max_area, max_steiner_per_face are
-  /// used; snap_tol must be <= 0 (no snapping, see above); the others are set as seam::pair does.
+  /// used; snap_tol < 0 is the automatic tolerance above (exact kernel; 0 under the rounded
+  /// kernels, which do not cope with a vertex snapped onto another tow), 0 disables snapping,
+  /// > 0 is used as given; the others are set as seam::pair does.
   EmbedOptions embed;
   /// Worker threads (oneTBB task arena); 0: oneTBB's default (every core).
   int threads = 0;
@@ -83,7 +92,7 @@ struct TextileStats {
   std::size_t intersecting_pairs = 0;  ///< with curves
   std::size_t touching_pairs = 0;      ///< touching without crossing
   int threads = 0;                     ///< threads of the task arena
-  std::map<std::string, double> stage_seconds;  ///< prepare, boxes, pairs, tows, compare
+  std::map<std::string, double> stage_seconds;  ///< prepare, boxes, pairs, snap, triples, tows, compare
 };
 
 template <class K> struct TextileResult {
@@ -97,7 +106,7 @@ template <class K> struct TextileResult {
 /// Makes every pair of `meshes` that interpenetrates conforming along its intersection curves
 /// (the meshes are modified in place). `names` (one per mesh) are used in messages.
 /// \pre every mesh is a valid triangle mesh without self-intersections (seam::validate_triangle_mesh).
-/// Throws InvalidInput (sizes differ, snap_tol > 0, a triple overlap naming the three tows, bad
+/// Throws InvalidInput (sizes differ, a triple overlap naming the three tows, bad
 /// options) or InternalError. On a throw the meshes may have been modified.
 template <class K>
 TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::string>& names,
