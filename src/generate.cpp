@@ -200,6 +200,10 @@ std::vector<NamedTow> make_weave(const WeaveOptions& o) {
   const double a = o.half_height - o.overlap / 2;  // |height| of a tow's path at its crossings
   const auto weft_over = [&](int i, int j) { return (i + j) % (o.over + o.under) < o.over; };
   std::vector<NamedTow> tows;
+  // Vertices per ring: 2 mod 4, so that no vertex line runs along the top or bottom of a tow
+  // (phi = pi/2, 3 pi/2), where the crossing tow's rings would meet it edge on edge within
+  // rounding (the rotation by pi/2 is not exact): curve points 1e-16 apart.
+  const auto two_mod_four = [](int n) { return n + ((6 - n % 4) % 4); };
   auto base = [&](int crossings) {
     TowOptions t;
     t.length = crossings * o.spacing;
@@ -208,7 +212,7 @@ std::vector<NamedTow> make_weave(const WeaveOptions& o) {
     t.section = o.section;
     t.heights_spacing = o.spacing;
     t.segments_along = crossings * o.segments_per_crossing;
-    t.segments_around = o.segments_around;
+    t.segments_around = two_mod_four(o.segments_around);
     return t;
   };
   for (int j = 0; j < o.wefts; ++j) {
@@ -220,7 +224,7 @@ std::vector<NamedTow> make_weave(const WeaveOptions& o) {
   for (int i = 0; i < o.warps; ++i) {
     TowOptions t = base(o.wefts);
     t.segments_along += 1;  // a different resolution: the two meshes' vertices do not line up
-    t.segments_around += 2;
+    t.segments_around = two_mod_four(o.segments_around) + 4;
     for (int j = 0; j < o.wefts; ++j) t.heights.push_back(weft_over(i, j) ? -a : a);
     t.rotate_z = two_pi / 4;  // along +y
     t.translate = {(i + 0.5) * o.spacing, 0.0, 0.0};

@@ -141,6 +141,26 @@ TEST_CASE("textile: a 2/1 twill of 3x3 tows conforms at every crossing", "[texti
   CHECK(r.pairs.size() == 9);
 }
 
+TEST_CASE("textile: snapping each tow onto all its curves, then computing them again, conforms", "[textile]") {
+  const Cell cell = weave(small_weave(2, 2));
+  const auto inputs = cell.meshes<K>();
+  auto meshes = inputs;
+  seam::TextileOptions options;
+  options.embed.snap_tol = 0.02;  // about 0.15 x the mean edge length
+  const auto r = seam::textile<K>(meshes, cell.names, options);
+  std::size_t snapped = 0;
+  for (const auto& t : r.tows) snapped += t.vertices_snapped;
+  CHECK(snapped > 0);
+  CHECK(r.stats.intersecting_pairs == 4);
+  for (const auto& p : r.pairs) {
+    const auto report = seam::check_pair<K>(inputs[p.stats.a], inputs[p.stats.b], meshes[p.stats.a],
+                                            meshes[p.stats.b], p.curves, 0.02 + 1e-12);
+    for (const auto& problem : report.problems) UNSCOPED_INFO(problem);
+    CHECK(report.ok());
+    CHECK(report.max_distance_a > 0);  // the surfaces did move
+  }
+}
+
 TEST_CASE("textile: tows that do not touch give no pair and unchanged meshes", "[textile]") {
   seam::WeaveOptions o = small_weave(2, 2);
   o.overlap = -0.02;  // a gap at every crossing: the boxes overlap, the surfaces do not meet

@@ -83,7 +83,10 @@ struct WeaveOptions {
   double overlap = 0.03;       ///< interpenetration depth at each crossing
   Section section = Section::elliptical;
   int segments_per_crossing = 12;  ///< wefts: segments along per spacing; warps get one more
-  int segments_around = 16;        ///< wefts: vertices per ring; warps get two more
+  /// Wefts: vertices per ring, raised to the next value equal to 2 mod 4 (no vertex line along a
+  /// tow's top or bottom, where the crossing tow's rings would nearly meet it); warps: the
+  /// weft count + 4 (so 16 gives 18 and 22).
+  int segments_around = 16;
 };
 
 /// One generated tow of a unit cell, with its name ("weft0", ..., "warp0", ...).
