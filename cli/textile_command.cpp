@@ -218,7 +218,8 @@ int run_textile(TextileArgs& args) {
                                 {"curve_vertices", s.curve_vertices},
                                 {"touching_only", s.touching_only},
                                 {"quality", {{"a", quality(s.quality_a)}, {"b", quality(s.quality_b)}}},
-                                {"intersect_seconds", s.intersect_seconds}};
+                                {"intersect_seconds", s.intersect_seconds},
+                                {"copy_seconds", s.copy_seconds}};
             e["polylines"] = s.curves > 0 ? nlohmann::json(curves_out(s.a, s.b)) : nlohmann::json(nullptr);
             pairs.push_back(e);
           }

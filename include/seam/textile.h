@@ -76,7 +76,8 @@ struct TextilePairStats {
   /// The surfaces touch without crossing: no curves (nothing is embedded for this pair).
   bool touching_only = false;
   CurveFaceQuality quality_a, quality_b;
-  double intersect_seconds = 0;
+  double intersect_seconds = 0;  ///< the pair's task: copies of both tows and their intersection
+  double copy_seconds = 0;       ///< of which making the task's own copies of both tows
 };
 
 template <class K> struct TextilePair {
