@@ -4,8 +4,8 @@
 // Input (generated once, outside every timed region): seam::make_weave with 4 warps and 4 wefts
 // (the default proportions: spacing 2, half width 0.6, half height 0.15, overlap 0.03),
 // `--textile_resolution=R` segments per crossing along the wefts (default 122) and R/2 + 3
-// around (64 for the default); warps get one more segment per tow along and two more around.
-// With the defaults: 4 x 62,592 + 4 x 64,680 = 509,088 faces, 16 crossings. Written as OFF files
+// around (make_weave raises it to 66 and 70 for the warps); warps get one more segment per tow
+// along. With the defaults: 532,592 faces in all, 16 crossings. Written as OFF files
 // to a temporary directory (removed at exit).
 //
 // Each run does what the command line does, from files to files, under the exact kernel:
@@ -16,8 +16,12 @@
 //                       seam::pair<Exact>, write both meshes and the curves (what 16 runs of
 //                       `seam pair` do). S = default: seam pair's default snapping (0.1 x mean edge
 //                       length; better faces, more intersection rounds); S = 0: --snap-tol 0.
+//   calibration/threads:T  a fixed amount of perfectly parallel arithmetic on T threads: the
+//                       machine is shared, and its ratio (1 thread / 2 threads) says how much of
+//                       a second core was free at the time (2: all of it).
 // One iteration per run, wall-clock (manual) time. After the runs the ratios are printed:
-// pairs/textile for both pair variants, and textile 1 thread / 2 threads.
+// pairs/textile for both pair variants, textile 1 thread / 2 threads, and the calibration's.
+// `--benchmark_filter=textile` runs only textile (pairs/snap:default takes about 40 s).
 //
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/generate.h>
@@ -153,6 +157,25 @@ void BM_pairs(benchmark::State& state) {
   }
 }
 
+/// The machine's parallel capacity at the time of the run (it is shared): the same fixed,
+/// perfectly parallel CPU work (independent loops, no memory traffic) on 1 and on 2 threads.
+void BM_calibration(benchmark::State& state) {
+  const int threads = int(state.range(0));
+  for (auto _ : state) {
+    const auto t0 = Clock::now();
+    tbb::task_arena arena(threads);
+    std::vector<double> sums(16, 0.0);
+    parallel(arena, sums.size(), [&](std::size_t i) {
+      volatile double x = 0;
+      for (long k = 0; k < 30000000; ++k) x = x + 1e-9;
+      sums[i] = x;
+    });
+    const double total = seconds_since(t0);
+    state.SetIterationTime(total);
+    seconds["calibration/threads:" + std::to_string(threads)] = total;
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -171,6 +194,8 @@ int main(int argc, char** argv) {
   int status = 0;
   try {
     prepare();
+    benchmark::RegisterBenchmark("calibration/threads:1", BM_calibration)->Arg(1)->Iterations(1)->UseManualTime()->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark("calibration/threads:2", BM_calibration)->Arg(2)->Iterations(1)->UseManualTime()->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark("textile/threads:1", BM_textile)->Arg(1)->Iterations(1)->UseManualTime()->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark("textile/threads:2", BM_textile)->Arg(2)->Iterations(1)->UseManualTime()->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark("pairs/snap:0", BM_pairs)->Arg(0)->Iterations(1)->UseManualTime()->Unit(benchmark::kMillisecond);
@@ -184,6 +209,10 @@ int main(int argc, char** argv) {
     };
     const double t1 = at("textile/threads:1"), t2 = at("textile/threads:2"), p0 = at("pairs/snap:0"),
                  pd = at("pairs/snap:default");
+    const double c1 = at("calibration/threads:1"), c2 = at("calibration/threads:2");
+    if (c1 > 0 && c2 > 0)
+      std::cerr << "calibration (perfectly parallel loops), 1 thread / 2 threads: " << c1 / c2
+                << " (2 would mean two free cores)\n";
     if (t1 > 0 && t2 > 0) std::cerr << "textile, 1 thread / 2 threads: " << t1 / t2 << "\n";
     if (t1 > 0 && p0 > 0) std::cerr << "16 x pair --snap-tol 0 / textile (1 thread): " << p0 / t1 << "\n";
     if (t1 > 0 && pd > 0) std::cerr << "16 x pair (default snapping) / textile (1 thread): " << pd / t1 << "\n";
