@@ -16,12 +16,14 @@
 //                       seam::pair<Exact>, write both meshes and the curves (what 16 runs of
 //                       `seam pair` do). S = default: seam pair's default snapping (0.1 x mean edge
 //                       length; better faces, more intersection rounds); S = 0: --snap-tol 0.
+// Counter cpu_all_threads_s: CPU time of every thread of the process during the run (how much
+// work the threads did, against how long it took).
 //   calibration/threads:T  a fixed amount of perfectly parallel arithmetic on T threads: the
 //                       machine is shared, and its ratio (1 thread / 2 threads) says how much of
 //                       a second core was free at the time (2: all of it).
 // One iteration per run, wall-clock (manual) time. After the runs the ratios are printed:
 // pairs/textile for both pair variants, textile 1 thread / 2 threads, and the calibration's.
-// `--benchmark_filter=textile` runs only textile (pairs/snap:default takes about 40 s).
+// `--benchmark_filter='calib|textile'` skips the pair runs (pairs/snap:default takes 40 s or more).
 //
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/generate.h>
@@ -44,6 +46,7 @@
 #include <string>
 #include <vector>
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 namespace {
@@ -51,6 +54,13 @@ namespace {
 using K = seam::Exact;
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+/// CPU time (user + system) of the whole process so far, every thread.
+double process_cpu_seconds() {
+  rusage u{};
+  ::getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
 
 int resolution = 122;
 std::filesystem::path dir;
@@ -90,6 +100,7 @@ void BM_textile(benchmark::State& state) {
   std::filesystem::create_directories(out);
   for (auto _ : state) {
     const auto t0 = Clock::now();
+    const double cpu0 = process_cpu_seconds();
     tbb::task_arena arena(threads);
     std::vector<seam::Mesh<K>> meshes(files.size());
     parallel(arena, files.size(), [&](std::size_t i) {
@@ -114,8 +125,11 @@ void BM_textile(benchmark::State& state) {
     });
     const double write = seconds_since(t1);
     const double total = seconds_since(t0);
+    const double cpu = process_cpu_seconds() - cpu0;
     state.SetIterationTime(total);
     seconds["textile/threads:" + std::to_string(threads)] = total;
+    seconds["textile_cpu/threads:" + std::to_string(threads)] = cpu;
+    state.counters["cpu_all_threads_s"] = cpu;
     state.counters["read_s"] = read;
     state.counters["write_s"] = write;
     for (const auto& [stage, s] : result.stats.stage_seconds) state.counters[stage + "_s"] = s;
@@ -214,6 +228,10 @@ int main(int argc, char** argv) {
       std::cerr << "calibration (perfectly parallel loops), 1 thread / 2 threads: " << c1 / c2
                 << " (2 would mean two free cores)\n";
     if (t1 > 0 && t2 > 0) std::cerr << "textile, 1 thread / 2 threads: " << t1 / t2 << "\n";
+    const double u1 = at("textile_cpu/threads:1"), u2 = at("textile_cpu/threads:2");
+    if (t2 > 0 && u2 > 0)
+      std::cerr << "textile, 2 threads: CPU time of all threads " << u2 << " s in " << t2 << " s (" << u2 / t2
+                << " cores busy on average); 1 thread: " << u1 << " s CPU\n";
     if (t1 > 0 && p0 > 0) std::cerr << "16 x pair --snap-tol 0 / textile (1 thread): " << p0 / t1 << "\n";
     if (t1 > 0 && pd > 0) std::cerr << "16 x pair (default snapping) / textile (1 thread): " << pd / t1 << "\n";
     if (t2 > 0 && pd > 0) std::cerr << "16 x pair (default snapping) / textile (2 threads): " << pd / t2 << "\n";
