@@ -233,11 +233,13 @@ int run_textile(TextileArgs& args) {
       if (created_dir) fs::remove(dir, ec);  // only if empty
       throw;
     }
-    std::size_t curves = 0;
+    std::size_t curves = 0, snapped = 0;
     for (const auto& p : result.pairs) curves += p.stats.curves;
+    for (const auto& t : result.tows) snapped += t.vertices_snapped;
     std::cout << "seam textile: " << meshes.size() << " tows, " << st.candidate_pairs << " candidate pairs, "
               << st.intersecting_pairs << " intersecting (" << curves << " curves), " << st.touching_pairs
-              << " touching only; " << st.threads << " threads; outputs in " << args.out_dir << "\n";
+              << " touching only; " << snapped << " vertices snapped; " << st.threads
+              << (st.threads == 1 ? " thread" : " threads") << "; outputs in " << args.out_dir << "\n";
     return 0;
   });
 }
