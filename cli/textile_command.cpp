@@ -198,6 +198,7 @@ int run_textile(TextileArgs& args) {
           j["candidate_pairs"] = st.candidate_pairs;
           j["intersecting_pairs"] = st.intersecting_pairs;
           j["touching_pairs"] = st.touching_pairs;
+          j["triple_points"] = st.triple_points;
           nlohmann::json tows = nlohmann::json::array();
           for (std::size_t i = 0; i < meshes.size(); ++i)
             tows.push_back({{"name", names[i]}, {"file", inputs[i]}, {"out", mesh_out(i)}, {"embed", stats_json(result.tows[i])}});

@@ -6,7 +6,9 @@
 #include <seam/textile.h>
 
 #include <CGAL/Gmpq.h>
+#include <CGAL/boost/graph/Euler_operations.h>
 #include <CGAL/box_intersection_d.h>
+#include <CGAL/intersections.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -233,6 +235,95 @@ void for_each_index(tbb::task_arena& arena, std::size_t n, Body&& body, Done&& d
     if (e) std::rethrow_exception(e);
 }
 
+/// Which input face each face of a tow comes from once faces were cut at triple points (embed's
+/// source_face_property then refers to the cut mesh and is mapped back, as seam::pair does after
+/// edge snapping).
+struct Provenance {
+  std::vector<std::uint32_t> origin;    ///< input face, by face of the cut mesh (empty: nothing cut)
+  std::vector<char> reshaped;           ///< cut (its faces count as new)
+  std::vector<double> input_min_angle;  ///< by input face
+  template <class K> void start(const Mesh<K>& m) {
+    if (!origin.empty()) return;
+    for (auto f : m.faces()) {
+      const auto h = m.halfedge(f);
+      input_min_angle.push_back(min_angle_deg(to_filtered(m.point(m.source(h))), to_filtered(m.point(m.target(h))),
+                                              to_filtered(m.point(m.target(m.next(h))))));
+      origin.push_back(std::uint32_t(std::size_t(f)));
+    }
+    reshaped.assign(origin.size(), 0);
+  }
+  /// Faces from index `first` on were cut from face `from`.
+  void added(std::size_t first, std::size_t count, std::size_t from) {
+    origin.resize(count, 0);
+    reshaped.resize(count, 0);
+    for (std::size_t f = first; f < count; ++f) origin[f] = origin[from], reshaped[f] = 1;
+    reshaped[from] = 1;
+  }
+  template <class K> void apply(Mesh<K>& out, EmbedStats& st) const {
+    auto source = out.template property_map<typename Mesh<K>::Face_index, std::uint32_t>(source_face_property).first;
+    auto is_new = out.template property_map<typename Mesh<K>::Face_index, bool>(new_face_property).first;
+    for (auto f : out.faces()) {
+      const std::size_t s = source[f];
+      if (s < reshaped.size() && reshaped[s]) is_new[f] = true;
+      if (s < origin.size()) source[f] = origin[s];
+    }
+    const auto q = new_face_quality<K>(out, &input_min_angle);
+    st.min_angle_deg_new = q.min_angle_deg;
+    st.new_faces_below_10 = q.below_10;
+    st.new_faces_below_20 = q.below_20;
+    st.new_faces_below_10_unforced = q.below_10_unforced;
+    st.faces_added = q.new_faces;
+  }
+};
+
+/// Whether `p` is (exactly) the point of a vertex of `m`.
+template <class K> bool is_vertex(const Mesh<K>& m, const typename K::Point_3& p) {
+  const CGAL::Bbox_3 box = p.bbox();
+  for (auto v : m.vertices())
+    if (CGAL::do_overlap(m.point(v).bbox(), box) && m.point(v) == p) return true;
+  return false;
+}
+
+/// Makes `p`, a point of the surface of `m`, a vertex of it: the face holding it is cut in three,
+/// or the two faces at the edge holding it in two each (exact tests; the surface is unchanged).
+/// Returns false when `p` is a vertex already or lies on no face.
+template <class K> bool insert_vertex(Mesh<K>& m, const typename K::Point_3& p, Provenance& prov) {
+  using F = typename Mesh<K>::Face_index;
+  const CGAL::Bbox_3 box = p.bbox();
+  for (F f : m.faces()) {
+    const auto h = m.halfedge(f);
+    const auto &a = m.point(m.source(h)), &b = m.point(m.target(h)), &c = m.point(m.target(m.next(h)));
+    if (!CGAL::do_overlap(a.bbox() + b.bbox() + c.bbox(), box)) continue;
+    if (!typename K::Triangle_3(a, b, c).has_on(p)) continue;
+    if (p == a || p == b || p == c) return false;
+    prov.start<K>(m);
+    // On an edge of f?
+    for (auto e : CGAL::halfedges_around_face(h, m)) {
+      const auto &s = m.point(m.source(e)), &t = m.point(m.target(e));
+      if (!CGAL::collinear(s, t, p)) continue;
+      const F f2 = m.face(m.opposite(e));
+      const auto hnew = CGAL::Euler::split_edge(e, m);  // hnew: source -> new vertex, then e
+      m.point(m.target(hnew)) = p;
+      std::size_t n = m.number_of_faces();
+      CGAL::Euler::split_face(hnew, m.next(e), m);
+      prov.added(n, m.number_of_faces(), std::size_t(f));
+      if (f2 != Mesh<K>::null_face()) {
+        const auto o = m.opposite(e);  // target -> new vertex, then opposite(hnew)
+        n = m.number_of_faces();
+        CGAL::Euler::split_face(o, m.next(m.opposite(hnew)), m);
+        prov.added(n, m.number_of_faces(), std::size_t(f2));
+      }
+      return true;
+    }
+    const std::size_t n = m.number_of_faces();
+    const auto hc = CGAL::Euler::add_center_vertex(h, m);
+    m.point(m.target(hc)) = p;
+    prov.added(n, m.number_of_faces(), std::size_t(f));
+    return true;
+  }
+  return false;
+}
+
 template <class K> struct PairWork {
   std::size_t a = 0, b = 0;
   std::vector<Polyline<K>> for_a, for_b;  ///< the curves, one copy per consuming tow
@@ -358,6 +449,7 @@ TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::st
   t = Clock::now();
   std::vector<double> snap_tol(meshes.size(), 0.0);
   std::vector<std::size_t> snapped(meshes.size(), 0), snaps_refused(meshes.size(), 0);
+  std::vector<Provenance> provenance(meshes.size());  // of the faces cut at triple points
   // Rounded kernels: no automatic snapping (a snapped vertex lies exactly on the other tow, a
   // degeneracy only the exact kernel copes with; their curve points are doubles already).
   const bool snap = options.embed.snap_tol > 0 || (options.embed.snap_tol < 0 && kernel_traits<K>::exact_constructions);
@@ -397,55 +489,109 @@ TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::st
   }
   st.stage_seconds["snap"] = seconds_since(t);
 
-  // ---- triple overlaps: on each tow, the curves of two different neighbours must not meet
+  // ---- triple overlaps: where the curves of two neighbours meet on a tow, three tows overlap in
+  // one place. Under the exact kernel the meeting point becomes a vertex of all three tows (it lies
+  // exactly on the three surfaces, so inserting it changes no surface), and their curves are then
+  // computed again: they all pass through that vertex, which every embedding shares. Otherwise, or
+  // when the curves overlap along a segment, the run stops naming the three tows.
   t = Clock::now();
-  std::vector<std::array<std::size_t, 3>> triple(meshes.size(), {0, 0, 0});  // pair p, pair q, 1 if found
-  std::vector<Point> triple_at(meshes.size());
-  for_each_index(
-      arena, meshes.size(),
-      [&](std::size_t tow) {
-        if (pairs_of[tow].size() < 2) return;
-        struct Seg {
-          std::size_t pair;
-          const Point *p, *q;
-        };
-        std::vector<Seg> segs;
-        for (std::size_t p : pairs_of[tow])
-          for (const auto& c : curves_for(p, tow))
-            for (std::size_t i = 0; i + 1 < c.size(); ++i) segs.push_back({p, &c[i], &c[i + 1]});
-        std::vector<Box> sboxes;
-        sboxes.reserve(segs.size());
-        for (std::size_t s = 0; s < segs.size(); ++s) sboxes.emplace_back(segs[s].p->bbox() + segs[s].q->bbox(), s);
-        std::pair<std::size_t, std::size_t> first{std::numeric_limits<std::size_t>::max(), 0};
-        CGAL::box_self_intersection_d(sboxes.begin(), sboxes.end(), [&](const Box& x, const Box& y) {
-          const Seg &u = segs[x.info()], &v = segs[y.info()];
-          if (u.pair == v.pair) return;
-          const std::pair<std::size_t, std::size_t> key{std::min(x.info(), y.info()), std::max(x.info(), y.info())};
-          if (!(key < first)) return;
-          if (CGAL::do_intersect(typename K::Segment_3(*u.p, *u.q), typename K::Segment_3(*v.p, *v.q))) first = key;
-        });
-        if (first.first == std::numeric_limits<std::size_t>::max()) return;
-        const Seg &u = segs[first.first], &v = segs[first.second];
-        triple[tow] = {std::min(u.pair, v.pair), std::max(u.pair, v.pair), 1};
-        triple_at[tow] = *u.p;
-      },
-      [](std::size_t) {});
-  for (std::size_t tow = 0; tow < meshes.size(); ++tow) {
-    if (!triple[tow][2]) continue;
-    const auto& pa = work[triple[tow][0]];
-    const auto& pb = work[triple[tow][1]];
-    const std::size_t j = pa.a == tow ? pa.b : pa.a, k = pb.a == tow ? pb.b : pb.a;
+  struct Meeting {
+    bool found = false, point = false;
+    std::size_t p = 0, q = 0;  // the two pairs whose curves meet
+    Point at;
+  };
+  auto other = [&](std::size_t p, std::size_t tow) { return work[p].a == tow ? work[p].b : work[p].a; };
+  auto refuse = [&](std::size_t tow, const Meeting& m, const char* why) {
+    const std::size_t j = other(m.p, tow), k = other(m.q, tow);
     std::set<std::size_t> three{tow, j, k};
     std::ostringstream msg;
     msg << "tows";
     std::size_t n = 0;
     for (std::size_t x : three) msg << (n++ == 0 ? " " : n == 3 ? " and " : ", ") << quoted(names[x]);
-    const auto at = to_filtered(triple_at[tow]);
+    const auto at = to_filtered(m.at);
     msg << " overlap in one place (triple overlap): the curves of " << quoted(names[tow]) << " with "
         << quoted(names[j]) << " and with " << quoted(names[k]) << " meet on " << quoted(names[tow]) << " near ("
-        << at.x() << ", " << at.y() << ", " << at.z()
-        << "); seam textile cannot make such a meeting point conforming yet: separate the tows there";
+        << at.x() << ", " << at.y() << ", " << at.z() << "); " << why;
     throw InvalidInput(msg.str());
+  };
+  for (int round = 0;; ++round) {
+    std::vector<std::vector<Meeting>> meetings(meshes.size());
+    for_each_index(
+        arena, meshes.size(),
+        [&](std::size_t tow) {
+          if (pairs_of[tow].size() < 2) return;
+          struct Seg {
+            std::size_t pair;
+            const Point *p, *q;
+          };
+          std::vector<Seg> segs;
+          for (std::size_t p : pairs_of[tow])
+            for (const auto& c : curves_for(p, tow))
+              for (std::size_t i = 0; i + 1 < c.size(); ++i) segs.push_back({p, &c[i], &c[i + 1]});
+          std::vector<Box> sboxes;
+          sboxes.reserve(segs.size());
+          for (std::size_t s = 0; s < segs.size(); ++s) sboxes.emplace_back(segs[s].p->bbox() + segs[s].q->bbox(), s);
+          std::vector<std::pair<std::size_t, std::size_t>> hits;
+          CGAL::box_self_intersection_d(sboxes.begin(), sboxes.end(), [&](const Box& x, const Box& y) {
+            const Seg &u = segs[x.info()], &v = segs[y.info()];
+            if (u.pair == v.pair) return;
+            if (!CGAL::do_intersect(typename K::Segment_3(*u.p, *u.q), typename K::Segment_3(*v.p, *v.q))) return;
+            // Allowed: two curves through a common end point that is a vertex of this tow (a
+            // triple point made a vertex below), not overlapping.
+            const Point* common = *u.p == *v.p || *u.p == *v.q ? u.p : *u.q == *v.p || *u.q == *v.q ? u.q : nullptr;
+            if (common && !(CGAL::collinear(*u.p, *u.q, *v.p) && CGAL::collinear(*u.p, *u.q, *v.q)) &&
+                is_vertex<K>(meshes[tow], *common))
+              return;
+            hits.emplace_back(std::min(x.info(), y.info()), std::max(x.info(), y.info()));
+          });
+          std::sort(hits.begin(), hits.end());  // deterministic, whatever the order found
+          for (const auto& [x, y] : hits) {
+            const Seg &u = segs[x], &v = segs[y];
+            Meeting m;
+            m.found = true;
+            m.p = std::min(u.pair, v.pair);
+            m.q = std::max(u.pair, v.pair);
+            m.at = *u.p;
+            const auto i = CGAL::intersection(typename K::Segment_3(*u.p, *u.q), typename K::Segment_3(*v.p, *v.q));
+            if (i)
+              if (const Point* point = boost::get<Point>(&*i)) {
+                m.point = true;
+                m.at = detached<K>(*point);
+              }
+            meetings[tow].push_back(m);
+            if (!m.point) break;  // refused below
+          }
+        },
+        [](std::size_t) {});
+    std::vector<char> modified(meshes.size(), 0);
+    bool any = false;
+    for (std::size_t tow = 0; tow < meshes.size(); ++tow)
+      for (const Meeting& m : meetings[tow]) {
+        any = true;
+        if (!kernel_traits<K>::exact_constructions)
+          refuse(tow, m, "only the exact kernel makes such a point a vertex of the three tows: use --kernel exact");
+        if (!m.point) refuse(tow, m, "the curves overlap along a segment there: seam textile cannot embed that");
+        if (round >= 4) refuse(tow, m, "making the meeting points vertices of the three tows did not end");
+        bool inserted = false, known = false;
+        for (std::size_t x : {tow, other(m.p, tow), other(m.q, tow)}) {
+          const auto point = detached<K>(m.at);
+          if (insert_vertex<K>(meshes[x], point, provenance[x])) {
+            modified[x] = inserted = true;
+          } else {
+            known = known || modified[x];  // made a vertex in this round already (seen from another tow)
+          }
+        }
+        if (!inserted && !known) refuse(tow, m, "seam textile could not make that point a vertex of the three tows");
+        if (inserted) ++st.triple_points;
+      }
+    if (!any) break;
+    std::vector<std::size_t> again;
+    for (std::size_t tow = 0; tow < meshes.size(); ++tow)
+      if (modified[tow]) frozen[tow] = freeze<K>(meshes[tow]);
+    for (std::size_t p = 0; p < candidates.size(); ++p)
+      if (modified[candidates[p].first] || modified[candidates[p].second]) again.push_back(p);
+    compute_pairs(again, "pairs (triple points)");
+    find_pairs_of();
   }
   st.stage_seconds["triples"] = seconds_since(t);
 
@@ -470,7 +616,20 @@ TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::st
         }
         first_curve.push_back(curves.size());
         Mesh<K>& mesh = meshes[tow];
-        EmbedResult<K> r = embed<K>(mesh, curves, eo);
+        EmbedResult<K> r;
+        try {
+          r = embed<K>(mesh, curves, eo);
+        } catch (const InvalidInput& e) {
+          throw InvalidInput("tow " + quoted(names[tow]) + ": " + e.what());
+        } catch (const InternalError& e) {
+          // Under a rounded kernel, curves of two neighbours that meet within rounding are not
+          // detected above and make the re-triangulation fail here.
+          throw InternalError("tow " + quoted(names[tow]) + ": " + e.what() +
+                              (pairs_of[tow].size() > 1 && !kernel_traits<K>::exact_constructions
+                                   ? " (the curves of two neighbours may meet: use --kernel exact)"
+                                   : ""));
+        }
+        if (!provenance[tow].origin.empty()) provenance[tow].apply<K>(mesh, r.stats);
         if (r.curves.size() != curves.size() || r.curve_vertices.size() != curves.size())
           throw InternalError("textile: " + names[tow] + ": the embedding returned a different number of curves");
         for (auto& c : r.curves)

@@ -204,9 +204,9 @@ TEST_CASE("textile: results are identical for 1 and 2 threads", "[textile]") {
   }
 }
 
-TEST_CASE("textile: three tows overlapping in one place are refused, naming them", "[textile]") {
-  // A straight tow along x, and two along y side by side that overlap each other and both dip into
-  // the first: on its top the curves with the two meet.
+/// A straight tow along x, and two along y side by side that overlap each other and both dip into
+/// the first: on its top the curves with the two meet, at points on all three surfaces.
+Cell triple_cell() {
   seam::TowOptions a;
   a.length = 4;
   a.crimp_amplitude = 0;
@@ -224,14 +224,46 @@ TEST_CASE("textile: three tows overlapping in one place are refused, naming them
   Cell cell;
   cell.names = {"A", "B", "C"};
   for (const auto& t : {a, b, c}) cell.soups.push_back(seam::make_tow(t));
-  auto meshes = cell.meshes<K>();
+  return cell;
+}
+
+TEST_CASE("textile: where three tows overlap, the meeting point is a vertex of all three", "[textile]") {
+  const Cell cell = triple_cell();
+  std::vector<Mesh> out;
+  const auto r = run_and_check(cell, 2, &out);  // every pair conforms
+  CHECK(r.stats.intersecting_pairs == 3);
+  CHECK(r.stats.triple_points >= 2);  // two meetings at least on the top of A (B and C overlap)
+  // Points of the curves of A with B that are curve points of A with C too: vertices of all three.
+  std::set<seam::Point3d> ab, ac, bc;
+  for (const auto& p : r.pairs) {
+    auto& s = p.stats.a == 0 && p.stats.b == 1 ? ab : p.stats.a == 0 ? ac : bc;
+    for (const auto& c : seam::to_doubles<K>(p.curves)) s.insert(c.begin(), c.end());
+  }
+  std::size_t shared = 0;
+  for (const auto& x : ab)
+    if (ac.count(x)) {
+      ++shared;
+      CHECK(bc.count(x) == 1);
+      for (const auto& m : out) {
+        const auto soup = seam::soup_from_mesh<K>(m);
+        CHECK(std::count(soup.points.begin(), soup.points.end(), x) == 1);
+      }
+    }
+  CHECK(shared == r.stats.triple_points);
+}
+
+TEST_CASE("textile: under a rounded kernel a triple overlap stops the run, naming a tow", "[textile]") {
+  // Rounded curve points of two neighbours meet within rounding: refused when the segments are
+  // seen to meet, otherwise the re-triangulation of the tow fails; never a broken mesh.
+  const Cell cell = triple_cell();
+  auto meshes = cell.meshes<seam::Filtered>();
   try {
-    seam::textile<K>(meshes, cell.names, {});
+    seam::textile<seam::Filtered>(meshes, cell.names, {});
     FAIL("no exception");
-  } catch (const seam::InvalidInput& e) {
+  } catch (const seam::Error& e) {
     const std::string what = e.what();
-    CHECK_THAT(what, Catch::Contains("'A', 'B' and 'C'"));
-    CHECK_THAT(what, Catch::Contains("triple overlap"));
+    CHECK_THAT(what, Catch::Contains("triple overlap") || Catch::Contains("use --kernel exact"));
+    CHECK_THAT(what, Catch::Contains("'A'") || Catch::Contains("'B'") || Catch::Contains("'C'"));
   }
 }
 

@@ -5,9 +5,13 @@
 //      seam::intersection_curves computes them for `seam pair` (touching-only contact dropped,
 //      flat contact reduced to its boundary). A candidate with no curve is no pair.
 //   3. Triple overlaps: where the curves of tow A with B and of A with C meet on A, the three tows
-//      overlap in one place. Embedding both would split a curve on A at a point that B (or C)
-//      does not have, so the outputs would not conform: the run stops with InvalidInput naming
-//      the three tows (no output is produced). Shared triple points are not supported yet.
+//      overlap in one place, and the meeting point lies exactly on the three surfaces. Under the
+//      exact kernel it is made a vertex of all three tows (the face or edge holding it is cut;
+//      the surfaces are unchanged) and the curves of their pairs are computed again: they then
+//      all pass through that common vertex, where the embeddings meet. Under the rounded kernels,
+//      or where two curves overlap along a segment, the run stops with InvalidInput naming the
+//      three tows (no output is produced); curves of a rounded kernel that meet within rounding
+//      can also go unseen and stop the embedding of the tow with an InternalError naming it.
 //   4. Tows (concurrently): each tow receives every curve that involves it in one seam::embed
 //      call (curve points kept at their own coordinates, as in seam::pair), so that for every
 //      pair both outputs share the pair's curves vertex for vertex and edge for edge.
@@ -92,6 +96,7 @@ struct TextileStats {
   std::size_t candidate_pairs = 0;     ///< bounding boxes overlap
   std::size_t intersecting_pairs = 0;  ///< with curves
   std::size_t touching_pairs = 0;      ///< touching without crossing
+  std::size_t triple_points = 0;       ///< points where three tows meet, made vertices of all three
   int threads = 0;                     ///< threads of the task arena
   std::map<std::string, double> stage_seconds;  ///< prepare, boxes, pairs, snap, triples, tows, compare
 };
@@ -107,7 +112,7 @@ template <class K> struct TextileResult {
 /// Makes every pair of `meshes` that interpenetrates conforming along its intersection curves
 /// (the meshes are modified in place). `names` (one per mesh) are used in messages.
 /// \pre every mesh is a valid triangle mesh without self-intersections (seam::validate_triangle_mesh).
-/// Throws InvalidInput (sizes differ, a triple overlap naming the three tows, bad
+/// Throws InvalidInput (sizes differ, a triple overlap that cannot be made a vertex, naming the three tows, bad
 /// options) or InternalError. On a throw the meshes may have been modified.
 template <class K>
 TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::string>& names,
