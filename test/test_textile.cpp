@@ -85,6 +85,34 @@ int run(const std::string& command) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+/// Writes meshes as one OFF with their common vertices merged (what a volume mesher is given).
+void write_merged(const std::vector<seam::TriangleSoup>& soups, const std::string& path) {
+  seam::TriangleSoup merged;
+  std::map<seam::Point3d, std::size_t> index;
+  for (const auto& s : soups) {
+    std::vector<std::size_t> map(s.points.size());
+    for (std::size_t i = 0; i < s.points.size(); ++i) {
+      auto [it, inserted] = index.try_emplace(s.points[i], merged.points.size());
+      if (inserted) merged.points.push_back(s.points[i]);
+      map[i] = it->second;
+    }
+    for (const auto& t : s.triangles) merged.triangles.push_back({map[t[0]], map[t[1]], map[t[2]]});
+  }
+  seam::write_triangle_mesh(merged, path);
+}
+
+/// `tetgen -d` on a surface: the number of intersecting face pairs it reports (0 for "No faces are
+/// intersecting."), or -1 when its output says neither.
+long tetgen_intersecting_pairs(const std::string& off, const seam_test::TempDir& dir) {
+  const std::string log = dir.file("tetgen.log");
+  run("cd '" + dir.path.string() + "' && tetgen -d '" + off + "' > '" + log + "' 2>&1");
+  const std::string text = seam_test::read_bytes(log);
+  if (text.find("No faces are intersecting.") != std::string::npos) return 0;
+  const auto at = text.find("!! Found ");
+  if (at == std::string::npos) return -1;
+  return std::strtol(text.c_str() + at + 9, nullptr, 10);
+}
+
 }  // namespace
 
 TEST_CASE("make_weave: a plain weave's tows pass over and under alternately", "[textile]") {
@@ -220,7 +248,8 @@ Cell triple_cell() {
   b.segments_around = 22;
   b.translate = {-0.3, -2, 0.4};
   seam::TowOptions c = b;
-  c.translate = {0.3, -2, 0.4};
+  c.length = 4.2;  // longer: its end caps do not lie in the plane of B's (a flat contact)
+  c.translate = {0.3, -2.1, 0.4};
   Cell cell;
   cell.names = {"A", "B", "C"};
   for (const auto& t : {a, b, c}) cell.soups.push_back(seam::make_tow(t));
@@ -250,6 +279,25 @@ TEST_CASE("textile: where three tows overlap, the meeting point is a vertex of a
       }
     }
   CHECK(shared == r.stats.triple_points);
+}
+
+TEST_CASE("textile: tetgen finds no intersecting faces in the whole cell once embedded", "[textile]") {
+  // All the output tows written as one surface (written to doubles and read back by TetGen), for
+  // a plain weave and for the three tows overlapping in one place.
+  for (const Cell& cell : {weave(small_weave(2, 2)), triple_cell()}) {
+    seam_test::TempDir dir("seam_test_textile_tetgen");
+    std::vector<Mesh> out;
+    run_and_check(cell, 2, &out);
+    std::vector<seam::TriangleSoup> soups;
+    for (const auto& m : out) soups.push_back(seam::soup_from_mesh<K>(m));
+    write_merged(cell.soups, dir.file("inputs.off"));
+    write_merged(soups, dir.file("outputs.off"));
+    const long before = tetgen_intersecting_pairs("inputs.off", dir);
+    const long after = tetgen_intersecting_pairs("outputs.off", dir);
+    INFO(seam_test::read_bytes(dir.file("tetgen.log")));
+    CHECK(before > 10);
+    CHECK(after == 0);
+  }
 }
 
 TEST_CASE("textile: under a rounded kernel a triple overlap stops the run, naming a tow", "[textile]") {
