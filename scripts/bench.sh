@@ -177,3 +177,8 @@ print("seam: %d curve(s), %d shared vertices; faces crossed %d (weft) + %d (warp
 sys.exit(1 if failed else 0)
 EOF
 fi
+# bench_textile (SEAM_BENCH="textile"): `seam textile` on a generated 4x4 plain weave (532,592
+# faces) with 1 and 2 threads, against 16 sequential `seam pair` runs; prints the ratios.
+if [[ " $benches " == *" textile "* ]]; then
+"$build_dir/benchmarks/bench_textile" --benchmark_out=out/bench_textile.json --benchmark_out_format=json
+fi

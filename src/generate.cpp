@@ -47,6 +47,9 @@ void validate(const TowOptions& o) {
   require(std::isfinite(o.crimp_amplitude), "crimp_amplitude must be finite");
   require(std::isfinite(o.crimp_wavelength) && o.crimp_wavelength > 0,
           "crimp_wavelength must be positive and finite");
+  require(o.heights.empty() || (std::isfinite(o.heights_spacing) && o.heights_spacing > 0),
+          "heights_spacing must be positive and finite");
+  for (double h : o.heights) require(std::isfinite(h), "heights must be finite");
   require(o.segments_along >= 1, "segments_along must be at least 1");
   require(o.segments_around >= 3, "segments_around must be at least 3");
   require(std::isfinite(o.rotate_z) && std::isfinite(o.rotate_x), "rotations must be finite");
@@ -69,11 +72,30 @@ std::array<double, 2> section_point(const TowOptions& o, double phi) {
 }
 
 /// The untransformed point of the tube at path parameter s with section coordinates (u, v).
+/// Height and slope of the path at s.
+std::array<double, 2> path_height(const TowOptions& o, double s) {
+  if (o.heights.empty()) {
+    const double k = two_pi / o.crimp_wavelength;
+    const double A = o.crimp_amplitude;
+    return {A * std::sin(k * s), A * k * std::cos(k * s)};
+  }
+  // Between the crossings k and k + 1 (at (k + 0.5) * spacing and (k + 1.5) * spacing).
+  const double d = o.heights_spacing;
+  const double x = s / d - 0.5;
+  const double k = std::floor(x), t = x - k;
+  const long n = static_cast<long>(o.heights.size());
+  const auto at = [&](double index) {
+    const long i = ((static_cast<long>(index) % n) + n) % n;
+    return o.heights[static_cast<std::size_t>(i)];
+  };
+  const double z0 = at(k), z1 = at(k + 1);
+  constexpr double pi = two_pi / 2;
+  return {z0 + (z1 - z0) * 0.5 * (1 - std::cos(pi * t)), (z1 - z0) * 0.5 * pi * std::sin(pi * t) / d};
+}
+
 Point3d tube_point(const TowOptions& o, double s, double u, double v) {
-  const double k = two_pi / o.crimp_wavelength;
-  const double A = o.crimp_amplitude;
-  const Point3d c = {s, 0.0, A * std::sin(k * s)};
-  const double dz = A * k * std::cos(k * s);
+  const auto [z, dz] = path_height(o, s);
+  const Point3d c = {s, 0.0, z};
   const double len = std::sqrt(1.0 + dz * dz);
   const Point3d T = {1.0 / len, 0.0, dz / len};
   const Point3d B = {0.0, 1.0, 0.0};
@@ -161,6 +183,55 @@ std::vector<Point3d> make_ring_curve(const TowOptions& options, double s_center,
   }
   curve.push_back(curve.front());
   return curve;
+}
+
+std::vector<NamedTow> make_weave(const WeaveOptions& o) {
+  const auto need = [](bool ok, const std::string& what) {
+    if (!ok) throw InvalidInput("weave options: " + what);
+  };
+  need(o.warps >= 1 && o.wefts >= 1, "warps and wefts must be at least 1");
+  need(o.over >= 1 && o.under >= 1, "over and under must be at least 1");
+  need(std::isfinite(o.spacing) && o.spacing > 0, "spacing must be positive and finite");
+  need(std::isfinite(o.overlap), "overlap must be finite");
+  need(std::isfinite(o.half_height) && o.half_height > 0 && std::fabs(o.overlap) < 2 * o.half_height,
+       "half_height must be positive and |overlap| < 2 half_height");
+  need(o.segments_per_crossing >= 1 && o.segments_around >= 3,
+       "segments_per_crossing must be at least 1 and segments_around at least 3");
+  const double a = o.half_height - o.overlap / 2;  // |height| of a tow's path at its crossings
+  const auto weft_over = [&](int i, int j) { return (i + j) % (o.over + o.under) < o.over; };
+  std::vector<NamedTow> tows;
+  // Vertices per ring: 2 mod 4, so that no vertex line runs along the top or bottom of a tow
+  // (phi = pi/2, 3 pi/2), where the crossing tow's rings would meet it edge on edge within
+  // rounding (the rotation by pi/2 is not exact): curve points 1e-16 apart.
+  const auto two_mod_four = [](int n) { return n + ((6 - n % 4) % 4); };
+  auto base = [&](int crossings) {
+    TowOptions t;
+    t.length = crossings * o.spacing;
+    t.half_width = o.half_width;
+    t.half_height = o.half_height;
+    t.section = o.section;
+    t.heights_spacing = o.spacing;
+    t.segments_along = crossings * o.segments_per_crossing;
+    t.segments_around = two_mod_four(o.segments_around);
+    return t;
+  };
+  for (int j = 0; j < o.wefts; ++j) {
+    TowOptions t = base(o.warps);
+    for (int i = 0; i < o.warps; ++i) t.heights.push_back(weft_over(i, j) ? a : -a);
+    t.translate = {0.0, (j + 0.5) * o.spacing, 0.0};
+    tows.push_back({"weft" + std::to_string(j), t});
+  }
+  for (int i = 0; i < o.warps; ++i) {
+    TowOptions t = base(o.wefts);
+    t.segments_along += 1;  // a different resolution: the two meshes' vertices do not line up
+    t.segments_around = two_mod_four(o.segments_around) + 4;
+    for (int j = 0; j < o.wefts; ++j) t.heights.push_back(weft_over(i, j) ? -a : a);
+    t.rotate_z = two_pi / 4;  // along +y
+    t.translate = {(i + 0.5) * o.spacing, 0.0, 0.0};
+    tows.push_back({"warp" + std::to_string(i), t});
+  }
+  for (const auto& t : tows) validate(t.options);
+  return tows;
 }
 
 }  // namespace seam

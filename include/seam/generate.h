@@ -10,6 +10,7 @@
 
 #include <seam/io.h>
 
+#include <string>
 #include <vector>
 
 namespace seam {
@@ -24,6 +25,13 @@ struct TowOptions {
   Section section = Section::elliptical;
   double crimp_amplitude = 0.3;    ///< z amplitude of the sinusoidal path
   double crimp_wavelength = 10.0;  ///< wavelength of the path
+  /// When not empty, replaces the sinusoid: the path's height is heights[k % n] at
+  /// s = (k + 0.5) * heights_spacing (k any integer, so the pattern repeats), with zero slope
+  /// there, and the cosine blend z0 + (z1 - z0) (1 - cos(pi t)) / 2 in between (a woven tow's
+  /// crimp: up over one crossing, down under the next). crimp_amplitude and crimp_wavelength are
+  /// then unused; heights_spacing must be positive.
+  std::vector<double> heights;
+  double heights_spacing = 1.0;
   int segments_along = 60;         ///< number of rings - 1 along the path
   int segments_around = 24;        ///< vertices per ring
   bool capped = true;              ///< close the ends with fan caps (the mesh is then closed)
@@ -53,5 +61,43 @@ Point3d tow_surface_point(const TowOptions& options, double s, double phi);
 /// Throws InvalidInput if samples < 3 or [s_center - |tilt|, s_center + |tilt|] leaves [0, length].
 std::vector<Point3d> make_ring_curve(const TowOptions& options, double s_center, double tilt,
                                      int samples);
+
+/// A woven unit cell (TexGen-like): `wefts` tows along x (weft j centred on y = (j + 0.5) *
+/// spacing) and `warps` tows along y (warp i centred on x = (i + 0.5) * spacing), each as long as
+/// the cell (warps * spacing, resp. wefts * spacing) and capped. At the crossing of warp i and
+/// weft j the weft passes over when (i + j) mod (over + under) < over, under otherwise: over =
+/// under = 1 is a plain weave, over = 2, under = 1 a 2/1 twill, 2 and 2 a 2/2 twill. Each tow is
+/// crimped (see TowOptions::heights) between the heights +-a at its crossings, a = half_height -
+/// overlap / 2, so that at every crossing the two tows interpenetrate by `overlap` (their
+/// vertical extents overlap by that much); overlap < 0 leaves a gap. This is the deepest
+/// interpenetration (the tows first meet at the centre of the crossing) only while the crimp
+/// bends less than the section: a pi^2 / spacing^2 < half_height / half_width^2 for elliptical
+/// sections (the defaults: 0.33 < 0.42); otherwise they also meet off centre. Parallel tows touch
+/// only when half_width >= spacing / 2.
+struct WeaveOptions {
+  int warps = 2, wefts = 2;    ///< N x M tows
+  int over = 1, under = 1;     ///< weave pattern (1, 1: plain weave)
+  double spacing = 2.0;        ///< distance between neighbouring parallel tows
+  double half_width = 0.6;     ///< section semi-axes (see TowOptions)
+  double half_height = 0.15;
+  double overlap = 0.03;       ///< interpenetration depth at each crossing
+  Section section = Section::elliptical;
+  int segments_per_crossing = 12;  ///< wefts: segments along per spacing; warps get one more
+  /// Wefts: vertices per ring, raised to the next value equal to 2 mod 4 (no vertex line along a
+  /// tow's top or bottom, where the crossing tow's rings would nearly meet it); warps: the
+  /// weft count + 4 (so 16 gives 18 and 22).
+  int segments_around = 16;
+};
+
+/// One generated tow of a unit cell, with its name ("weft0", ..., "warp0", ...).
+struct NamedTow {
+  std::string name;
+  TowOptions options;
+};
+
+/// The tows of the cell, wefts first (weft0, weft1, ...), then warps. Throws InvalidInput for
+/// invalid options (counts < 1, over or under < 1, non-positive or non-finite sizes,
+/// |overlap| >= 2 half_height).
+std::vector<NamedTow> make_weave(const WeaveOptions& options);
 
 }  // namespace seam

@@ -1,0 +1,121 @@
+// seam::textile: every interpenetration among N tows of a unit cell embedded at once, in parallel.
+//
+//   1. Candidates: CGAL::box_intersection_d on the tows' bounding boxes.
+//   2. Pairs (concurrently): the intersection curves of each candidate pair, exactly as
+//      seam::intersection_curves computes them for `seam pair` (touching-only contact dropped,
+//      flat contact reduced to its boundary). A candidate with no curve is no pair.
+//   3. Triple overlaps: where the curves of tow A with B and of A with C meet on A, the three tows
+//      overlap in one place, and the meeting point lies exactly on the three surfaces. Under the
+//      exact kernel it is made a vertex of all three tows (the face or edge holding it is cut;
+//      the surfaces are unchanged) and the curves of their pairs are computed again: they then
+//      all pass through that common vertex, where the embeddings meet. Under the rounded kernels,
+//      or where two curves overlap along a segment, the run stops with InvalidInput naming the
+//      three tows (no output is produced); curves of a rounded kernel that meet within rounding
+//      can also go unseen and stop the embedding of the tow with an InternalError naming it.
+//   4. Tows (concurrently): each tow receives every curve that involves it in one seam::embed
+//      call (curve points kept at their own coordinates, as in seam::pair), so that for every
+//      pair both outputs share the pair's curves vertex for vertex and edge for edge.
+//
+// Snapping: where an intersection point falls extremely close to a vertex, the new faces are
+// slivers whose orientation rounding to double (writing the outputs) can flip, so that the
+// written pair crosses next to its curve. Each tow is therefore snapped once against all its
+// curves together (internal::snap_vertices_to_segments: vertices within snap_tol of a curve move
+// onto it), and then the curves of every pair with a moved tow are computed again on the moved
+// surfaces, so every curve is still the exact intersection of its two tows. The automatic
+// tolerance is tiny, 1e-10 x the smallest bounding-box diagonal among the tow and its neighbours:
+// below the default tolerance of `seam check` (1e-9 x the diagonal of the pair), so the outputs
+// pass it without --tol. Snapping by a larger tolerance, as seam::pair does by default for mesh
+// quality, is not done: moving a tow towards one neighbour's curve changes its intersections with
+// the others and would need more rounds (a larger snap_tol can be given; pass it to
+// `seam check --tol`).
+//
+// Determinism: every pair and every tow is computed by a task that owns its inputs (copies made
+// from exact values, see src/textile.cpp), and results are stored by index, so the output is the
+// same, bit for bit, for any number of threads. Errors are reported for the first failing pair
+// (then tow) in input order, whatever the thread count.
+//
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <seam/embed.h>
+
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace seam {
+
+/// Reported after each finished pair and each finished tow (one call at a time).
+struct TextileProgress {
+  const char* stage = "";  ///< "pairs" or "tows"
+  std::size_t done = 0, total = 0;
+  double elapsed_seconds = 0;  ///< since textile() started
+  double stage_seconds = 0;    ///< since this stage started
+};
+
+struct TextileOptions {
+  /// Options of the embedding into each tow: min_angle_deg, max_area, max_steiner_per_face are
+  /// used; snap_tol < 0 is the automatic tolerance above (exact kernel; 0 under the rounded
+  /// kernels, which do not cope with a vertex snapped onto another tow), 0 disables snapping,
+  /// > 0 is used as given; the others are set as seam::pair does.
+  EmbedOptions embed;
+  /// Worker threads (oneTBB task arena); 0: oneTBB's default (every core).
+  int threads = 0;
+  /// Called after each finished pair and tow, from worker threads but never concurrently.
+  std::function<void(const TextileProgress&)> progress;
+};
+
+/// Quality of the new faces of one tow next to one pair's curves (faces with a curve vertex).
+struct CurveFaceQuality {
+  std::size_t faces = 0, below_10 = 0, below_20 = 0;
+  double min_angle_deg = 0;  ///< 0 when there is no such face
+};
+
+struct TextilePairStats {
+  std::size_t a = 0, b = 0;  ///< tow indices, a < b
+  std::size_t curves = 0, closed_curves = 0;
+  std::size_t curve_vertices = 0;  ///< closing repeats not counted
+  /// The surfaces touch without crossing: no curves (nothing is embedded for this pair).
+  bool touching_only = false;
+  CurveFaceQuality quality_a, quality_b;
+  double intersect_seconds = 0;  ///< the pair's task: copies of both tows and their intersection
+  double copy_seconds = 0;       ///< of which making the task's own copies of both tows
+};
+
+template <class K> struct TextilePair {
+  /// The curves as embedded into both tows (closed ones repeat their first point): every point a
+  /// vertex of both outputs, every segment an edge of both.
+  std::vector<Polyline<K>> curves;
+  TextilePairStats stats;
+};
+
+struct TextileStats {
+  std::size_t tows = 0;
+  std::size_t candidate_pairs = 0;     ///< bounding boxes overlap
+  std::size_t intersecting_pairs = 0;  ///< with curves
+  std::size_t touching_pairs = 0;      ///< touching without crossing
+  std::size_t triple_points = 0;       ///< points where three tows meet, made vertices of all three
+  int threads = 0;                     ///< threads of the task arena
+  std::map<std::string, double> stage_seconds;  ///< prepare, boxes, pairs, snap, triples, tows, compare
+};
+
+template <class K> struct TextileResult {
+  /// The candidate pairs whose surfaces meet (with curves, or touching only), ordered by (a, b).
+  std::vector<TextilePair<K>> pairs;
+  /// Per tow, the statistics of its embedding (as seam::embed's).
+  std::vector<EmbedStats> tows;
+  TextileStats stats;
+};
+
+/// Makes every pair of `meshes` that interpenetrates conforming along its intersection curves
+/// (the meshes are modified in place). `names` (one per mesh) are used in messages.
+/// \pre every mesh is a valid triangle mesh without self-intersections (seam::validate_triangle_mesh).
+/// Throws InvalidInput (sizes differ, a triple overlap that cannot be made a vertex, naming the three tows, bad
+/// options) or InternalError. On a throw the meshes may have been modified.
+template <class K>
+TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::string>& names,
+                         const TextileOptions& options = {});
+
+}  // namespace seam

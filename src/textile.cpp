@@ -1,0 +1,707 @@
+// seam::textile: all pairs of a unit cell, in parallel. See seam/textile.h.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/internal/snap.h>
+#include <seam/pair.h>
+#include <seam/quality.h>
+#include <seam/textile.h>
+
+#include <CGAL/Gmpq.h>
+#include <CGAL/boost/graph/Euler_operations.h>
+#include <CGAL/box_intersection_d.h>
+#include <CGAL/intersections.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <exception>
+#include <limits>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <type_traits>
+
+// Lazy exact numbers (Epeck) are only safe in threads with CGAL's thread support on (atomic
+// reference counts, exact values computed under std::call_once); see cgal-notes.md.
+#if !defined(CGAL_HAS_THREADS)
+#error "seam::textile needs CGAL_HAS_THREADS (build with -pthread; CGAL::CGAL links Threads::Threads)"
+#endif
+
+namespace seam {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// ---------------------------------------------------------------- objects that cross threads
+//
+// Under Epeck a point is a node of a lazy-evaluation DAG: copying it shares the node, and
+// evaluating it (CGAL::exact, or a predicate whose interval filter fails) updates the node in
+// place. CGAL makes that safe with CGAL_HAS_THREADS, but sharing would still let one thread's
+// evaluation tighten another thread's intervals (different filter outcomes, a cache line
+// bounced between cores). So nothing lazy crosses a task boundary: the meshes go to the pair
+// tasks as plain values (FrozenMesh: doubles, or exact rationals deep-copied), and each pair
+// task hands each of its two tows its own copy of the curves, made from the exact coordinates
+// (`detached`). Every lazy node is then created, evaluated and destroyed by one task.
+
+using ExactNT = std::decay_t<decltype(CGAL::exact(std::declval<const Exact::FT&>()))>;
+
+/// A copy of an exact rational that shares no memory with it (CGAL::Gmpq is reference counted).
+template <class T> T deep_copy(const T& x) {
+  if constexpr (std::is_same_v<T, CGAL::Gmpq>) return CGAL::Gmpq(x.mpq());
+  else return T(x);  // mpq_class and the other exact types copy their value
+}
+
+/// A copy of `p` that shares no lazy node with it: under Epeck a new point built from p's exact
+/// coordinates (from doubles when p's interval approximation is a single double, which is then
+/// p's exact value). Call it in the thread that owns `p`.
+template <class K> typename K::Point_3 detached(const typename K::Point_3& p) {
+  if constexpr (std::is_same_v<K, Exact>) {
+    const auto& a = CGAL::approx(p);
+    if (a.x().is_point() && a.y().is_point() && a.z().is_point())
+      return typename K::Point_3(a.x().inf(), a.y().inf(), a.z().inf());
+    const auto& e = CGAL::exact(p);
+    using FT = typename K::FT;
+    return typename K::Point_3(FT(deep_copy(e.x())), FT(deep_copy(e.y())), FT(deep_copy(e.z())));
+  } else {
+    return p;  // plain doubles
+  }
+}
+
+template <class K> std::vector<Polyline<K>> detached(const std::vector<Polyline<K>>& curves) {
+  std::vector<Polyline<K>> out;
+  out.reserve(curves.size());
+  for (const auto& c : curves) {
+    out.emplace_back();
+    out.back().reserve(c.size());
+    for (const auto& p : c) out.back().push_back(detached<K>(p));
+  }
+  return out;
+}
+
+/// A mesh as plain values, read concurrently by the pair tasks, each building its own Mesh<K>.
+template <class K> struct FrozenMesh {
+  std::vector<std::array<double, 3>> doubles;      ///< every coordinate, when each is a double
+  std::vector<std::array<ExactNT, 3>> rationals;   ///< otherwise (exact kernel only)
+  std::vector<CGAL::Bbox_3> vertex_boxes;           ///< with rationals: each vertex's interval box
+  std::vector<std::array<std::uint32_t, 3>> faces;
+  CGAL::Bbox_3 bbox;
+};
+
+template <class K> FrozenMesh<K> freeze(const Mesh<K>& m) {
+  FrozenMesh<K> f;
+  bool all_doubles = true;
+  f.doubles.reserve(m.number_of_vertices());
+  for (auto v : m.vertices()) {
+    const auto& p = m.point(v);
+    if constexpr (std::is_same_v<K, Exact>) {
+      const auto& a = CGAL::approx(p);
+      all_doubles = all_doubles && a.x().is_point() && a.y().is_point() && a.z().is_point();
+      f.doubles.push_back({a.x().inf(), a.y().inf(), a.z().inf()});
+    } else {
+      f.doubles.push_back({CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())});
+    }
+    f.bbox += p.bbox();
+  }
+  if constexpr (std::is_same_v<K, Exact>) {
+    if (!all_doubles) {
+      f.doubles.clear();
+      for (auto v : m.vertices()) {
+        const auto& e = CGAL::exact(m.point(v));
+        f.rationals.push_back({deep_copy(e.x()), deep_copy(e.y()), deep_copy(e.z())});
+        f.vertex_boxes.push_back(m.point(v).bbox());
+      }
+    }
+  }
+  for (auto face : m.faces()) {
+    std::array<std::uint32_t, 3> t{};
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(m.halfedge(face), m)) t[std::min(k++, 2)] = std::uint32_t(std::size_t(v));
+    if (k != 3) throw InvalidInput("the mesh is not a triangle mesh");
+    f.faces.push_back(t);
+  }
+  return f;
+}
+
+/// The mesh again, with points of its own (call it in the task that uses it).
+template <class K> Mesh<K> thaw_faces(const FrozenMesh<K>& f, const std::vector<std::uint32_t>* faces) {
+  Mesh<K> m;
+  const std::size_t nv = f.doubles.empty() ? f.rationals.size() : f.doubles.size();
+  const std::size_t nf = faces ? faces->size() : f.faces.size();
+  // The vertices used, in their order (all of them without a selection).
+  constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::uint32_t> index(nv, faces ? none : 0);
+  if (faces)
+    for (std::uint32_t face : *faces)
+      for (std::uint32_t v : f.faces[face]) index[v] = 0;
+  std::size_t used = 0;
+  for (auto& i : index)
+    if (i != none) i = std::uint32_t(used++);
+  m.reserve(typename Mesh<K>::size_type(used), typename Mesh<K>::size_type(3 * nf / 2 + 3),
+            typename Mesh<K>::size_type(nf));
+  for (std::size_t v = 0; v < nv; ++v) {
+    if (index[v] == none) continue;
+    if (!f.doubles.empty()) {
+      const auto& p = f.doubles[v];
+      m.add_vertex(typename K::Point_3(p[0], p[1], p[2]));
+    } else if constexpr (std::is_same_v<K, Exact>) {
+      using FT = typename K::FT;
+      const auto& p = f.rationals[v];
+      m.add_vertex(typename K::Point_3(FT(deep_copy(p[0])), FT(deep_copy(p[1])), FT(deep_copy(p[2]))));
+    }
+  }
+  using V = typename Mesh<K>::Vertex_index;
+  for (std::size_t k = 0; k < nf; ++k) {
+    const auto& t = f.faces[faces ? (*faces)[k] : k];
+    if (m.add_face(V(index[t[0]]), V(index[t[1]]), V(index[t[2]])) == Mesh<K>::null_face()) return Mesh<K>();
+  }
+  return m;
+}
+
+/// Every incoming halfedge of each vertex is reached by circulating around it (one fan per vertex).
+template <class K> bool one_fan_per_vertex(const Mesh<K>& m) {
+  std::vector<std::size_t> incoming(m.number_of_vertices(), 0), around(m.number_of_vertices(), 0);
+  for (auto h : m.halfedges()) ++incoming[std::size_t(m.target(h))];
+  for (auto v : m.vertices())
+    for (auto h : CGAL::halfedges_around_target(m.halfedge(v), m)) {
+      (void)h;
+      ++around[std::size_t(v)];
+    }
+  return incoming == around;
+}
+
+/// The mesh again, with points of its own (call it in the task that uses it). With `clip`, only
+/// the faces whose bounding box meets it (and their vertices, in their order): every face that
+/// can meet a mesh inside `clip`, and so every intersection point with it, and both faces at
+/// each edge that does (the edge meets `clip`, so both faces' boxes do). No curve reaches the
+/// border this cuts (a border edge belongs to a face that does not meet `clip`). When the
+/// selection is not a manifold mesh, the whole mesh.
+template <class K> Mesh<K> thaw(const FrozenMesh<K>& f, const CGAL::Bbox_3* clip = nullptr) {
+  if (clip) {
+    std::vector<std::uint32_t> faces;
+    auto box = [&](std::uint32_t v) {
+      if (!f.doubles.empty()) {
+        const auto& p = f.doubles[v];
+        return CGAL::Bbox_3(p[0], p[1], p[2], p[0], p[1], p[2]);
+      }
+      return f.vertex_boxes[v];
+    };
+    for (std::size_t k = 0; k < f.faces.size(); ++k) {
+      const auto& t = f.faces[k];
+      if (CGAL::do_overlap(box(t[0]) + box(t[1]) + box(t[2]), *clip)) faces.push_back(std::uint32_t(k));
+    }
+    if (faces.size() < f.faces.size()) {
+      Mesh<K> m = thaw_faces<K>(f, &faces);
+      if (!m.is_empty() && one_fan_per_vertex<K>(m)) return m;
+    }
+  }
+  Mesh<K> m = thaw_faces<K>(f, nullptr);
+  if (m.is_empty()) throw InternalError("textile: a copy of a mesh could not be rebuilt");
+  return m;
+}
+
+// ---------------------------------------------------------------- parallel loops
+
+/// Runs body(i) for i in [0, n), one task per index, in `arena`. An exception thrown by body(i) is
+/// kept per index; afterwards the first one in index order is rethrown (deterministic errors).
+/// `done(i)` is called after each success, serialised by a mutex.
+template <class Body, class Done>
+void for_each_index(tbb::task_arena& arena, std::size_t n, Body&& body, Done&& done) {
+  std::vector<std::exception_ptr> errors(n);
+  std::mutex mutex;
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                          try {
+                            body(i);
+                            std::lock_guard<std::mutex> lock(mutex);
+                            done(i);
+                          } catch (...) {
+                            errors[i] = std::current_exception();
+                          }
+                        }
+                      },
+                      tbb::simple_partitioner());
+  });
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
+}
+
+/// Which input face each face of a tow comes from once faces were cut at triple points (embed's
+/// source_face_property then refers to the cut mesh and is mapped back, as seam::pair does after
+/// edge snapping).
+struct Provenance {
+  std::vector<std::uint32_t> origin;    ///< input face, by face of the cut mesh (empty: nothing cut)
+  std::vector<char> reshaped;           ///< cut (its faces count as new)
+  std::vector<double> input_min_angle;  ///< by input face
+  template <class K> void start(const Mesh<K>& m) {
+    if (!origin.empty()) return;
+    for (auto f : m.faces()) {
+      const auto h = m.halfedge(f);
+      input_min_angle.push_back(min_angle_deg(to_filtered(m.point(m.source(h))), to_filtered(m.point(m.target(h))),
+                                              to_filtered(m.point(m.target(m.next(h))))));
+      origin.push_back(std::uint32_t(std::size_t(f)));
+    }
+    reshaped.assign(origin.size(), 0);
+  }
+  /// Faces from index `first` on were cut from face `from`.
+  void added(std::size_t first, std::size_t count, std::size_t from) {
+    origin.resize(count, 0);
+    reshaped.resize(count, 0);
+    for (std::size_t f = first; f < count; ++f) origin[f] = origin[from], reshaped[f] = 1;
+    reshaped[from] = 1;
+  }
+  template <class K> void apply(Mesh<K>& out, EmbedStats& st) const {
+    auto source = out.template property_map<typename Mesh<K>::Face_index, std::uint32_t>(source_face_property).first;
+    auto is_new = out.template property_map<typename Mesh<K>::Face_index, bool>(new_face_property).first;
+    for (auto f : out.faces()) {
+      const std::size_t s = source[f];
+      if (s < reshaped.size() && reshaped[s]) is_new[f] = true;
+      if (s < origin.size()) source[f] = origin[s];
+    }
+    const auto q = new_face_quality<K>(out, &input_min_angle);
+    st.min_angle_deg_new = q.min_angle_deg;
+    st.new_faces_below_10 = q.below_10;
+    st.new_faces_below_20 = q.below_20;
+    st.new_faces_below_10_unforced = q.below_10_unforced;
+    st.faces_added = q.new_faces;
+  }
+};
+
+/// Whether `p` is (exactly) the point of a vertex of `m`.
+template <class K> bool is_vertex(const Mesh<K>& m, const typename K::Point_3& p) {
+  const CGAL::Bbox_3 box = p.bbox();
+  for (auto v : m.vertices())
+    if (CGAL::do_overlap(m.point(v).bbox(), box) && m.point(v) == p) return true;
+  return false;
+}
+
+/// Makes `p`, a point of the surface of `m`, a vertex of it: the face holding it is cut in three,
+/// or the two faces at the edge holding it in two each (exact tests; the surface is unchanged).
+/// Returns false when `p` is a vertex already or lies on no face.
+template <class K> bool insert_vertex(Mesh<K>& m, const typename K::Point_3& p, Provenance& prov) {
+  using F = typename Mesh<K>::Face_index;
+  const CGAL::Bbox_3 box = p.bbox();
+  for (F f : m.faces()) {
+    const auto h = m.halfedge(f);
+    const auto &a = m.point(m.source(h)), &b = m.point(m.target(h)), &c = m.point(m.target(m.next(h)));
+    if (!CGAL::do_overlap(a.bbox() + b.bbox() + c.bbox(), box)) continue;
+    if (!typename K::Triangle_3(a, b, c).has_on(p)) continue;
+    if (p == a || p == b || p == c) return false;
+    prov.start<K>(m);
+    // On an edge of f?
+    for (auto e : CGAL::halfedges_around_face(h, m)) {
+      const auto &s = m.point(m.source(e)), &t = m.point(m.target(e));
+      if (!CGAL::collinear(s, t, p)) continue;
+      const F f2 = m.face(m.opposite(e));
+      const auto hnew = CGAL::Euler::split_edge(e, m);  // hnew: source -> new vertex, then e
+      m.point(m.target(hnew)) = p;
+      std::size_t n = m.number_of_faces();
+      CGAL::Euler::split_face(hnew, m.next(e), m);
+      prov.added(n, m.number_of_faces(), std::size_t(f));
+      if (f2 != Mesh<K>::null_face()) {
+        const auto o = m.opposite(e);  // target -> new vertex, then opposite(hnew)
+        n = m.number_of_faces();
+        CGAL::Euler::split_face(o, m.next(m.opposite(hnew)), m);
+        prov.added(n, m.number_of_faces(), std::size_t(f2));
+      }
+      return true;
+    }
+    const std::size_t n = m.number_of_faces();
+    const auto hc = CGAL::Euler::add_center_vertex(h, m);
+    m.point(m.target(hc)) = p;
+    prov.added(n, m.number_of_faces(), std::size_t(f));
+    return true;
+  }
+  return false;
+}
+
+template <class K> struct PairWork {
+  std::size_t a = 0, b = 0;
+  std::vector<Polyline<K>> for_a, for_b;  ///< the curves, one copy per consuming tow
+  std::vector<Polyline<K>> embedded_a, embedded_b;  ///< as embedded into each tow
+  TextilePairStats stats;
+};
+
+std::string quoted(const std::string& name) { return "'" + name + "'"; }
+
+double diagonal(const CGAL::Bbox_3& b) {
+  const double dx = b.xmax() - b.xmin(), dy = b.ymax() - b.ymin(), dz = b.zmax() - b.zmin();
+  return std::sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+}  // namespace
+
+template <class K>
+TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::string>& names,
+                         const TextileOptions& options) {
+  using Point = typename K::Point_3;
+  const auto t_start = Clock::now();
+  if (names.size() != meshes.size()) throw InvalidInput("textile: one name per mesh is needed");
+  validate_options(options.embed);
+  if (options.threads < 0) throw InvalidInput("--threads: must be >= 0 (0: every core)");
+  for (std::size_t i = 0; i < meshes.size(); ++i)
+    if (!CGAL::is_triangle_mesh(meshes[i]) || meshes[i].is_empty())
+      throw InvalidInput(names[i] + ": not a triangle mesh");
+
+  TextileResult<K> result;
+  TextileStats& st = result.stats;
+  st.tows = meshes.size();
+  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  st.threads = arena.max_concurrency();
+  std::mutex progress_mutex;
+  Clock::time_point t_stage = t_start;
+  auto report = [&](const char* stage, std::size_t done, std::size_t total) {
+    if (!options.progress) return;
+    std::lock_guard<std::mutex> lock(progress_mutex);
+    options.progress(TextileProgress{stage, done, total, seconds_since(t_start), seconds_since(t_stage)});
+  };
+
+  // ---- plain copies of the meshes for the pair tasks
+  auto t = Clock::now();
+  std::vector<FrozenMesh<K>> frozen(meshes.size());
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    if (meshes[i].has_garbage()) meshes[i].collect_garbage();
+    frozen[i] = freeze<K>(meshes[i]);
+  }
+  st.stage_seconds["prepare"] = seconds_since(t);
+
+  // ---- candidate pairs: overlapping bounding boxes (closed boxes: touching counts)
+  t = Clock::now();
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
+  std::vector<Box> boxes;
+  for (std::size_t i = 0; i < meshes.size(); ++i) boxes.emplace_back(frozen[i].bbox, i);
+  std::vector<std::pair<std::size_t, std::size_t>> candidates;
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
+    candidates.emplace_back(std::min(x.info(), y.info()), std::max(x.info(), y.info()));
+  });
+  std::sort(candidates.begin(), candidates.end());
+  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+  st.candidate_pairs = candidates.size();
+  st.stage_seconds["boxes"] = seconds_since(t);
+
+  // ---- pairs: the intersection curves of each candidate, concurrently
+  t = t_stage = Clock::now();
+  std::vector<PairWork<K>> work(candidates.size());
+  auto compute_pairs = [&](const std::vector<std::size_t>& which, const char* stage) {
+    std::size_t done = 0;
+    t_stage = Clock::now();
+    for_each_index(
+        arena, which.size(),
+        [&](std::size_t k) {
+          auto& w = work[which[k]];
+          w = PairWork<K>();
+          w.a = candidates[which[k]].first;
+          w.b = candidates[which[k]].second;
+          const auto tp = Clock::now();
+          std::vector<Polyline<K>> curves;
+          {
+            // Each tow cut to the faces that can meet the other (bounding boxes): the same curves,
+            // a fraction of the work.
+            const Mesh<K> a = thaw<K>(frozen[w.a], &frozen[w.b].bbox), b = thaw<K>(frozen[w.b], &frozen[w.a].bbox);
+            w.stats.copy_seconds += seconds_since(tp);
+            std::size_t touching = 0;
+            curves = intersection_curves<K>(a, b, &touching);
+            w.stats.touching_only = curves.empty() && touching > 0;
+          }
+          w.stats.a = w.a;
+          w.stats.b = w.b;
+          w.stats.curves = curves.size();
+          for (const auto& c : curves) {
+            w.stats.closed_curves += is_closed(c) ? 1 : 0;
+            w.stats.curve_vertices += is_closed(c) ? c.size() - 1 : c.size();
+          }
+          w.for_a = detached<K>(curves);
+          w.for_b = detached<K>(curves);
+          w.stats.intersect_seconds += seconds_since(tp);
+        },
+        [&](std::size_t) { report(stage, ++done, which.size()); });
+  };
+  std::vector<std::size_t> all_pairs(candidates.size());
+  for (std::size_t p = 0; p < all_pairs.size(); ++p) all_pairs[p] = p;
+  compute_pairs(all_pairs, "pairs");
+  st.stage_seconds["pairs"] = seconds_since(t);
+
+  // Each tow's pairs (with curves), in pair order.
+  std::vector<std::vector<std::size_t>> pairs_of(meshes.size());
+  auto find_pairs_of = [&]() {
+    for (auto& v : pairs_of) v.clear();
+    for (std::size_t p = 0; p < work.size(); ++p)
+      if (!work[p].for_a.empty()) {
+        pairs_of[work[p].a].push_back(p);
+        pairs_of[work[p].b].push_back(p);
+      }
+  };
+  find_pairs_of();
+  auto curves_for = [&](std::size_t p, std::size_t tow) -> std::vector<Polyline<K>>& {
+    return work[p].a == tow ? work[p].for_a : work[p].for_b;
+  };
+
+  // ---- snapping: each tow against all its curves at once, then every curve of a moved tow again
+  t = Clock::now();
+  std::vector<double> snap_tol(meshes.size(), 0.0);
+  std::vector<std::size_t> snapped(meshes.size(), 0), snaps_refused(meshes.size(), 0);
+  std::vector<Provenance> provenance(meshes.size());  // of the faces cut at triple points
+  // Rounded kernels: no automatic snapping (a snapped vertex lies exactly on the other tow, a
+  // degeneracy only the exact kernel copes with; their curve points are doubles already).
+  const bool snap = options.embed.snap_tol > 0 || (options.embed.snap_tol < 0 && kernel_traits<K>::exact_constructions);
+  if (snap) {
+    for (std::size_t tow = 0; tow < meshes.size(); ++tow) {
+      if (options.embed.snap_tol > 0) {
+        snap_tol[tow] = options.embed.snap_tol;
+        continue;
+      }
+      double d = diagonal(frozen[tow].bbox);
+      for (std::size_t p : pairs_of[tow]) d = std::min(d, diagonal(frozen[work[p].a == tow ? work[p].b : work[p].a].bbox));
+      snap_tol[tow] = 1e-10 * d;
+    }
+    for_each_index(
+        arena, meshes.size(),
+        [&](std::size_t tow) {
+          if (pairs_of[tow].empty()) return;
+          std::vector<Polyline<K>> curves;
+          for (std::size_t p : pairs_of[tow]) {
+            const auto& mine = curves_for(p, tow);
+            curves.insert(curves.end(), mine.begin(), mine.end());
+          }
+          const auto r = internal::snap_vertices_to_segments<K>(meshes[tow], curves, snap_tol[tow]);
+          snapped[tow] = r.snapped;
+          snaps_refused[tow] = r.refused;
+        },
+        [](std::size_t) {});
+    std::vector<std::size_t> again;
+    for (std::size_t tow = 0; tow < meshes.size(); ++tow)
+      if (snapped[tow] > 0) frozen[tow] = freeze<K>(meshes[tow]);
+    for (std::size_t p = 0; p < candidates.size(); ++p)
+      if (snapped[candidates[p].first] > 0 || snapped[candidates[p].second] > 0) again.push_back(p);
+    if (!again.empty()) {
+      compute_pairs(again, "pairs (after snapping)");
+      find_pairs_of();
+    }
+  }
+  st.stage_seconds["snap"] = seconds_since(t);
+
+  // ---- triple overlaps: where the curves of two neighbours meet on a tow, three tows overlap in
+  // one place. Under the exact kernel the meeting point becomes a vertex of all three tows (it lies
+  // exactly on the three surfaces, so inserting it changes no surface), and their curves are then
+  // computed again: they all pass through that vertex, which every embedding shares. Otherwise, or
+  // when the curves overlap along a segment, the run stops naming the three tows.
+  t = Clock::now();
+  struct Meeting {
+    bool found = false, point = false;
+    std::size_t p = 0, q = 0;  // the two pairs whose curves meet
+    Point at;
+  };
+  auto other = [&](std::size_t p, std::size_t tow) { return work[p].a == tow ? work[p].b : work[p].a; };
+  auto refuse = [&](std::size_t tow, const Meeting& m, const char* why) {
+    const std::size_t j = other(m.p, tow), k = other(m.q, tow);
+    std::set<std::size_t> three{tow, j, k};
+    std::ostringstream msg;
+    msg << "tows";
+    std::size_t n = 0;
+    for (std::size_t x : three) msg << (n++ == 0 ? " " : n == 3 ? " and " : ", ") << quoted(names[x]);
+    const auto at = to_filtered(m.at);
+    msg << " overlap in one place (triple overlap): the curves of " << quoted(names[tow]) << " with "
+        << quoted(names[j]) << " and with " << quoted(names[k]) << " meet on " << quoted(names[tow]) << " near ("
+        << at.x() << ", " << at.y() << ", " << at.z() << "); " << why;
+    throw InvalidInput(msg.str());
+  };
+  for (int round = 0;; ++round) {
+    std::vector<std::vector<Meeting>> meetings(meshes.size());
+    for_each_index(
+        arena, meshes.size(),
+        [&](std::size_t tow) {
+          if (pairs_of[tow].size() < 2) return;
+          struct Seg {
+            std::size_t pair;
+            const Point *p, *q;
+          };
+          std::vector<Seg> segs;
+          for (std::size_t p : pairs_of[tow])
+            for (const auto& c : curves_for(p, tow))
+              for (std::size_t i = 0; i + 1 < c.size(); ++i) segs.push_back({p, &c[i], &c[i + 1]});
+          std::vector<Box> sboxes;
+          sboxes.reserve(segs.size());
+          for (std::size_t s = 0; s < segs.size(); ++s) sboxes.emplace_back(segs[s].p->bbox() + segs[s].q->bbox(), s);
+          std::vector<std::pair<std::size_t, std::size_t>> hits;
+          CGAL::box_self_intersection_d(sboxes.begin(), sboxes.end(), [&](const Box& x, const Box& y) {
+            const Seg &u = segs[x.info()], &v = segs[y.info()];
+            if (u.pair == v.pair) return;
+            if (!CGAL::do_intersect(typename K::Segment_3(*u.p, *u.q), typename K::Segment_3(*v.p, *v.q))) return;
+            // Allowed: two curves through a common end point that is a vertex of this tow (a
+            // triple point made a vertex below), not overlapping.
+            const Point* common = *u.p == *v.p || *u.p == *v.q ? u.p : *u.q == *v.p || *u.q == *v.q ? u.q : nullptr;
+            if (common && !(CGAL::collinear(*u.p, *u.q, *v.p) && CGAL::collinear(*u.p, *u.q, *v.q)) &&
+                is_vertex<K>(meshes[tow], *common))
+              return;
+            hits.emplace_back(std::min(x.info(), y.info()), std::max(x.info(), y.info()));
+          });
+          std::sort(hits.begin(), hits.end());  // deterministic, whatever the order found
+          for (const auto& [x, y] : hits) {
+            const Seg &u = segs[x], &v = segs[y];
+            Meeting m;
+            m.found = true;
+            m.p = std::min(u.pair, v.pair);
+            m.q = std::max(u.pair, v.pair);
+            m.at = *u.p;
+            const auto i = CGAL::intersection(typename K::Segment_3(*u.p, *u.q), typename K::Segment_3(*v.p, *v.q));
+            if (i)
+              if (const Point* point = boost::get<Point>(&*i)) {
+                m.point = true;
+                m.at = detached<K>(*point);
+              }
+            meetings[tow].push_back(m);
+            if (!m.point) break;  // refused below
+          }
+        },
+        [](std::size_t) {});
+    std::vector<char> modified(meshes.size(), 0);
+    bool any = false;
+    for (std::size_t tow = 0; tow < meshes.size(); ++tow)
+      for (const Meeting& m : meetings[tow]) {
+        any = true;
+        if (!kernel_traits<K>::exact_constructions)
+          refuse(tow, m, "only the exact kernel makes such a point a vertex of the three tows: use --kernel exact");
+        if (!m.point) refuse(tow, m, "the curves overlap along a segment there: seam textile cannot embed that");
+        if (round >= 4) refuse(tow, m, "making the meeting points vertices of the three tows did not end");
+        bool inserted = false, known = false;
+        for (std::size_t x : {tow, other(m.p, tow), other(m.q, tow)}) {
+          const auto point = detached<K>(m.at);
+          if (insert_vertex<K>(meshes[x], point, provenance[x])) {
+            modified[x] = inserted = true;
+          } else {
+            known = known || modified[x];  // made a vertex in this round already (seen from another tow)
+          }
+        }
+        if (!inserted && !known) refuse(tow, m, "seam textile could not make that point a vertex of the three tows");
+        if (inserted) ++st.triple_points;
+      }
+    if (!any) break;
+    std::vector<std::size_t> again;
+    for (std::size_t tow = 0; tow < meshes.size(); ++tow)
+      if (modified[tow]) frozen[tow] = freeze<K>(meshes[tow]);
+    for (std::size_t p = 0; p < candidates.size(); ++p)
+      if (modified[candidates[p].first] || modified[candidates[p].second]) again.push_back(p);
+    compute_pairs(again, "pairs (triple points)");
+    find_pairs_of();
+  }
+  st.stage_seconds["triples"] = seconds_since(t);
+
+  // ---- tows: each receives all its curves in one embedding, concurrently
+  t = t_stage = Clock::now();
+  EmbedOptions eo = options.embed;
+  eo.snap_tol = 0;
+  eo.keep_all_nodes = true;  // every curve point lies on the surface and is a crossing point
+  eo.curve_tol = 0;
+  eo.max_distance = std::numeric_limits<double>::max();
+  result.tows.resize(meshes.size());
+  std::size_t tows_done = 0;
+  for_each_index(
+      arena, meshes.size(),
+      [&](std::size_t tow) {
+        std::vector<Polyline<K>> curves;
+        std::vector<std::size_t> first_curve;  // per pair of this tow, index of its first curve
+        for (std::size_t p : pairs_of[tow]) {
+          first_curve.push_back(curves.size());
+          auto& mine = curves_for(p, tow);
+          curves.insert(curves.end(), mine.begin(), mine.end());
+        }
+        first_curve.push_back(curves.size());
+        Mesh<K>& mesh = meshes[tow];
+        EmbedResult<K> r;
+        try {
+          r = embed<K>(mesh, curves, eo);
+        } catch (const InvalidInput& e) {
+          throw InvalidInput("tow " + quoted(names[tow]) + ": " + e.what());
+        } catch (const InternalError& e) {
+          // Under a rounded kernel, curves of two neighbours that meet within rounding are not
+          // detected above and make the re-triangulation fail here.
+          throw InternalError("tow " + quoted(names[tow]) + ": " + e.what() +
+                              (pairs_of[tow].size() > 1 && !kernel_traits<K>::exact_constructions
+                                   ? " (the curves of two neighbours may meet: use --kernel exact)"
+                                   : ""));
+        }
+        if (!provenance[tow].origin.empty()) provenance[tow].apply<K>(mesh, r.stats);
+        if (r.curves.size() != curves.size() || r.curve_vertices.size() != curves.size())
+          throw InternalError("textile: " + names[tow] + ": the embedding returned a different number of curves");
+        for (auto& c : r.curves)
+          for (auto& p : c) make_exact(p);  // written by two tows: the same tight approximation in both
+        const auto is_new = mesh.template property_map<typename Mesh<K>::Face_index, bool>(new_face_property).first;
+        for (std::size_t k = 0; k < pairs_of[tow].size(); ++k) {
+          auto& w = work[pairs_of[tow][k]];
+          std::vector<Polyline<K>> embedded(r.curves.begin() + std::ptrdiff_t(first_curve[k]),
+                                            r.curves.begin() + std::ptrdiff_t(first_curve[k + 1]));
+          // Quality of the new faces with a vertex on these curves.
+          std::set<typename Mesh<K>::Face_index> faces;
+          for (std::size_t c = first_curve[k]; c < first_curve[k + 1]; ++c)
+            for (auto v : r.curve_vertices[c])
+              for (auto f : CGAL::faces_around_target(mesh.halfedge(v), mesh))
+                if (f != Mesh<K>::null_face() && is_new[f]) faces.insert(f);
+          CurveFaceQuality q;
+          q.min_angle_deg = faces.empty() ? 0.0 : 180.0;
+          for (auto f : faces) {
+            const auto h = mesh.halfedge(f);
+            const double angle = min_angle_deg(to_filtered(mesh.point(mesh.source(h))),
+                                               to_filtered(mesh.point(mesh.target(h))),
+                                               to_filtered(mesh.point(mesh.target(mesh.next(h)))));
+            ++q.faces;
+            q.below_10 += angle < 10 ? 1 : 0;
+            q.below_20 += angle < 20 ? 1 : 0;
+            q.min_angle_deg = std::min(q.min_angle_deg, angle);
+          }
+          if (w.a == tow) {
+            w.embedded_a = std::move(embedded);
+            w.stats.quality_a = q;
+          } else {
+            w.embedded_b = std::move(embedded);
+            w.stats.quality_b = q;
+          }
+        }
+        result.tows[tow] = r.stats;
+        result.tows[tow].snap_tol = snap_tol[tow];
+        result.tows[tow].vertices_snapped = snapped[tow];
+        result.tows[tow].snaps_refused = snaps_refused[tow];
+        // The curves handed to this tow are no longer needed: free them in the thread that used them.
+        for (std::size_t p : pairs_of[tow]) std::vector<Polyline<K>>().swap(curves_for(p, tow));
+      },
+      [&](std::size_t) { report("tows", ++tows_done, meshes.size()); });
+  st.stage_seconds["tows"] = seconds_since(t);
+
+  // ---- both tows of every pair received the identical curves
+  t = Clock::now();
+  for (auto& w : work) {
+    if (w.stats.curves == 0 && !w.stats.touching_only) continue;
+    if (w.embedded_a != w.embedded_b) {
+      std::ostringstream msg;
+      msg << "textile: the curves of " << names[w.a] << " and " << names[w.b]
+          << " were embedded differently into the two tows";
+      throw InternalError(msg.str());
+    }
+    TextilePair<K> pair;
+    pair.curves = std::move(w.embedded_a);
+    pair.stats = w.stats;
+    if (pair.stats.curves > 0) ++st.intersecting_pairs;
+    if (pair.stats.touching_only) ++st.touching_pairs;
+    result.pairs.push_back(std::move(pair));
+  }
+  st.stage_seconds["compare"] = seconds_since(t);
+  return result;
+}
+
+#define SEAM_INSTANTIATE(K)                                                                                 \
+  template TextileResult<K> textile<K>(std::vector<Mesh<K>>&, const std::vector<std::string>&,            \
+                                       const TextileOptions&);
+SEAM_INSTANTIATE(Exact)
+SEAM_INSTANTIATE(Filtered)
+SEAM_INSTANTIATE(Float)
+#undef SEAM_INSTANTIATE
+
+}  // namespace seam
