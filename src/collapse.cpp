@@ -1,5 +1,6 @@
 // seam, pair: collapse short curve segments in both meshes. See seam/internal/collapse.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/internal/certified.h>
 #include <seam/internal/collapse.h>
 #include <seam/quality.h>
 
@@ -48,6 +49,11 @@ struct Angles {
     return min > o.min;
   }
 };
+
+/// Distance in doubles (no lazy exact number is built).
+template <class P> double rounded_distance(const P& p, const P& q) {
+  return std::sqrt(CGAL::squared_distance(to_filtered(p), to_filtered(q)));
+}
 
 template <class K> double face_min_angle(const Mesh<K>& m, typename MeshTypes<K>::F f) {
   const auto h = m.halfedge(f);
@@ -132,8 +138,15 @@ std::vector<char> crossing_faces(const Mesh<K>& m, const std::vector<typename Me
     return Box(b, info);
   };
   std::vector<Box> mine, theirs;
-  for (std::size_t i = 0; i < faces.size(); ++i) mine.push_back(box_of(m, faces[i], i));
-  for (auto f : other.faces()) theirs.push_back(box_of(other, f, std::size_t(f)));
+  CGAL::Bbox_3 around;
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    mine.push_back(box_of(m, faces[i], i));
+    around += mine.back().bbox();
+  }
+  for (auto f : other.faces()) {
+    Box box = box_of(other, f, std::size_t(f));
+    if (CGAL::do_overlap(box.bbox(), around)) theirs.push_back(box);
+  }
   std::vector<char> bad(faces.size(), 0);
   auto corners = [](const Mesh<K>& mesh, F f) {
     std::array<V, 3> c;
@@ -155,17 +168,27 @@ std::vector<char> crossing_faces(const Mesh<K>& m, const std::vector<typename Me
       for (int j = 0; j < 3; ++j)
         if (pm[j] == po[k]) jm[k] = j, ++shared;
     const Triangle tm(pm[0], pm[1], pm[2]), to(po[0], po[1], po[2]);
+    // Certified interval tests first (internal/certified.h), exact predicates when they cannot tell.
+    certified::IP im[3], io[3];
+    for (int k = 0; k < 3; ++k) im[k] = certified::interval_point(pm[k]), io[k] = certified::interval_point(po[k]);
     bool crossing = false;
     if (shared == 0) {
-      crossing = CGAL::do_intersect(tm, to);
+      crossing = !certified::surely_disjoint({&im[0], &im[1], &im[2]}, {&io[0], &io[1], &io[2]}) &&
+                 CGAL::do_intersect(tm, to);
     } else if (shared == 1) {
       int k = 0;
       while (jm[k] < 0) ++k;
       const int j = jm[k];
-      // They meet in more than the common corner iff an opposite edge meets the other face.
-      crossing = !on_curve_other[std::size_t(co[k])] ||
-                 CGAL::do_intersect(Segment(pm[(j + 1) % 3], pm[(j + 2) % 3]), to) ||
-                 CGAL::do_intersect(Segment(po[(k + 1) % 3], po[(k + 2) % 3]), tm);
+      if (!on_curve_other[std::size_t(co[k])]) {
+        crossing = true;
+      } else if (const auto only = certified::surely_only_vertex(im[j], im[(j + 1) % 3], im[(j + 2) % 3],
+                                                                  io[(k + 1) % 3], io[(k + 2) % 3])) {
+        crossing = !*only;
+      } else {
+        // They meet in more than the common corner iff an opposite edge meets the other face.
+        crossing = CGAL::do_intersect(Segment(pm[(j + 1) % 3], pm[(j + 2) % 3]), to) ||
+                   CGAL::do_intersect(Segment(po[(k + 1) % 3], po[(k + 2) % 3]), tm);
+      }
     } else if (shared == 2) {
       int k = 0;
       while (jm[k] >= 0) ++k;
@@ -174,7 +197,8 @@ std::vector<char> crossing_faces(const Mesh<K>& m, const std::vector<typename Me
       const auto &p = po[(k + 1) % 3], &q = po[(k + 2) % 3];
       // Faces with a common edge overlap iff they are coplanar and on the same side of it.
       crossing = !curve_edges_other.count({std::min(u, w), std::max(u, w)}) ||
-                 (CGAL::coplanar(p, q, po[k], pm[j]) && CGAL::coplanar_orientation(p, q, po[k], pm[j]) == CGAL::POSITIVE);
+                 (!certified::surely_only_edge(io[(k + 1) % 3], io[(k + 2) % 3], io[k], im[j]) &&
+                  CGAL::coplanar(p, q, po[k], pm[j]) && CGAL::coplanar_orientation(p, q, po[k], pm[j]) == CGAL::POSITIVE);
     } else {
       crossing = true;
     }
@@ -271,7 +295,7 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
       for (std::size_t i = closed ? 0 : 1; i < (closed ? n : n - 1); ++i)
         for (int dir : {-1, 1}) {
           const std::size_t j = (i + n + std::size_t(dir)) % n;
-          const double len = std::sqrt(CGAL::to_double(CGAL::squared_distance(curves[c][i], curves[c][j])));
+          const double len = rounded_distance(curves[c][i], curves[c][j]);
           if (len <= std::max(max_length, tiny_length))
             ops.push_back({3, {cva[c][i], cvb[c][i]}, {cva[c][j], cvb[c][j]}, c, i, j, len, len <= tiny_length});
         }
@@ -282,7 +306,7 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
         const Mesh<K>& mesh = *meshes[m];
         for (auto e : mesh.edges()) {
           const V u = mesh.vertex(e, 0), w = mesh.vertex(e, 1);
-          const double len = std::sqrt(CGAL::to_double(CGAL::squared_distance(mesh.point(u), mesh.point(w))));
+          const double len = rounded_distance(mesh.point(u), mesh.point(w));
           if (!(len <= tiny_length)) continue;
           auto movable = [&](V v) { return uses[m][std::size_t(v)] == 0 && std::size_t(v) >= input_vertices[m]; };
           Op op{1 << m, {}, {}, no_curve, 0, 0, len, true};
@@ -436,7 +460,7 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
   }
   for (const auto& c : curves)  // what is left
     for (std::size_t i = 0; i + 1 < c.size(); ++i)
-      if (std::sqrt(CGAL::to_double(CGAL::squared_distance(c[i], c[i + 1]))) <= max_length) ++report.refused;
+      if (rounded_distance(c[i], c[i + 1]) <= max_length) ++report.refused;
   return report;
 }
 
