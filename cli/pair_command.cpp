@@ -25,6 +25,8 @@ int run_pair(const PairArgs& args) {
   const auto t0 = Clock::now();
   const seam::TriangleSoup soup_a = seam::read_triangle_mesh(args.a);
   const seam::TriangleSoup soup_b = seam::read_triangle_mesh(args.b);
+  seam::check_no_self_intersection(soup_a, args.a);
+  seam::check_no_self_intersection(soup_b, args.b);
   std::vector<std::vector<seam::Point3d>> given;
   if (!args.curves.empty()) given = seam::read_polylines(args.curves);
   const double read_seconds = std::chrono::duration<double>(Clock::now() - t0).count();

@@ -966,13 +966,18 @@ void write_stl(std::ostream& out, const TriangleSoup& soup) {
 TriangleSoup read_triangle_mesh(const std::string& path) {
   const std::string ext = extension_of(path);
   if (ext != ".off" && ext != ".obj" && ext != ".ply" && ext != ".stl") unknown_format(path, ext);
-  const std::string data = read_file(path);
+  return parse_triangle_mesh(read_file(path), ext, path);
+}
+
+TriangleSoup parse_triangle_mesh(std::string_view data, const std::string& format, const std::string& name) {
+  const std::string ext = lower(format.empty() || format[0] == '.' ? format : "." + format);
   TriangleSoup soup;
-  if (ext == ".off") soup = parse_off(data, path);
-  else if (ext == ".obj") soup = parse_obj(data, path);
-  else if (ext == ".ply") soup = parse_ply(data, path);
-  else soup = parse_stl(data, path);
-  validate_triangle_mesh(soup, path);
+  if (ext == ".off") soup = parse_off(data, name);
+  else if (ext == ".obj") soup = parse_obj(data, name);
+  else if (ext == ".ply") soup = parse_ply(data, name);
+  else if (ext == ".stl") soup = parse_stl(data, name);
+  else unknown_format(name, ext);
+  validate_triangle_mesh(soup, name);
   return soup;
 }
 
@@ -1056,7 +1061,10 @@ void validate_triangle_mesh(const TriangleSoup& soup, const std::string& name) {
 }
 
 std::vector<std::vector<Point3d>> read_polylines(const std::string& path) {
-  const std::string data = read_file(path);
+  return parse_polylines(read_file(path), path);
+}
+
+std::vector<std::vector<Point3d>> parse_polylines(std::string_view data, const std::string& path) {
   if (data.empty()) invalid(path, "file is empty (no polyline found)");
   reject_binary(data, path, "polyline");
   Lines lines(data);
