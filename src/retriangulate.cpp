@@ -173,7 +173,14 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
     // The small angle sits at r. It is forced when the wedge at r between the two constrained
     // edges enclosing this triangle is itself narrower than the bound: no point inside helps.
     if (angle_bad && worst_area_ratio <= 1 && constrained_wedge_deg(cdt, worst, r) < min_angle_deg) continue;
-    const auto cc = xy(CGAL::circumcenter(worst->vertex(0)->point(), worst->vertex(1)->point(), worst->vertex(2)->point()));
+    // The circumcenter in doubles (not CGAL::circumcenter, whose precondition a triangle that is
+    // flat after rounding violates: found by fuzzing); a flat one gives a non-finite candidate.
+    const std::array<double, 2> cc = [&] {
+      const double bx = v[1][0] - v[0][0], by = v[1][1] - v[0][1], cx = v[2][0] - v[0][0], cy = v[2][1] - v[0][1];
+      const double den = 2 * (bx * cy - by * cx), b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
+      if (den == 0) return std::array<double, 2>{HUGE_VAL, HUGE_VAL};
+      return std::array<double, 2>{v[0][0] + (cy * b2 - by * c2) / den, v[0][1] + (bx * c2 - cx * b2) / den};
+    }();
     const double mx = 0.5 * (p[0] + q[0]), my = 0.5 * (p[1] + q[1]);
     double nx = -(q[1] - p[1]), ny = q[0] - p[0];  // normal of pq, towards r
     if (nx * (o[0] - mx) + ny * (o[1] - my) < 0) nx = -nx, ny = -ny;
@@ -263,15 +270,28 @@ FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const Retriangul
     }
     // Two input points at one place: only possible with rounded constructions.
     if (cdt.number_of_vertices() != points.size()) throw InternalError("two curve points coincide after rounding");
+    // A segment ending at a point that is not one of this face's points (found by fuzzing, under
+    // the rounded kernels: the two ends were located on elements that do not bound this face).
+    auto at = [&](long id) {
+      const auto it = handle.find(id);
+      if (it == handle.end()) {
+        std::ostringstream msg;
+        msg << "a curve segment inside the face with corners " << face.corner_ids[0] << ", " << face.corner_ids[1]
+            << ", " << face.corner_ids[2] << " ends at point " << id << ", which is not on that face";
+        if (!kernel_traits<K>::exact_constructions) msg << " (rounded arithmetic)";
+        throw InternalError(msg.str());
+      }
+      return it->second;
+    };
     for (int i = 0; i < 3; ++i) {
       long prev = long(face.corner_ids[i]);
       for (const auto& ep : face.edge_points[i]) {
-        constraints.emplace_back(handle[prev], handle[long(ep.first)]);
+        constraints.emplace_back(at(prev), at(long(ep.first)));
         prev = long(ep.first);
       }
-      constraints.emplace_back(handle[prev], handle[long(face.corner_ids[(i + 1) % 3])]);
+      constraints.emplace_back(at(prev), at(long(face.corner_ids[(i + 1) % 3])));
     }
-    for (const auto& [s, t] : face.segments) constraints.emplace_back(handle[long(s)], handle[long(t)]);
+    for (const auto& [s, t] : face.segments) constraints.emplace_back(at(long(s)), at(long(t)));
     for (const auto& [s, t] : constraints) cdt.insert_constraint(s, t);
   };
   auto check = [&](const CDT& cdt, const std::vector<std::pair<VH, VH>>& constraints) {
