@@ -13,6 +13,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 namespace seam {
 
@@ -199,6 +200,7 @@ EmbedResult<K> embed(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, cons
       return CGAL::compare_distance_to_point(s, cps[x].p, cps[y].p) == CGAL::SMALLER;
     });
   }
+  std::set<std::tuple<std::size_t, std::size_t, std::size_t>> segments_seen;  // a face may hold 100,000
   for (const auto& cc : coarse.curves) {
     const std::size_t ns = cc.segment_face.size();
     for (std::size_t j = 0; j < ns; ++j) {
@@ -206,8 +208,7 @@ EmbedResult<K> embed(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, cons
       if (f == Mesh<K>::null_face()) continue;
       std::size_t a = cc.ids[j], b = cc.ids[(j + 1) % cc.ids.size()];
       if (a > b) std::swap(a, b);
-      auto& segs = face_segments[f];
-      if (std::find(segs.begin(), segs.end(), std::make_pair(a, b)) == segs.end()) segs.emplace_back(a, b);
+      if (segments_seen.emplace(std::size_t(f), a, b).second) face_segments[f].emplace_back(a, b);
     }
   }
   std::set<F> crossed;

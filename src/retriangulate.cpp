@@ -23,6 +23,17 @@ template <class K> struct Cdt {
   using type = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::Exact_predicates_tag>;
 };
 
+/// The kernel of the 2D triangulation: K, except under the float kernel, whose inexact
+/// predicates break the triangulation's invariants on nearly degenerate faces (found by fuzzing:
+/// a CGAL assertion in the triangulation data structure; without assertions, undefined
+/// behaviour). There the CDT uses Epick on the same doubles: exact decisions, same coordinates.
+template <class K> struct CdtKernel {
+  using type = K;
+};
+template <> struct CdtKernel<Float> {
+  using type = Filtered;
+};
+
 constexpr long kNoId = std::numeric_limits<long>::min();
 
 /// Faces of the CDT outside the region bounded by the constraints: reachable from the infinite
@@ -226,10 +237,11 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
 template <class K>
 FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const RetriangulateOptions& options) {
   using FT = typename K::FT;
-  using Point2 = typename K::Point_2;
+  using K2 = typename CdtKernel<K>::type;
+  using Point2 = typename K2::Point_2;
   using Point3 = typename K::Point_3;
   using Vector3 = typename K::Vector_3;
-  using CDT = typename Cdt<K>::type;
+  using CDT = typename Cdt<K2>::type;
   using VH = typename CDT::Vertex_handle;
 
   // The face's own 2D frame (see the header): exact affine map, rounded scale L.
@@ -263,8 +275,12 @@ FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const Retriangul
 
   auto build = [&](CDT& cdt, std::vector<std::pair<VH, VH>>& constraints) {
     std::map<long, VH> handle;
+    // Each point located from the previous one: the points of an edge come in order along it,
+    // so the walks are short (from a fixed start, 100,000 points on one edge took quadratic time).
+    typename CDT::Face_handle hint;
     for (const auto& [id, p] : points) {
-      VH vh = cdt.insert(to_2d(p));
+      VH vh = hint == typename CDT::Face_handle() ? cdt.insert(to_2d(p)) : cdt.insert(to_2d(p), hint);
+      hint = vh->face();
       vh->info() = id;
       handle[id] = vh;
     }
