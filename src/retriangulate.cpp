@@ -92,7 +92,9 @@ template <class CDT> DomainQuality domain_quality(const CDT& cdt, double bound) 
 /// The angle (degrees) at vertex i of face f of the wedge that contains f and is bounded by the
 /// nearest constrained edges (or the domain's boundary) on either side; 360 around a vertex with
 /// no constraint.
-template <class CDT> double constrained_wedge_deg(const CDT& cdt, typename CDT::Face_handle f, int i) {
+/// Stops early once the angle reaches `enough` (the caller only compares it with that bound).
+template <class CDT>
+double constrained_wedge_deg(const CDT& cdt, typename CDT::Face_handle f, int i, double enough = 360) {
   const auto r = f->vertex(i);
   auto angle_in = [&](typename CDT::Face_handle g) {
     const int j = g->index(r);
@@ -109,6 +111,7 @@ template <class CDT> double constrained_wedge_deg(const CDT& cdt, typename CDT::
       if (g == f) return 360;
       if (cdt.is_infinite(g)) break;
       total += angle_in(g);
+      if (total >= enough) return total;
     }
   }
   return total;
@@ -183,7 +186,7 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
     const bool angle_bad = worst_angle < min_angle_deg;
     // The small angle sits at r. It is forced when the wedge at r between the two constrained
     // edges enclosing this triangle is itself narrower than the bound: no point inside helps.
-    if (angle_bad && worst_area_ratio <= 1 && constrained_wedge_deg(cdt, worst, r) < min_angle_deg) continue;
+    if (angle_bad && worst_area_ratio <= 1 && constrained_wedge_deg(cdt, worst, r, min_angle_deg) < min_angle_deg) continue;
     // The circumcenter in doubles (not CGAL::circumcenter, whose precondition a triangle that is
     // flat after rounding violates: found by fuzzing); a flat one gives a non-finite candidate.
     const std::array<double, 2> cc = [&] {
@@ -275,15 +278,15 @@ FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const Retriangul
 
   auto build = [&](CDT& cdt, std::vector<std::pair<VH, VH>>& constraints) {
     std::map<long, VH> handle;
-    // Each point located from the previous one: the points of an edge come in order along it,
-    // so the walks are short (from a fixed start, 100,000 points on one edge took quadratic time).
-    typename CDT::Face_handle hint;
-    for (const auto& [id, p] : points) {
-      VH vh = hint == typename CDT::Face_handle() ? cdt.insert(to_2d(p)) : cdt.insert(to_2d(p), hint);
-      hint = vh->face();
-      vh->info() = id;
-      handle[id] = vh;
-    }
+    // All points at once: CGAL sorts them spatially (Hilbert order, deterministic) before
+    // inserting. One by one in curve order, the points of an edge come along a line, and a
+    // curve zig-zagging 100,000 times through a face made every insertion flip a long fan:
+    // quadratic time.
+    std::vector<std::pair<Point2, long>> with_ids;
+    with_ids.reserve(points.size());
+    for (const auto& [id, p] : points) with_ids.emplace_back(to_2d(p), id);
+    cdt.insert(with_ids.begin(), with_ids.end());
+    for (auto vit = cdt.finite_vertices_begin(); vit != cdt.finite_vertices_end(); ++vit) handle[vit->info()] = vit;
     // Two input points at one place: only possible with rounded constructions.
     if (cdt.number_of_vertices() != points.size()) throw InternalError("two curve points coincide after rounding");
     // A segment ending at a point that is not one of this face's points (found by fuzzing, under
