@@ -103,7 +103,7 @@ double constrained_wedge_deg(const CDT& cdt, typename CDT::Face_handle f, int i,
   double total = angle_in(f);
   for (int turn = 0; turn < 2; ++turn) {
     auto g = f;
-    for (int guard = 0; guard < 1000; ++guard) {
+    for (int guard = 0; guard < 100; ++guard) {  // a wider fan counts as forced
       const int j = g->index(r);
       const int e = turn == 0 ? CDT::ccw(j) : CDT::cw(j);  // the edge of g at r on this side
       if (g->is_constrained(e)) break;
@@ -150,6 +150,23 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
     }
   };
   std::priority_queue<Bad> queue;
+  // Whether the three vertices still form a face, circulating around all three in turn: the
+  // cost is 3 x the smallest degree (CDT::is_face circulates around the first vertex, and a
+  // corner facing a curve that zig-zags 100,000 times along an edge has a fan that large).
+  auto find_face = [&](const std::array<VH, 3>& v, FH& out) {
+    using FC = typename CDT::Face_circulator;
+    std::array<FC, 3> c, start;
+    for (int k = 0; k < 3; ++k) start[k] = c[k] = cdt.incident_faces(v[k]);
+    for (;;)
+      for (int k = 0; k < 3; ++k) {
+        const FH f = c[k];
+        if (f->has_vertex(v[0]) && f->has_vertex(v[1]) && f->has_vertex(v[2])) {
+          out = f;
+          return true;
+        }
+        if (++c[k] == start[k]) return false;
+      }
+  };
   auto consider = [&](FH f) {
     if (cdt.is_infinite(f) || outside.count(&*f)) return;
     const auto a = xy(f->vertex(0)->point()), b = xy(f->vertex(1)->point()), c = xy(f->vertex(2)->point());
@@ -168,7 +185,7 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
     const Bad top = queue.top();
     queue.pop();
     FH worst;
-    if (!cdt.is_face(top.v[0], top.v[1], top.v[2], worst)) continue;  // stale
+    if (!find_face(top.v, worst)) continue;  // stale
     const double worst_area_ratio = top.area_ratio;
     const double worst_angle = std::asin(std::sqrt(std::min(1.0, top.sine2))) * 180.0 / M_PI;
 
