@@ -73,6 +73,14 @@ std::string quote(std::string_view s) {
   return out;
 }
 
+/// An integral double in full ("-3", "2444444444444444417808384"), without converting it to an
+/// integer type that may not hold it (undefined behaviour: found by fuzzing the PLY reader).
+std::string integral_text(double v) {
+  char buffer[400];
+  std::snprintf(buffer, sizeof buffer, "%.0f", v);
+  return buffer;
+}
+
 std::string line_prefix(std::size_t line) { return "line " + std::to_string(line) + ": "; }
 
 std::string lower(std::string s) {
@@ -838,7 +846,7 @@ TriangleSoup parse_ply(std::string_view data, const std::string& name) {
           if (v != std::floor(v) || !std::isfinite(v))
             invalid(name, body.where() + "face " + std::to_string(i) + " has a vertex index that is not an integer");
           if (v < 0 || v >= 18446744073709551615.0)
-            invalid(name, "face " + std::to_string(i) + " has a vertex index " + std::to_string(static_cast<long long>(v)) +
+            invalid(name, "face " + std::to_string(i) + " has a vertex index " + integral_text(v) +
                               " out of range (mesh has " + std::to_string(vertex_element->count) + " vertices)");
           triangle[c] = static_cast<std::size_t>(v);
         }
