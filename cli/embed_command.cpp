@@ -19,6 +19,7 @@ int run_embed(const EmbedArgs& a) {
   refuse_overwrite({a.mesh, a.curves}, {a.out, a.curves_out, a.report});
   const auto t0 = Clock::now();
   seam::TriangleSoup soup = seam::read_triangle_mesh(a.mesh);
+  seam::check_no_self_intersection(soup, a.mesh);
   const auto polylines = seam::read_polylines(a.curves);
   const double read_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
 

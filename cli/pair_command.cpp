@@ -25,10 +25,17 @@ int run_pair(const PairArgs& args) {
   if (!args.curves.empty()) inputs.push_back(args.curves);
   refuse_overwrite(inputs, {args.out_a, args.out_b, args.curves_out, args.report, args.vtk});
   const auto t0 = Clock::now();
-  // The two files are read concurrently (parsing dominates).
+  // The two files are read concurrently (parsing dominates), then checked for self-intersections.
   seam::TriangleSoup soup_a, soup_b;
-  tbb::parallel_invoke([&] { soup_a = seam::read_triangle_mesh(args.a); },
-                       [&] { soup_b = seam::read_triangle_mesh(args.b); });
+  tbb::parallel_invoke(
+      [&] {
+        soup_a = seam::read_triangle_mesh(args.a);
+        seam::check_no_self_intersection(soup_a, args.a);
+      },
+      [&] {
+        soup_b = seam::read_triangle_mesh(args.b);
+        seam::check_no_self_intersection(soup_b, args.b);
+      });
   std::vector<std::vector<seam::Point3d>> given;
   if (!args.curves.empty()) given = seam::read_polylines(args.curves);
   const double read_seconds = std::chrono::duration<double>(Clock::now() - t0).count();

@@ -192,6 +192,7 @@ CoarsenOutput<K> coarsen_curves(const Mesh<K>& mesh, const std::vector<TracedCur
       if (kept[i]) k.push_back(i);
     for (std::size_t j = 0; j < k.size(); ++j) {
       cc.ids.push_back(out.points.id(pts[k[j]]));
+      cc.traced_index.push_back(k[j]);
       const bool last = j + 1 == k.size();
       if (last && !closed) break;
       const std::size_t a = k[j], b = last ? k.front() : k[j + 1];

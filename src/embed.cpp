@@ -7,15 +7,13 @@
 #include <seam/internal/trace.h>
 #include <seam/quality.h>
 
-#include <CGAL/AABB_segment_primitive.h>
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 namespace seam {
 
@@ -47,26 +45,74 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-/// Largest distance from a node of one polyline set to the nearest segment of the other, both
-/// ways (rounded; a measurement for the report).
+/// Largest distance between the input curves and the embedded (coarsened) ones, measured
+/// locally, both ways (rounded; a measurement for the report): each input node against the
+/// embedded segment that replaced it, each embedded point against the input segment(s) it lies
+/// between. Linear in the number of traced points: a global nearest-segment search degenerates
+/// to quadratic time when the curve passes through the same faces many times (a zig-zag).
 template <class K>
-double polyline_deviation(const std::vector<Polyline<K>>& a, const std::vector<Polyline<K>>& b) {
+double polyline_deviation(const std::vector<Polyline<K>>& input, const std::vector<internal::TracedCurve<K>>& traced,
+                          const internal::CoarsenOutput<K>& coarse) {
   using DK = CGAL::Exact_predicates_inexact_constructions_kernel;
-  auto one_way = [&](const std::vector<Polyline<K>>& from, const std::vector<Polyline<K>>& to) {
-    std::vector<DK::Segment_3> segments;
-    for (const auto& c : to)
-      for (std::size_t i = 0; i + 1 < c.size(); ++i)
-        if (to_filtered(c[i]) != to_filtered(c[i + 1])) segments.emplace_back(to_filtered(c[i]), to_filtered(c[i + 1]));
-    if (segments.empty()) return 0.0;
-    using Prim = CGAL::AABB_segment_primitive<DK, std::vector<DK::Segment_3>::const_iterator>;
-    CGAL::AABB_tree<CGAL::AABB_traits<DK, Prim>> tree(segments.cbegin(), segments.cend());
-    tree.accelerate_distance_queries();
-    double worst = 0;
-    for (const auto& c : from)
-      for (const auto& p : c) worst = std::max(worst, std::sqrt(tree.squared_distance(to_filtered(p))));
-    return worst;
-  };
-  return std::max(one_way(a, b), one_way(b, a));
+  double worst = 0;
+  const auto& cps = coarse.points.points;
+  for (std::size_t c = 0; c < traced.size() && c < coarse.curves.size() && c < input.size(); ++c) {
+    const auto& tc = traced[c];
+    const auto& cc = coarse.curves[c];
+    const auto& in = input[c];
+    const std::size_t n = tc.points.size(), m = cc.traced_index.size();
+    if (n == 0 || m == 0 || tc.input_node.size() != n) continue;
+    auto node = [&](std::size_t i) -> std::optional<DK::Point_3> {
+      const long k = tc.input_node[i];
+      if (k < 0 || std::size_t(k) >= in.size()) return std::nullopt;
+      return to_filtered(in[std::size_t(k)]);
+    };
+    auto dist = [](const DK::Point_3& p, const DK::Point_3& a, const DK::Point_3& b) {
+      return std::sqrt(a == b ? CGAL::squared_distance(p, a) : CGAL::squared_distance(p, DK::Segment_3(a, b)));
+    };
+    // Input nodes against the embedded segment that replaced them.
+    const std::size_t segments = cc.closed ? m : m - 1;
+    for (std::size_t j = 0; j < segments; ++j) {
+      const std::size_t ta = cc.traced_index[j], tb = cc.traced_index[(j + 1) % m];
+      const auto a = to_filtered(cps[cc.ids[j]].p), b = to_filtered(cps[cc.ids[(j + 1) % m]].p);
+      for (std::size_t i = ta;; i = (i + 1) % n) {
+        if (const auto p = node(i)) worst = std::max(worst, dist(*p, a, b));
+        if (i == tb) break;
+      }
+    }
+    if (m == 1) {
+      if (const auto p = node(cc.traced_index[0])) worst = std::max(worst, dist(*p, to_filtered(cps[cc.ids[0]].p), to_filtered(cps[cc.ids[0]].p)));
+    }
+    // Embedded points against the input segment between the nodes before and after them.
+    std::vector<long> before(n, -1), after(n, -1);
+    for (std::size_t pass = 0, i = 0; pass < (cc.closed ? 2u : 1u); ++pass)
+      for (i = 0; i < n; ++i) {
+        if (tc.input_node[i] >= 0) before[i] = long(i);
+        else if (i > 0 && before[i - 1] >= 0) before[i] = before[i - 1];
+        else if (i == 0 && cc.closed && before[n - 1] >= 0) before[i] = before[n - 1];
+      }
+    for (std::size_t pass = 0; pass < (cc.closed ? 2u : 1u); ++pass)
+      for (std::size_t r = 0; r < n; ++r) {
+        const std::size_t i = n - 1 - r;
+        if (tc.input_node[i] >= 0) after[i] = long(i);
+        else if (i + 1 < n && after[i + 1] >= 0) after[i] = after[i + 1];
+        else if (i + 1 == n && cc.closed && after[0] >= 0) after[i] = after[0];
+      }
+    for (std::size_t j = 0; j < m; ++j) {
+      const std::size_t t = cc.traced_index[j];
+      if (before[t] < 0 || after[t] < 0) continue;
+      const auto p = to_filtered(cps[cc.ids[j]].p);
+      const auto a = node(std::size_t(before[t])), b = node(std::size_t(after[t]));
+      double d = dist(p, *a, *b);
+      if (before[t] == after[t]) {  // an input node itself: the input segments on either side
+        const long k = tc.input_node[t];
+        if (k > 0) d = std::min(d, dist(p, to_filtered(in[std::size_t(k - 1)]), *a));
+        if (std::size_t(k) + 1 < in.size()) d = std::min(d, dist(p, *a, to_filtered(in[std::size_t(k + 1)])));
+      }
+      worst = std::max(worst, d);
+    }
+  }
+  return worst;
 }
 
 }  // namespace
@@ -154,6 +200,7 @@ EmbedResult<K> embed(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, cons
       return CGAL::compare_distance_to_point(s, cps[x].p, cps[y].p) == CGAL::SMALLER;
     });
   }
+  std::set<std::tuple<std::size_t, std::size_t, std::size_t>> segments_seen;  // a face may hold 100,000
   for (const auto& cc : coarse.curves) {
     const std::size_t ns = cc.segment_face.size();
     for (std::size_t j = 0; j < ns; ++j) {
@@ -161,8 +208,7 @@ EmbedResult<K> embed(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, cons
       if (f == Mesh<K>::null_face()) continue;
       std::size_t a = cc.ids[j], b = cc.ids[(j + 1) % cc.ids.size()];
       if (a > b) std::swap(a, b);
-      auto& segs = face_segments[f];
-      if (std::find(segs.begin(), segs.end(), std::make_pair(a, b)) == segs.end()) segs.emplace_back(a, b);
+      if (segments_seen.emplace(std::size_t(f), a, b).second) face_segments[f].emplace_back(a, b);
     }
   }
   std::set<F> crossed;
@@ -274,7 +320,7 @@ EmbedResult<K> embed(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, cons
   st.new_faces_below_10 = quality.below_10;
   st.new_faces_below_20 = quality.below_20;
   st.new_faces_below_10_unforced = quality.below_10_unforced;
-  st.max_curve_deviation = polyline_deviation<K>(curves, result.curves);
+  st.max_curve_deviation = polyline_deviation<K>(curves, traced, coarse);
   return result;
 }
 

@@ -139,6 +139,34 @@ template <class K> struct Provenance {
 
 template <class K>
 std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b, std::size_t* touching_points) {
+  if constexpr (std::is_same_v<K, Float>) {
+    // CGAL's surface_intersection (its coplanar corefinement in particular) needs exact
+    // predicates: with plain doubles it fails assertions or runs into undefined behaviour on
+    // degenerate inputs (found by fuzzing). Under the float kernel the curves are computed with
+    // Epick on the same doubles (exact decisions, constructions rounded as under float anyway).
+    auto to_filtered_mesh = [](const Mesh<Float>& m) {
+      Mesh<Filtered> r;
+      std::vector<Mesh<Filtered>::Vertex_index> vertex(m.num_vertices());
+      for (auto v : m.vertices()) {
+        const auto& p = m.point(v);
+        vertex[std::size_t(v)] = r.add_vertex(Filtered::Point_3(p.x(), p.y(), p.z()));
+      }
+      for (auto f : m.faces()) {
+        std::vector<Mesh<Filtered>::Vertex_index> corners;
+        for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) corners.push_back(vertex[std::size_t(v)]);
+        if (r.add_face(corners) == Mesh<Filtered>::null_face())
+          throw InternalError("intersection_curves: a face could not be copied");
+      }
+      return r;
+    };
+    const auto curves = intersection_curves<Filtered>(to_filtered_mesh(a), to_filtered_mesh(b), touching_points);
+    std::vector<Polyline<K>> result;
+    for (const auto& c : curves) {
+      result.emplace_back();
+      for (const auto& p : c) result.back().emplace_back(p.x(), p.y(), p.z());
+    }
+    return result;
+  }
   using Point = typename K::Point_3;
   using F = typename Mesh<K>::Face_index;
   std::vector<std::vector<Point>> pieces;

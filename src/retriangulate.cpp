@@ -30,6 +30,17 @@ template <class K> struct Cdt {
   using type = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, Itag>;
 };
 
+/// The kernel of the 2D triangulation: K, except under the float kernel, whose inexact
+/// predicates break the triangulation's invariants on nearly degenerate faces (found by fuzzing:
+/// a CGAL assertion in the triangulation data structure; without assertions, undefined
+/// behaviour). There the CDT uses Epick on the same doubles: exact decisions, same coordinates.
+template <class K> struct CdtKernel {
+  using type = K;
+};
+template <> struct CdtKernel<Float> {
+  using type = Filtered;
+};
+
 constexpr long kNoId = std::numeric_limits<long>::min();
 
 /// Faces of the CDT outside the region bounded by the constraints: reachable from the infinite
@@ -88,7 +99,9 @@ template <class CDT> DomainQuality domain_quality(const CDT& cdt, double bound) 
 /// The angle (degrees) at vertex i of face f of the wedge that contains f and is bounded by the
 /// nearest constrained edges (or the domain's boundary) on either side; 360 around a vertex with
 /// no constraint.
-template <class CDT> double constrained_wedge_deg(const CDT& cdt, typename CDT::Face_handle f, int i) {
+/// Stops early once the angle reaches `enough` (the caller only compares it with that bound).
+template <class CDT>
+double constrained_wedge_deg(const CDT& cdt, typename CDT::Face_handle f, int i, double enough = 360) {
   const auto r = f->vertex(i);
   auto angle_in = [&](typename CDT::Face_handle g) {
     const int j = g->index(r);
@@ -97,7 +110,7 @@ template <class CDT> double constrained_wedge_deg(const CDT& cdt, typename CDT::
   double total = angle_in(f);
   for (int turn = 0; turn < 2; ++turn) {
     auto g = f;
-    for (int guard = 0; guard < 1000; ++guard) {
+    for (int guard = 0; guard < 100; ++guard) {  // a wider fan counts as forced
       const int j = g->index(r);
       const int e = turn == 0 ? CDT::ccw(j) : CDT::cw(j);  // the edge of g at r on this side
       if (g->is_constrained(e)) break;
@@ -105,6 +118,7 @@ template <class CDT> double constrained_wedge_deg(const CDT& cdt, typename CDT::
       if (g == f) return 360;
       if (cdt.is_infinite(g)) break;
       total += angle_in(g);
+      if (total >= enough) return total;
     }
   }
   return total;
@@ -143,6 +157,23 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
     }
   };
   std::priority_queue<Bad> queue;
+  // Whether the three vertices still form a face, circulating around all three in turn: the
+  // cost is 3 x the smallest degree (CDT::is_face circulates around the first vertex, and a
+  // corner facing a curve that zig-zags 100,000 times along an edge has a fan that large).
+  auto find_face = [&](const std::array<VH, 3>& v, FH& out) {
+    using FC = typename CDT::Face_circulator;
+    std::array<FC, 3> c, start;
+    for (int k = 0; k < 3; ++k) start[k] = c[k] = cdt.incident_faces(v[k]);
+    for (;;)
+      for (int k = 0; k < 3; ++k) {
+        const FH f = c[k];
+        if (f->has_vertex(v[0]) && f->has_vertex(v[1]) && f->has_vertex(v[2])) {
+          out = f;
+          return true;
+        }
+        if (++c[k] == start[k]) return false;
+      }
+  };
   auto consider = [&](FH f) {
     if (cdt.is_infinite(f) || outside.count(&*f)) return;
     const auto a = xy(f->vertex(0)->point()), b = xy(f->vertex(1)->point()), c = xy(f->vertex(2)->point());
@@ -161,7 +192,7 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
     const Bad top = queue.top();
     queue.pop();
     FH worst;
-    if (!cdt.is_face(top.v[0], top.v[1], top.v[2], worst)) continue;  // stale
+    if (!find_face(top.v, worst)) continue;  // stale
     const double worst_area_ratio = top.area_ratio;
     const double worst_angle = std::asin(std::sqrt(std::min(1.0, top.sine2))) * 180.0 / M_PI;
 
@@ -179,8 +210,15 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
     const bool angle_bad = worst_angle < min_angle_deg;
     // The small angle sits at r. It is forced when the wedge at r between the two constrained
     // edges enclosing this triangle is itself narrower than the bound: no point inside helps.
-    if (angle_bad && worst_area_ratio <= 1 && constrained_wedge_deg(cdt, worst, r) < min_angle_deg) continue;
-    const auto cc = xy(CGAL::circumcenter(worst->vertex(0)->point(), worst->vertex(1)->point(), worst->vertex(2)->point()));
+    if (angle_bad && worst_area_ratio <= 1 && constrained_wedge_deg(cdt, worst, r, min_angle_deg) < min_angle_deg) continue;
+    // The circumcenter in doubles (not CGAL::circumcenter, whose precondition a triangle that is
+    // flat after rounding violates: found by fuzzing); a flat one gives a non-finite candidate.
+    const std::array<double, 2> cc = [&] {
+      const double bx = v[1][0] - v[0][0], by = v[1][1] - v[0][1], cx = v[2][0] - v[0][0], cy = v[2][1] - v[0][1];
+      const double den = 2 * (bx * cy - by * cx), b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
+      if (den == 0) return std::array<double, 2>{HUGE_VAL, HUGE_VAL};
+      return std::array<double, 2>{v[0][0] + (cy * b2 - by * c2) / den, v[0][1] + (bx * c2 - cx * b2) / den};
+    }();
     const double mx = 0.5 * (p[0] + q[0]), my = 0.5 * (p[1] + q[1]);
     double nx = -(q[1] - p[1]), ny = q[0] - p[0];  // normal of pq, towards r
     if (nx * (o[0] - mx) + ny * (o[1] - my) < 0) nx = -nx, ny = -ny;
@@ -226,10 +264,11 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
 template <class K>
 FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const RetriangulateOptions& options) {
   using FT = typename K::FT;
-  using Point2 = typename K::Point_2;
+  using K2 = typename CdtKernel<K>::type;
+  using Point2 = typename K2::Point_2;
   using Point3 = typename K::Point_3;
   using Vector3 = typename K::Vector_3;
-  using CDT = typename Cdt<K>::type;
+  using CDT = typename Cdt<K2>::type;
   using VH = typename CDT::Vertex_handle;
 
   // The face's own 2D frame (see the header): exact affine map, rounded scale L.
@@ -263,27 +302,39 @@ FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const Retriangul
 
   auto build = [&](CDT& cdt, std::vector<std::pair<VH, VH>>& constraints) {
     std::map<long, VH> handle;
-    for (const auto& [id, p] : points) {
-      VH vh = cdt.insert(to_2d(p));
-      vh->info() = id;
-      handle[id] = vh;
-    }
+    // All points at once: CGAL sorts them spatially (Hilbert order, deterministic) before
+    // inserting. One by one in curve order, the points of an edge come along a line, and a
+    // curve zig-zagging 100,000 times through a face made every insertion flip a long fan:
+    // quadratic time.
+    std::vector<std::pair<Point2, long>> with_ids;
+    with_ids.reserve(points.size());
+    for (const auto& [id, p] : points) with_ids.emplace_back(to_2d(p), id);
+    cdt.insert(with_ids.begin(), with_ids.end());
+    for (auto vit = cdt.finite_vertices_begin(); vit != cdt.finite_vertices_end(); ++vit) handle[vit->info()] = vit;
     // Two input points at one place: only possible with rounded constructions.
     if (cdt.number_of_vertices() != points.size()) throw InternalError("two curve points coincide after rounding");
+    // A segment ending at a point that is not one of this face's points (found by fuzzing, under
+    // the rounded kernels: the two ends were located on elements that do not bound this face).
+    auto at = [&](long id) {
+      const auto it = handle.find(id);
+      if (it == handle.end()) {
+        std::ostringstream msg;
+        msg << "a curve segment inside the face with corners " << face.corner_ids[0] << ", " << face.corner_ids[1]
+            << ", " << face.corner_ids[2] << " ends at point " << id << ", which is not on that face";
+        if (!kernel_traits<K>::exact_constructions) msg << " (rounded arithmetic)";
+        throw InternalError(msg.str());
+      }
+      return it->second;
+    };
     for (int i = 0; i < 3; ++i) {
       long prev = long(face.corner_ids[i]);
       for (const auto& ep : face.edge_points[i]) {
-        constraints.emplace_back(handle[prev], handle[long(ep.first)]);
+        constraints.emplace_back(at(prev), at(long(ep.first)));
         prev = long(ep.first);
       }
-      constraints.emplace_back(handle[prev], handle[long(face.corner_ids[(i + 1) % 3])]);
+      constraints.emplace_back(at(prev), at(long(face.corner_ids[(i + 1) % 3])));
     }
-    for (const auto& [s, t] : face.segments) {
-      // A segment between points that are not in this face (rounded kernels only): an error,
-      // not a null vertex handle for the triangulation.
-      if (!handle.count(long(s)) || !handle.count(long(t))) return false;
-      constraints.emplace_back(handle[long(s)], handle[long(t)]);
-    }
+    for (const auto& [s, t] : face.segments) constraints.emplace_back(at(long(s)), at(long(t)));
     try {
       for (const auto& [s, t] : constraints) cdt.insert_constraint(s, t);
     } catch (const typename CDT::Intersection_of_constraints_exception&) {

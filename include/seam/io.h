@@ -18,6 +18,7 @@
 #include <functional>
 #include <ostream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace seam {
@@ -35,6 +36,10 @@ struct TriangleSoup {
 /// validate_triangle_mesh(). Throws InvalidInput / IOError with a message naming `path`.
 TriangleSoup read_triangle_mesh(const std::string& path);
 
+/// The same on a file's content held in memory: `format` is the extension ("off" or ".off", ...,
+/// case-insensitive), `name` starts every message. Parses and validates; never reads a file.
+TriangleSoup parse_triangle_mesh(std::string_view data, const std::string& format, const std::string& name);
+
 /// Checks that `soup` is a valid oriented 2-manifold triangle mesh (with or without boundary):
 /// at least one triangle; finite coordinates; indices in range; no repeated index in a
 /// triangle; no zero-area (collinear, exact test) triangle; every edge used by at most two
@@ -43,10 +48,21 @@ TriangleSoup read_triangle_mesh(const std::string& path);
 /// dropped by mesh_from_soup). `name` starts every message.
 void validate_triangle_mesh(const TriangleSoup& soup, const std::string& name);
 
+/// Checks that the faces of a valid mesh (see validate_triangle_mesh) meet only in their common
+/// vertices and edges (CGAL::Polygon_mesh_processing::self_intersections, exact predicates on the
+/// doubles). Throws InvalidInput naming two faces that intersect, by their index in `soup`
+/// (the file's numbering): "tow.off: faces 12 and 873 intersect (the surface intersects itself)".
+/// seam embed and seam pair run it on their input meshes (not part of read_triangle_mesh:
+/// seam check reports a self-intersecting output as a failed check).
+void check_no_self_intersection(const TriangleSoup& soup, const std::string& name);
+
 /// Reads polylines in CGAL's text format: one polyline per non-empty line,
 /// "n x1 y1 z1 ... xn yn zn". Lines starting with '#' are comments. Errors (naming the file
 /// and line): wrong count, fewer than 2 points, non-numeric or non-finite values, no polyline.
 std::vector<std::vector<Point3d>> read_polylines(const std::string& path);
+
+/// The same on a file's content held in memory; `name` starts every message.
+std::vector<std::vector<Point3d>> parse_polylines(std::string_view data, const std::string& name);
 
 /// Writes `soup` by extension (.off, .obj, .ply, .stl; OFF and OBJ with 17 significant digits,
 /// so that doubles round-trip bit-exactly). Atomic: writes a temporary file in the same

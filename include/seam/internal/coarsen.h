@@ -38,6 +38,9 @@ template <class K> struct CurvePoints {
 template <class K> struct CoarseCurve {
   std::vector<std::size_t> ids;
   std::vector<typename MeshTypes<K>::F> segment_face;
+  /// For each entry of ids, the index of that point in the traced curve (increasing): segment i
+  /// replaces the traced points from traced_index[i] to traced_index[i+1].
+  std::vector<std::size_t> traced_index;
   bool closed = false;
 };
 
