@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Checks that the Debian packages seam needs are installed; installs the missing ones when run
 # as root, otherwise prints the command to run and fails. Quiet when everything is there.
+# --fuzz: also what scripts/fuzz.sh needs (clang, compiler-rt).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -10,6 +11,10 @@ packages=(
   catch2 libcli11-dev nlohmann-json3-dev libbenchmark-dev libtbb-dev
   tetgen
 )
+# scripts/fuzz.sh needs clang and its libFuzzer/sanitizer runtimes.
+if [[ "${1:-}" == "--fuzz" ]]; then
+  packages+=(clang libclang-rt-14-dev)
+fi
 
 missing=()
 for pkg in "${packages[@]}"; do

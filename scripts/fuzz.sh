@@ -32,7 +32,7 @@ else
   exit 2
 fi
 
-bash scripts/deps.sh
+bash scripts/deps.sh --fuzz
 for tool in clang++; do
   if ! command -v "$tool" >/dev/null 2>&1; then
     echo "fuzz.sh: $tool not found (Debian: apt-get install clang libclang-rt-14-dev)" >&2
