@@ -147,7 +147,10 @@ int run_textile(TextileArgs& args) {
   tbb::task_arena arena(args.threads > 0 ? args.threads : tbb::task_arena::automatic);
   const auto t0 = Clock::now();
   std::vector<seam::TriangleSoup> soups(inputs.size());
-  parallel_indices(arena, inputs.size(), [&](std::size_t i) { soups[i] = seam::read_triangle_mesh(inputs[i]); });
+  parallel_indices(arena, inputs.size(), [&](std::size_t i) {
+    soups[i] = seam::read_triangle_mesh(inputs[i]);
+    seam::check_no_self_intersection(soups[i], inputs[i]);  // names two faces that intersect
+  });
   const double read_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
 
   return seam::with_kernel(parse_kernel(args.kernel), [&](auto kernel) {

@@ -187,9 +187,10 @@ TEST_CASE("contract: a bad mesh in any input position of embed, pair or check gi
   }
 }
 
-TEST_CASE("contract: a self-intersecting input of embed or pair names two faces that intersect", "[cli][contract]") {
+TEST_CASE("contract: a self-intersecting input of embed, pair or textile names two faces that intersect",
+          "[cli][contract]") {
   const seam::TriangleSoup soup = seam::parse_triangle_mesh(self_intersecting_off, "off", "x");
-  for (int position = 0; position < 3; ++position) {
+  for (int position = 0; position < 4; ++position) {
     INFO("position " << position);
     Dir dir;
     const std::string bad = dir.input("crossed.off", self_intersecting_off);
@@ -197,6 +198,7 @@ TEST_CASE("contract: a self-intersecting input of embed or pair names two faces 
     const std::string curves = dir.input("curves.txt", curve_txt);
     std::vector<std::string> args;
     if (position == 0) args = {"embed", bad, "--curves", curves, "-o", dir.out("o.off")};
+    else if (position == 3) args = {"textile", a, bad, b, "--out-dir", dir.out("cell"), "--quiet"};
     else args = {"pair", position == 1 ? bad : a, position == 2 ? bad : b, "--out-a", dir.out("a2.off"), "--out-b",
                  dir.out("b2.off")};
     const Run r = run_seam(dir, args);
