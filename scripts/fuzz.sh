@@ -45,10 +45,10 @@ generator=()
 if command -v ninja >/dev/null 2>&1 && [[ ! -f "$build_dir/CMakeCache.txt" ]]; then
   generator=(-G Ninja)
 fi
-# -O1 -g without NDEBUG: CGAL's assertions stay on and throw, so the fuzzer reports them.
+# -O1 -g1 (line tables) without NDEBUG: CGAL's assertions stay on and throw, so the fuzzer reports them.
 [[ "${SEAM_FUZZ_NO_BUILD:-0}" == 1 && $build_only -eq 0 ]] ||
 cmake -S . -B "$build_dir" "${generator[@]}" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Fuzz \
-  -DCMAKE_CXX_FLAGS_FUZZ="-O1 -g" -DSEAM_FUZZ=ON -DSEAM_BUILD_TESTS=OFF -DSEAM_BUILD_BENCHMARKS=OFF >/dev/null
+  -DCMAKE_CXX_FLAGS_FUZZ="-O1 -g1" -DSEAM_FUZZ=ON -DSEAM_BUILD_TESTS=OFF -DSEAM_BUILD_BENCHMARKS=OFF >/dev/null
 if [[ $build_only -eq 1 ]]; then
   cmake --build "$build_dir" -j"${SEAM_JOBS:-2}" --target "${targets[@]/#/fuzz_}"
   exit 0

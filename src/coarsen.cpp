@@ -197,6 +197,10 @@ CoarsenOutput<K> coarsen_curves(const Mesh<K>& mesh, const std::vector<TracedCur
       if (last && !closed) break;
       const std::size_t a = k[j], b = last ? k.front() : k[j + 1];
       // face of the step leaving a (the same face holds the whole run when it has nodes)
+      // A step without a valid face: only rounded kernels get there (found by fuzzing, float
+      // kernel); an internal error, not an out-of-range face.
+      if (a >= tc.step_face.size() || std::size_t(tc.step_face[a]) >= mesh.number_of_faces())
+        throw InternalError("coarsen: a step of the traced curve has no face on the mesh (rounded arithmetic)");
       const auto f = tc.step_face[a];
       const bool run_on_edges = (a + 1) % n != b && pts[(a + 1) % n].where == Where::edge;
       const bool along_edge = run_on_edges || ((a + 1) % n == b && on_common_edge<K>(mesh, f, pts[a], pts[b]));
