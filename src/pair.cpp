@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/internal/collapse.h>
 #include <seam/internal/improve.h>
+#include <seam/internal/provenance.h>
 #include <seam/internal/snap.h>
 #include <seam/quality.h>
 #include <seam/check.h>
@@ -102,38 +103,6 @@ template <class Point> std::vector<std::vector<Point>> chain(std::vector<std::ve
   return result;
 }
 
-/// Which input face each face of a mesh comes from, once edge snapping has cut some.
-template <class K> struct Provenance {
-  std::vector<std::uint32_t> origin;  ///< by current face index
-  std::vector<char> reshaped;         ///< cut by edge snapping (its faces are new)
-  std::vector<double> input_min_angle;  ///< by input face
-  explicit Provenance(const Mesh<K>& input) {
-    for (auto f : input.faces()) {
-      origin.push_back(std::uint32_t(std::size_t(f)));
-      auto h = input.halfedge(f);
-      input_min_angle.push_back(min_angle_deg(input.point(input.source(h)), input.point(input.target(h)),
-                                              input.point(input.target(input.next(h)))));
-    }
-    reshaped.assign(origin.size(), 0);
-  }
-  /// Maps the output's source faces back to input faces, marks faces from cut faces new, and
-  /// measures the new faces again.
-  void apply(Mesh<K>& out, EmbedStats& st) const {
-    auto source = out.template property_map<typename Mesh<K>::Face_index, std::uint32_t>(source_face_property).first;
-    auto is_new = out.template property_map<typename Mesh<K>::Face_index, bool>(new_face_property).first;
-    for (auto f : out.faces()) {
-      const std::size_t s = source[f];
-      if (s < reshaped.size() && reshaped[s]) is_new[f] = true;
-      if (s < origin.size()) source[f] = origin[s];
-    }
-    const auto q = new_face_quality<K>(out, &input_min_angle);
-    st.min_angle_deg_new = q.min_angle_deg;
-    st.new_faces_below_10 = q.below_10;
-    st.new_faces_below_20 = q.below_20;
-    st.new_faces_below_10_unforced = q.below_10_unforced;
-    st.faces_added = q.new_faces;
-  }
-};
 
 }  // namespace
 
@@ -379,7 +348,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   PairResult<K> result;
   // Edge snapping adds faces: each mesh face's input face, and whether its shape changed
   // (recorded only when snapping).
-  std::optional<Provenance<K>> prov_a, prov_b;
+  std::optional<internal::FaceProvenance> prov_a, prov_b;
   PairStats& st = result.stats;
   const double la = mean_edge_length<K>(a), lb = mean_edge_length<K>(b);
   const std::size_t input_vertices_a = a.number_of_vertices(), input_vertices_b = b.number_of_vertices();
@@ -397,7 +366,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   // be embedded. The unsnapped state is kept to go back to in both cases.
   struct Unsnapped {
     Mesh<K> a, b;
-    std::optional<Provenance<K>> prov_a, prov_b;  // none: no provenance before snapping
+    std::optional<internal::FaceProvenance> prov_a, prov_b;  // none: no provenance before snapping
     std::vector<Polyline<K>> curves;
     std::size_t touching;
   };
@@ -419,8 +388,8 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     // Report step 1 on both meshes, against the exact intersection points; then the curves of
     // the moved surfaces.
     t = Clock::now();
-    prov_a.emplace(a);
-    prov_b.emplace(b);
+    prov_a.emplace().start<K>(a);
+    prov_b.emplace().start<K>(b);
     // Onto the closest point of the curves (they lie on both surfaces), not only their nodes,
     // which are sparse: one per crossing of an edge.
     const auto sa = internal::snap_vertices_to_segments<K>(a, curves, snap_tol);
@@ -559,8 +528,8 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     }
     st.stage_seconds["collapse"] = seconds_since(t);
     // Faces mapped back to the input faces, quality measured against the input's own angles.
-    prov_a->apply(a, result.a.stats);
-    prov_b->apply(b, result.b.stats);
+    prov_a->apply<K>(a, result.a.stats);
+    prov_b->apply<K>(b, result.b.stats);
   }
 
   // Experimental: coarsen the curve to about the edge length and remesh both meshes next to it

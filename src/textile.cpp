@@ -1,5 +1,6 @@
 // seam::textile: all pairs of a unit cell, in parallel. See seam/textile.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/internal/provenance.h>
 #include <seam/internal/snap.h>
 #include <seam/pair.h>
 #include <seam/quality.h>
@@ -235,47 +236,6 @@ void for_each_index(tbb::task_arena& arena, std::size_t n, Body&& body, Done&& d
     if (e) std::rethrow_exception(e);
 }
 
-/// Which input face each face of a tow comes from once faces were cut at triple points (embed's
-/// source_face_property then refers to the cut mesh and is mapped back, as seam::pair does after
-/// edge snapping).
-struct Provenance {
-  std::vector<std::uint32_t> origin;    ///< input face, by face of the cut mesh (empty: nothing cut)
-  std::vector<char> reshaped;           ///< cut (its faces count as new)
-  std::vector<double> input_min_angle;  ///< by input face
-  template <class K> void start(const Mesh<K>& m) {
-    if (!origin.empty()) return;
-    for (auto f : m.faces()) {
-      const auto h = m.halfedge(f);
-      input_min_angle.push_back(min_angle_deg(to_filtered(m.point(m.source(h))), to_filtered(m.point(m.target(h))),
-                                              to_filtered(m.point(m.target(m.next(h))))));
-      origin.push_back(std::uint32_t(std::size_t(f)));
-    }
-    reshaped.assign(origin.size(), 0);
-  }
-  /// Faces from index `first` on were cut from face `from`.
-  void added(std::size_t first, std::size_t count, std::size_t from) {
-    origin.resize(count, 0);
-    reshaped.resize(count, 0);
-    for (std::size_t f = first; f < count; ++f) origin[f] = origin[from], reshaped[f] = 1;
-    reshaped[from] = 1;
-  }
-  template <class K> void apply(Mesh<K>& out, EmbedStats& st) const {
-    auto source = out.template property_map<typename Mesh<K>::Face_index, std::uint32_t>(source_face_property).first;
-    auto is_new = out.template property_map<typename Mesh<K>::Face_index, bool>(new_face_property).first;
-    for (auto f : out.faces()) {
-      const std::size_t s = source[f];
-      if (s < reshaped.size() && reshaped[s]) is_new[f] = true;
-      if (s < origin.size()) source[f] = origin[s];
-    }
-    const auto q = new_face_quality<K>(out, &input_min_angle);
-    st.min_angle_deg_new = q.min_angle_deg;
-    st.new_faces_below_10 = q.below_10;
-    st.new_faces_below_20 = q.below_20;
-    st.new_faces_below_10_unforced = q.below_10_unforced;
-    st.faces_added = q.new_faces;
-  }
-};
-
 /// Whether `p` is (exactly) the point of a vertex of `m`.
 template <class K> bool is_vertex(const Mesh<K>& m, const typename K::Point_3& p) {
   const CGAL::Bbox_3 box = p.bbox();
@@ -287,7 +247,7 @@ template <class K> bool is_vertex(const Mesh<K>& m, const typename K::Point_3& p
 /// Makes `p`, a point of the surface of `m`, a vertex of it: the face holding it is cut in three,
 /// or the two faces at the edge holding it in two each (exact tests; the surface is unchanged).
 /// Returns false when `p` is a vertex already or lies on no face.
-template <class K> bool insert_vertex(Mesh<K>& m, const typename K::Point_3& p, Provenance& prov) {
+template <class K> bool insert_vertex(Mesh<K>& m, const typename K::Point_3& p, internal::FaceProvenance& prov) {
   using F = typename Mesh<K>::Face_index;
   const CGAL::Bbox_3 box = p.bbox();
   for (F f : m.faces()) {
@@ -449,7 +409,7 @@ TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::st
   t = Clock::now();
   std::vector<double> snap_tol(meshes.size(), 0.0);
   std::vector<std::size_t> snapped(meshes.size(), 0), snaps_refused(meshes.size(), 0);
-  std::vector<Provenance> provenance(meshes.size());  // of the faces cut at triple points
+  std::vector<internal::FaceProvenance> provenance(meshes.size());  // of the faces cut at triple points
   // Rounded kernels: no automatic snapping (a snapped vertex lies exactly on the other tow, a
   // degeneracy only the exact kernel copes with; their curve points are doubles already).
   const bool snap = options.embed.snap_tol > 0 || (options.embed.snap_tol < 0 && kernel_traits<K>::exact_constructions);
@@ -629,7 +589,7 @@ TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::st
                                    ? " (the curves of two neighbours may meet: use --kernel exact)"
                                    : ""));
         }
-        if (!provenance[tow].origin.empty()) provenance[tow].apply<K>(mesh, r.stats);
+        if (!provenance[tow].origin.empty()) provenance[tow].template apply<K>(mesh, r.stats);
         if (r.curves.size() != curves.size() || r.curve_vertices.size() != curves.size())
           throw InternalError("textile: " + names[tow] + ": the embedding returned a different number of curves");
         for (auto& c : r.curves)
