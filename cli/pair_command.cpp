@@ -111,6 +111,10 @@ int run_pair(const PairArgs& args) {
         j["given_curves"] = st.given_curves;
         j["max_curve_move"] = st.max_curve_move;
         j["remeshed"] = st.remeshed;
+        j["remesh"] = {{"done", st.remeshed},
+                       {"attempts", st.remesh_attempts},
+                       {"curve_vertices_frozen", st.curve_vertices_frozen},
+                       {"max_deviation", st.remesh_max_deviation}};
         j["note"] = st.note;
         j["seconds"] = st.stage_seconds;
         j["files"] = {{"a", args.a}, {"b", args.b}, {"out_a", args.out_a}, {"out_b", args.out_b}};
@@ -167,9 +171,11 @@ Command add_pair_command(CLI::App& app) {
       "--no-collapse", [&pa] { pa.options.collapse_short_segments = false; },
       "Keep curve segments shorter than the snapping tolerance (by default they are collapsed in both meshes "
       "where that improves the angles)");
-  cmd->add_flag("--remesh", pa.options.remesh_near_curves,
-                "Experimental: coarsen the curves to about the edge length and remesh both meshes next to them "
-                "(far better angles, but the outputs may cross next to the curves: run seam check)");
+  cmd->add_flag_callback(
+      "--no-remesh", [&pa] { pa.options.remesh_near_curves = false; },
+      "Keep the curves as embedded (by default, with snapping, they are coarsened to about the edge length and "
+      "both meshes remeshed next to them, wherever the result still meets only along the curves)");
+  cmd->add_flag("--remesh", pa.options.remesh_near_curves, "The default (kept for compatibility)");
   return {cmd, [args] { return run_pair(*args); }};
 }
 

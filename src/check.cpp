@@ -147,12 +147,20 @@ template <class K> struct MeshView {
 
 using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
 
-/// One box per non-degenerate face.
-template <class K> std::vector<Box> face_boxes(const MeshView<K>& view) {
+/// Whether face index i is in focus (every face without a focus).
+inline bool in_focus(const std::vector<char>* focus, std::size_t i) {
+  return !focus || (i < focus->size() && (*focus)[i]);
+}
+
+/// One box per non-degenerate face; with `select`, only the faces in focus (select = 1) or only
+/// those not in focus (select = 0).
+template <class K>
+std::vector<Box> face_boxes(const MeshView<K>& view, const std::vector<char>* focus = nullptr, int select = 1) {
   std::vector<Box> result;
   result.reserve(view.mesh.number_of_faces());
   for (auto f : view.mesh.faces()) {
     if (view.degenerate[std::size_t(f)]) continue;  // reported by check 1
+    if (focus && in_focus(focus, std::size_t(f)) != (select == 1)) continue;
     const auto c = view.corners(f);
     const auto& m = view.mesh;
     result.emplace_back(m.point(c[0]).bbox() + m.point(c[1]).bbox() + m.point(c[2]).bbox(), std::uint32_t(f));
@@ -170,13 +178,16 @@ const char* beyond_text(int shared) {
 
 /// Faces of one mesh meet only in their common vertices and edges (what is checked is the same
 /// as CGAL::Polygon_mesh_processing::does_self_intersect, with the fast tests above first).
-template <class K> void check_self_intersections(const MeshView<K>& view, std::vector<std::string>& problems) {
+template <class K>
+void check_self_intersections(const MeshView<K>& view, std::vector<std::string>& problems,
+                              std::vector<std::size_t>& conflict_faces, const std::vector<char>* focus) {
   using F = typename Mesh<K>::Face_index;
   std::vector<Box> boxes = face_boxes(view);
   std::size_t count = 0;
   std::vector<std::string> examples;
   auto callback = [&](const Box& x, const Box& y) {
     const F f(x.info()), g(y.info());
+    if (f == g) return;
     const auto cf = view.corners(f), cg = view.corners(g);
     int ia[3] = {-1, -1, -1};
     int shared = 0;
@@ -188,10 +199,19 @@ template <class K> void check_self_intersections(const MeshView<K>& view, std::v
         }
     const Meet how = meet<K>(view.geometry(cf), view.geometry(cg), ia, shared);
     if (how != Meet::beyond) return;
+    conflict_faces.push_back(std::size_t(f));
+    conflict_faces.push_back(std::size_t(g));
     if (count++ < max_examples)
       examples.push_back(say("faces ", std::size_t(f), " and ", std::size_t(g), " ", beyond_text(shared)));
   };
-  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), callback);
+  if (focus) {
+    // The pairs with a face in focus: those boxes against all (a pair of two faces in focus is
+    // seen twice, and reported twice).
+    std::vector<Box> focused = face_boxes(view, focus, 1);
+    CGAL::box_intersection_d(focused.begin(), focused.end(), boxes.begin(), boxes.end(), callback);
+  } else {
+    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), callback);
+  }
   if (count) {
     std::string list;
     for (const auto& e : examples) list += (list.empty() ? "" : "; ") + e;
@@ -201,7 +221,9 @@ template <class K> void check_self_intersections(const MeshView<K>& view, std::v
 }
 
 /// Check 1: a valid triangle mesh, closed when its input is; fills the vertex map.
-template <class K> void check_mesh(MeshView<K>& view, bool expect_closed, std::vector<std::string>& problems) {
+template <class K>
+void check_mesh(MeshView<K>& view, bool expect_closed, std::vector<std::string>& problems,
+                std::vector<std::size_t>& conflict_faces, const std::vector<char>* focus) {
   const auto& m = view.mesh;
   const std::string& name = view.name;
   if (m.number_of_faces() == 0) {
@@ -240,15 +262,17 @@ template <class K> void check_mesh(MeshView<K>& view, bool expect_closed, std::v
   std::size_t degenerate = 0;
   std::size_t first_degenerate = 0;
   for (auto f : m.faces()) {
+    if (!in_focus(focus, std::size_t(f))) continue;
     const auto c = view.corners(f);
     if (CGAL::collinear(m.point(c[0]), m.point(c[1]), m.point(c[2]))) {
       view.degenerate[std::size_t(f)] = 1;
+      conflict_faces.push_back(std::size_t(f));
       if (degenerate++ == 0) first_degenerate = std::size_t(f);
     }
   }
   if (degenerate)
     problems.push_back(say(name, " has ", degenerate, " degenerate (zero-area) faces (first: face ", first_degenerate, ")"));
-  check_self_intersections(view, problems);
+  check_self_intersections(view, problems, conflict_faces, focus);
 }
 
 /// Check 4 and the quality figures for one output mesh against its input.
@@ -350,7 +374,9 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
 
 template <class K>
 PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2, const Mesh<K>& b2,
-                           const std::vector<Polyline<K>>& curves, double tol) {
+                           const std::vector<Polyline<K>>& curves, double tol, const CheckFocus* focus) {
+  const std::vector<char>* focus_a = focus ? &focus->faces_a : nullptr;
+  const std::vector<char>* focus_b = focus ? &focus->faces_b : nullptr;
   using M = Mesh<K>;
   using Point = typename K::Point_3;
   using V = typename M::Vertex_index;
@@ -365,8 +391,8 @@ PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2
 
   // ------------------------------------------------------------ 1. valid meshes
   MeshView<K> va(a2, "A2"), vb(b2, "B2");
-  check_mesh(va, CGAL::is_closed(a), problems);
-  check_mesh(vb, CGAL::is_closed(b), problems);
+  check_mesh(va, CGAL::is_closed(a), problems, report.conflict_faces_a, focus_a);
+  check_mesh(vb, CGAL::is_closed(b), problems, report.conflict_faces_b, focus_b);
 
   // ------------------------------------------------------------ 2. curves present in both
   std::set<Point, PointLess> curve_points;
@@ -429,7 +455,6 @@ PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2
       if (it != va.vertex_at.end()) on_curve_a[std::size_t(it->second)] = 1;
     }
 
-    std::vector<Box> boxes_a = face_boxes(va), boxes_b = face_boxes(vb);
 
     // Flat contact (issue 3: flat sides of two tows in one plane): coplanar faces that meet, in
     // any way, lie where the two surfaces coincide. That region is bounded where a face of one
@@ -448,6 +473,8 @@ PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2
     };
     std::vector<std::string> examples;
     auto off_curve = [&](F fa, F fb, const char* why) {
+      report.conflict_faces_a.push_back(std::size_t(fa));
+      report.conflict_faces_b.push_back(std::size_t(fb));
       if (report.intersecting_face_pairs_off_curve++ < max_examples)
         examples.push_back(say("A2 face ", std::size_t(fa), " / B2 face ", std::size_t(fb), " ", why));
     };
@@ -496,7 +523,17 @@ PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2
         }
       }
     };
-    CGAL::box_intersection_d(boxes_a.begin(), boxes_a.end(), boxes_b.begin(), boxes_b.end(), callback);
+    if (focus) {
+      // The pairs with a face in focus: A2's in focus against all of B2, the rest of A2 against
+      // B2's in focus.
+      std::vector<Box> focused_a = face_boxes(va, focus_a, 1), all_b = face_boxes(vb);
+      CGAL::box_intersection_d(focused_a.begin(), focused_a.end(), all_b.begin(), all_b.end(), callback);
+      std::vector<Box> rest_a = face_boxes(va, focus_a, 0), focused_b = face_boxes(vb, focus_b, 1);
+      CGAL::box_intersection_d(rest_a.begin(), rest_a.end(), focused_b.begin(), focused_b.end(), callback);
+    } else {
+      std::vector<Box> boxes_a = face_boxes(va), boxes_b = face_boxes(vb);
+      CGAL::box_intersection_d(boxes_a.begin(), boxes_a.end(), boxes_b.begin(), boxes_b.end(), callback);
+    }
     if (report.intersecting_face_pairs_off_curve) {
       std::string list;
       for (const auto& e : examples) list += (list.empty() ? "" : "; ") + e;
@@ -505,6 +542,13 @@ PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2
                              " face pairs (", list, ")"));
     }
   }
+
+  for (auto* faces : {&report.conflict_faces_a, &report.conflict_faces_b}) {
+    std::sort(faces->begin(), faces->end());
+    faces->erase(std::unique(faces->begin(), faces->end()), faces->end());
+  }
+
+  if (focus) return report;  // check 4 and the figures are the caller's
 
   // ------------------------------------------------------------ 4. within tol of the inputs + quality
   if (va.structure_ok)
@@ -518,7 +562,7 @@ PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2
 
 #define SEAM_INSTANTIATE(K)                                                                                  \
   template PairCheckReport check_pair<K>(const Mesh<K>&, const Mesh<K>&, const Mesh<K>&, const Mesh<K>&, \
-                                         const std::vector<Polyline<K>>&, double);
+                                         const std::vector<Polyline<K>>&, double, const CheckFocus*);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)
 SEAM_INSTANTIATE(Float)

@@ -2,6 +2,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/internal/improve.h>
 
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 #include <CGAL/boost/graph/Euler_operations.h>
 
@@ -12,7 +15,8 @@
 namespace seam::internal {
 
 template <class K>
-std::vector<std::vector<std::size_t>> choose_curve_points(const std::vector<Polyline<K>>& curves, double spacing) {
+std::vector<std::vector<std::size_t>> choose_curve_points(const std::vector<Polyline<K>>& curves, double spacing,
+                                                          double max_chord_deviation) {
   std::vector<std::vector<std::size_t>> kept(curves.size());
   for (std::size_t c = 0; c < curves.size(); ++c) {
     const auto& pts = curves[c];
@@ -21,13 +25,24 @@ std::vector<std::vector<std::size_t>> choose_curve_points(const std::vector<Poly
     auto dist = [&](std::size_t i, std::size_t j) {
       return std::sqrt(CGAL::to_double(CGAL::squared_distance(to_filtered(pts[i]), to_filtered(pts[j]))));
     };
+    // The chord from point `from` to point `to` passes within max_chord_deviation of the points
+    // between them (the coarsened curve stays that close to the surfaces).
+    auto chord_close = [&](std::size_t from, std::size_t to) {
+      if (max_chord_deviation <= 0) return true;
+      const Filtered::Segment_3 chord(to_filtered(pts[from]), to_filtered(pts[to]));
+      for (std::size_t j = (from + 1) % n; j != to; j = (j + 1) % n)
+        if (CGAL::squared_distance(to_filtered(pts[j]), chord) > max_chord_deviation * max_chord_deviation) return false;
+      return true;
+    };
     std::vector<std::size_t>& k = kept[c];
     k.push_back(0);
     for (std::size_t i = 1; i < n; ++i) {
       // Keep i when skipping it would make the chord from the last kept point too long.
       const std::size_t next = (i + 1) % pts.size();
       const bool last_open = !closed && i + 1 == n;
-      if (last_open || dist(k.back(), next >= n ? 0 : next) > 1.2 * spacing || dist(k.back(), i) >= spacing) k.push_back(i);
+      if (last_open || dist(k.back(), next >= n ? 0 : next) > 1.2 * spacing || dist(k.back(), i) >= spacing ||
+          !chord_close(k.back(), next >= n ? 0 : next))
+        k.push_back(i);
     }
     // A closed curve needs a closing chord that is not too short, and at least three points.
     if (closed && k.size() > 3 && dist(k.back(), 0) < 0.5 * spacing) k.pop_back();
@@ -41,7 +56,8 @@ std::vector<std::vector<std::size_t>> choose_curve_points(const std::vector<Poly
 
 template <class K>
 bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
-                                    const std::vector<std::vector<std::size_t>>& kept, double target_edge_length,
+                                    const std::vector<std::vector<std::size_t>>& kept,
+                                    const std::vector<std::vector<char>>& frozen, double target_edge_length,
                                     std::vector<std::vector<std::size_t>>& refused) {
   using M = Mesh<K>;
   using V = typename M::Vertex_index;
@@ -49,6 +65,8 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
   using F = typename M::Face_index;
   M work = mesh;
   auto curve_id = work.template add_property_map<V, std::int64_t>("v:seam_curve_point", -1).first;
+  auto vfrozen = work.template add_property_map<V, bool>("v:seam_frozen", false).first;
+  auto changed = work.template add_property_map<F, bool>("f:seam_changed", false).first;
 
   // 1. Collapse the dropped curve vertices onto the kept ones, along the curve.
   std::vector<std::vector<V>> coarse(curve_vertices.size());
@@ -59,6 +77,12 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
     const std::size_t n = closed ? vs.size() - 1 : vs.size();
     std::vector<char> keep(n, 0);
     for (std::size_t i : kept[c]) keep[i] = 1;
+    const bool any_frozen = c < frozen.size() && frozen[c].size() >= n;
+    for (std::size_t i = 0; i < n && any_frozen; ++i)
+      if (frozen[c][i]) {
+        if (!keep[i]) return false;  // a frozen position must be kept
+        vfrozen[vs[i]] = true;
+      }
     // handle[i]: the vertex now standing for curve position i (a collapse may keep either end).
     std::vector<V> handle(vs.begin(), vs.begin() + n);
     std::size_t last = 0;
@@ -70,6 +94,8 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
       // Collapse position i into the last kept position (their edge exists: earlier collapses
       // merged the points in between into it).
       const auto h = work.halfedge(handle[i], handle[last]);
+      // No test of the geometry here: a collapse that folds the surface is undone by the
+      // remeshing, or the caller's check finds the fold and freezes the curve there.
       if (h == M::null_halfedge() || !CGAL::Euler::does_satisfy_link_condition(work.edge(h), work)) {
         // This point cannot go without breaking the surface: it stays, in both meshes.
         refused[c].push_back(i);
@@ -80,6 +106,8 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
       const V r = CGAL::Euler::collapse_edge(work.edge(h), work);
       work.point(r) = point;
       handle[last] = r;
+      for (F f : CGAL::faces_around_target(work.halfedge(r), work))
+        if (f != M::null_face()) changed[f] = true;
     }
     for (std::size_t i = 0; i < n; ++i)
       if (keep[i] || std::find(refused[c].begin(), refused[c].end(), i) != refused[c].end()) coarse[c].push_back(handle[i]);
@@ -91,7 +119,6 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
   // 2. Mark the curve: vertices fixed, edges constrained.
   auto vfixed = work.template add_property_map<V, bool>("v:seam_fixed", false).first;
   auto econs = work.template add_property_map<E, bool>("e:seam_constrained", false).first;
-  std::set<F> band;
   for (std::size_t c = 0; c < coarse.size(); ++c)
     for (std::size_t i = 0; i < coarse[c].size(); ++i) {
       const V v = coarse[c][i];
@@ -102,18 +129,7 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
         if (h == M::null_halfedge()) return false;  // the coarse curve is not made of edges
         econs[work.edge(h)] = true;
       }
-      for (F f : CGAL::faces_around_target(work.halfedge(v), work))
-        if (f != M::null_face()) band.insert(f);
     }
-  // Two rings of faces around the curve.
-  {
-    std::set<V> ring;
-    for (F f : band)
-      for (V v : CGAL::vertices_around_face(work.halfedge(f), work)) ring.insert(v);
-    for (V v : ring)
-      for (F f : CGAL::faces_around_target(work.halfedge(v), work))
-        if (f != M::null_face()) band.insert(f);
-  }
 
   // 3. Remesh the band on double coordinates; points not moved keep their exact coordinates.
   using DK = CGAL::Exact_predicates_inexact_constructions_kernel;
@@ -123,18 +139,26 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
   auto vfixed2 = work.template property_map<V, bool>("v:seam_fixed").first;
   auto econs2 = work.template property_map<E, bool>("e:seam_constrained").first;
   auto curve_id2 = work.template property_map<V, std::int64_t>("v:seam_curve_point").first;
+  auto vfrozen2 = work.template property_map<V, bool>("v:seam_frozen").first;
   std::vector<char> in_band_face(work.number_of_faces(), 0);
   {
-    // recompute the band after garbage collection: faces with a vertex within one ring of the curve
-    std::set<V> near;
+    // recompute the band after garbage collection: faces with a vertex within one ring of a curve
+    // vertex, and none within one ring of a frozen one
+    std::set<V> near, near_frozen;
     for (V v : work.vertices())
       if (vfixed2[v]) {
-        near.insert(v);
-        for (V w : CGAL::vertices_around_target(work.halfedge(v), work)) near.insert(w);
+        auto& set = vfrozen2[v] ? near_frozen : near;
+        set.insert(v);
+        for (V w : CGAL::vertices_around_target(work.halfedge(v), work)) set.insert(w);
       }
-    for (F f : work.faces())
-      for (V v : CGAL::vertices_around_face(work.halfedge(f), work))
-        if (near.count(v)) in_band_face[std::size_t(f)] = 1;
+    for (F f : work.faces()) {
+      bool is_near = false, is_frozen = false;
+      for (V v : CGAL::vertices_around_face(work.halfedge(f), work)) {
+        is_near = is_near || near.count(v);
+        is_frozen = is_frozen || near_frozen.count(v);
+      }
+      in_band_face[std::size_t(f)] = is_near && !is_frozen;
+    }
   }
   for (V v : work.vertices()) dmesh.add_vertex(to_filtered(work.point(v)));
   for (F f : work.faces()) {
@@ -158,34 +182,63 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
     const auto dh = dmesh.halfedge(DV(std::uint32_t(std::size_t(work.source(h)))), DV(std::uint32_t(std::size_t(work.target(h)))));
     d_cons[dmesh.edge(dh)] = true;
   }
+  // Faces that are tiny or flat once rounded to doubles (features of a few units in the last
+  // place: CGAL's remeshing divides by their areas) stay out, with the faces around them.
+  {
+    std::vector<char> tiny_vertex(dmesh.number_of_vertices(), 0);
+    const double min_length2 = CGAL::square(1e-6 * target_edge_length);
+    for (DF f : dmesh.faces()) {
+      const auto h = dmesh.halfedge(f);
+      const auto &p = dmesh.point(dmesh.source(h)), &q = dmesh.point(dmesh.target(h)),
+                 &r = dmesh.point(dmesh.target(dmesh.next(h)));
+      const bool tiny = CGAL::collinear(p, q, r) || CGAL::squared_distance(p, q) < min_length2 ||
+                        CGAL::squared_distance(q, r) < min_length2 || CGAL::squared_distance(r, p) < min_length2 ||
+                        CGAL::cross_product(q - p, r - p).squared_length() < CGAL::square(min_length2);
+      if (tiny)
+        for (DV v : CGAL::vertices_around_face(h, dmesh)) tiny_vertex[std::size_t(v)] = 1;
+    }
+    for (DF f : dmesh.faces())
+      for (DV v : CGAL::vertices_around_face(dmesh.halfedge(f), dmesh))
+        for (DV w : CGAL::vertices_around_target(dmesh.halfedge(v), dmesh))
+          if (tiny_vertex[std::size_t(w)]) in_band_face[std::size_t(f)] = 0;
+  }
   std::vector<DF> band_faces;
   for (F f : work.faces())
     if (in_band_face[std::size_t(f)]) band_faces.push_back(DF(std::uint32_t(std::size_t(f))));
+  if (band_faces.empty()) return false;
   namespace PMP = CGAL::Polygon_mesh_processing;
   PMP::isotropic_remeshing(band_faces, target_edge_length, dmesh,
                            CGAL::parameters::number_of_iterations(3)
                                .edge_is_constrained_map(d_cons)
                                .vertex_is_constrained_map(d_fixed)
-                               .collapse_constraints(false));
+                               .collapse_constraints(false)
+                               .protect_constraints(true));
   dmesh.collect_garbage();
   auto d_orig2 = dmesh.property_map<DV, std::int64_t>("v:orig").first;
 
   // 4. Back to the kernel: an original vertex that did not move keeps its exact coordinates.
   M out;
   std::vector<V> map(dmesh.number_of_vertices());
+  std::vector<char> moved(dmesh.number_of_vertices(), 1);
   for (DV dv : dmesh.vertices()) {
     const std::int64_t o = d_orig2[dv];
     typename K::Point_3 p(dmesh.point(dv).x(), dmesh.point(dv).y(), dmesh.point(dv).z());
-    if (o >= 0 && to_filtered(work.point(V(std::uint32_t(o)))) == dmesh.point(dv)) p = work.point(V(std::uint32_t(o)));
+    if (o >= 0 && to_filtered(work.point(V(std::uint32_t(o)))) == dmesh.point(dv)) {
+      p = work.point(V(std::uint32_t(o)));
+      moved[std::size_t(dv)] = 0;
+    }
     map[std::size_t(dv)] = out.add_vertex(p);
   }
   auto source = out.template add_property_map<F, std::uint32_t>(source_face_property, 0).first;
   auto is_new = out.template add_property_map<F, bool>(new_face_property, false).first;
   const auto [old_source, has_source] = work.template property_map<F, std::uint32_t>(source_face_property);
   const auto [old_new, has_new] = work.template property_map<F, bool>(new_face_property);
-  // Faces outside the band are unchanged (same vertex triples): carry their provenance.
+  // Faces outside the band are unchanged (same vertex triples, no corner moved, not reshaped by a
+  // collapse of step 1): they carry their provenance.
+  auto changed2 = work.template property_map<F, bool>("f:seam_changed").first;
   std::map<std::array<std::int64_t, 3>, F> old_faces;
   for (F f : work.faces()) {
+    if (changed2[f]) continue;
     std::array<std::int64_t, 3> key;
     int i = 0;
     for (V v : CGAL::vertices_around_face(work.halfedge(f), work)) key[i++] = std::int64_t(std::size_t(v));
@@ -196,15 +249,17 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
     std::vector<V> vs;
     std::array<std::int64_t, 3> key;
     int i = 0;
+    bool corner_moved = false;
     for (DV dv : CGAL::vertices_around_face(dmesh.halfedge(df), dmesh)) {
       vs.push_back(map[std::size_t(dv)]);
       key[i++] = d_orig2[dv];
+      corner_moved = corner_moved || moved[std::size_t(dv)];
     }
     const F nf = out.add_face(vs);
     if (nf == M::null_face()) return false;
     std::rotate(key.begin(), std::min_element(key.begin(), key.end()), key.end());
     auto it = old_faces.find(key);
-    if (it != old_faces.end() && std::find(key.begin(), key.end(), -1) == key.end()) {
+    if (it != old_faces.end() && !corner_moved) {
       source[nf] = has_source ? old_source[it->second] : std::uint32_t(std::size_t(it->second));
       is_new[nf] = has_new && old_new[it->second];
     } else {
@@ -231,11 +286,136 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
   return true;
 }
 
+struct SurfaceDistance::Tree {
+  using Primitive = CGAL::AABB_triangle_primitive<Filtered, std::vector<Filtered::Triangle_3>::const_iterator>;
+  std::vector<Filtered::Triangle_3> triangles;
+  CGAL::AABB_tree<CGAL::AABB_traits<Filtered, Primitive>> tree;
+};
+
+template <class K> std::vector<Filtered::Triangle_3> triangles_of(const Mesh<K>& mesh) {
+  std::vector<Filtered::Triangle_3> result;
+  result.reserve(mesh.number_of_faces());
+  for (auto f : mesh.faces()) {
+    const auto h = mesh.halfedge(f);
+    result.emplace_back(to_filtered(mesh.point(mesh.source(h))), to_filtered(mesh.point(mesh.target(h))),
+                        to_filtered(mesh.point(mesh.target(mesh.next(h)))));
+  }
+  return result;
+}
+
+SurfaceDistance::SurfaceDistance(std::vector<Filtered::Triangle_3> triangles) : tree_(std::make_unique<Tree>()) {
+  tree_->triangles = std::move(triangles);
+  tree_->tree.insert(tree_->triangles.begin(), tree_->triangles.end());
+  tree_->tree.build();
+  if (!tree_->triangles.empty()) tree_->tree.accelerate_distance_queries();
+}
+
+SurfaceDistance::~SurfaceDistance() = default;
+
+double SurfaceDistance::distance(const Filtered::Point_3& p) const {
+  return tree_->triangles.empty() ? std::numeric_limits<double>::infinity() : std::sqrt(tree_->tree.squared_distance(p));
+}
+
+Filtered::Point_3 SurfaceDistance::closest_point(const Filtered::Point_3& p) const {
+  return tree_->triangles.empty() ? p : tree_->tree.closest_point(p);
+}
+
+namespace {
+constexpr std::uint32_t remeshed_face = std::numeric_limits<std::uint32_t>::max();
+}
+
+template <class K>
+std::vector<std::size_t> remeshed_faces_off_surface(const Mesh<K>& mesh, const SurfaceDistance& surface, double tol,
+                                                    double& max_distance) {
+  using F = typename Mesh<K>::Face_index;
+  max_distance = 0;
+  std::vector<std::size_t> result;
+  const auto [source, has_source] = mesh.template property_map<F, std::uint32_t>(source_face_property);
+  if (!has_source) return result;
+  for (F f : mesh.faces()) {
+    if (source[f] != remeshed_face) continue;
+    const auto h = mesh.halfedge(f);
+    const auto p = to_filtered(mesh.point(mesh.source(h))), q = to_filtered(mesh.point(mesh.target(h))),
+               r = to_filtered(mesh.point(mesh.target(mesh.next(h))));
+    double worst = 0;
+    for (const auto& x : {p, q, r, CGAL::midpoint(p, q), CGAL::midpoint(q, r), CGAL::midpoint(r, p), CGAL::centroid(p, q, r)})
+      worst = std::max(worst, surface.distance(x));
+    max_distance = std::max(max_distance, worst);
+    if (worst > tol) result.push_back(std::size_t(f));
+  }
+  return result;
+}
+
+template <class K>
+std::size_t split_edges_off_surface(Mesh<K>& mesh, const std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
+                                    const SurfaceDistance& surface, double tol, int rounds) {
+  using M = Mesh<K>;
+  using V = typename M::Vertex_index;
+  using E = typename M::Edge_index;
+  using F = typename M::Face_index;
+  auto source = mesh.template property_map<F, std::uint32_t>(source_face_property).first;
+  auto is_new = mesh.template property_map<F, bool>(new_face_property).first;
+  std::set<std::pair<V, V>> curve_edges;
+  for (const auto& vs : curve_vertices)
+    for (std::size_t i = 0; i + 1 < vs.size(); ++i) curve_edges.emplace(std::min(vs[i], vs[i + 1]), std::max(vs[i], vs[i + 1]));
+  auto point = [&](V v) { return to_filtered(mesh.point(v)); };
+
+  std::size_t splits = 0;
+  for (int round = 0; round < rounds; ++round) {
+    std::set<E> to_split;
+    for (F f : mesh.faces()) {
+      if (source[f] != remeshed_face) continue;
+      const auto h0 = mesh.halfedge(f);
+      double worst = tol, longest = -1;
+      E chosen = M::null_edge(), longest_edge = M::null_edge();
+      for (auto h : CGAL::halfedges_around_face(h0, mesh)) {
+        const V a = mesh.source(h), b = mesh.target(h);
+        if (curve_edges.count({std::min(a, b), std::max(a, b)})) continue;  // shared: left as it is
+        const double d = surface.distance(CGAL::midpoint(point(a), point(b)));
+        if (d > worst) worst = d, chosen = mesh.edge(h);
+        const double l = CGAL::squared_distance(point(a), point(b));
+        if (l > longest) longest = l, longest_edge = mesh.edge(h);
+      }
+      if (chosen == M::null_edge() && longest_edge != M::null_edge() &&
+          surface.distance(CGAL::centroid(point(mesh.source(h0)), point(mesh.target(h0)), point(mesh.target(mesh.next(h0))))) > tol)
+        chosen = longest_edge;
+      if (chosen != M::null_edge()) to_split.insert(chosen);
+    }
+    if (to_split.empty()) break;
+    for (E e : to_split) {
+      const auto h = mesh.halfedge(e);
+      const auto middle = surface.closest_point(CGAL::midpoint(point(mesh.source(h)), point(mesh.target(h))));
+      // hn (source -> new vertex) is followed by h (new vertex -> target), in h's face.
+      const auto hn = CGAL::Euler::split_edge(h, mesh);
+      mesh.point(mesh.target(hn)) = typename K::Point_3(middle.x(), middle.y(), middle.z());
+      // Each face of the edge is now a quadrangle: connect the new vertex to its opposite corner.
+      const std::array<std::pair<typename M::Halfedge_index, typename M::Halfedge_index>, 2> sides = {
+          std::make_pair(hn, mesh.next(h)), std::make_pair(mesh.opposite(h), mesh.next(mesh.opposite(hn)))};
+      for (const auto& [into_new, into_corner] : sides) {
+        if (mesh.is_border(into_new)) continue;
+        const auto hs = CGAL::Euler::split_face(into_new, into_corner, mesh);
+        for (F g : {mesh.face(hs), mesh.face(mesh.opposite(hs))}) {
+          source[g] = remeshed_face;
+          is_new[g] = true;
+        }
+      }
+      ++splits;
+    }
+  }
+  return splits;
+}
+
 #define SEAM_INSTANTIATE(K)                                                                                          \
-  template std::vector<std::vector<std::size_t>> choose_curve_points<K>(const std::vector<Polyline<K>>&, double);   \
+  template std::vector<std::vector<std::size_t>> choose_curve_points<K>(const std::vector<Polyline<K>>&, double, double);   \
   template bool coarsen_and_remesh_near_curves<K>(Mesh<K>&, std::vector<std::vector<typename MeshTypes<K>::V>>&,   \
-                                                  const std::vector<std::vector<std::size_t>>&, double,            \
-                                                  std::vector<std::vector<std::size_t>>&);
+                                                  const std::vector<std::vector<std::size_t>>&,                    \
+                                                  const std::vector<std::vector<char>>&, double,                   \
+                                                  std::vector<std::vector<std::size_t>>&);                         \
+  template std::vector<Filtered::Triangle_3> triangles_of<K>(const Mesh<K>&);                                         \
+  template std::vector<std::size_t> remeshed_faces_off_surface<K>(const Mesh<K>&, const SurfaceDistance&, double,   \
+                                                                  double&);                                         \
+  template std::size_t split_edges_off_surface<K>(Mesh<K>&, const std::vector<std::vector<typename MeshTypes<K>::V>>&, \
+                                                  const SurfaceDistance&, double, int);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)
 SEAM_INSTANTIATE(Float)

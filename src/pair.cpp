@@ -354,6 +354,14 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   const std::size_t input_vertices_a = a.number_of_vertices(), input_vertices_b = b.number_of_vertices();
   const double snap_tol = options.embed.snap_tol < 0 ? 0.1 * std::min(la, lb) : options.embed.snap_tol;
   st.snap_tol = snap_tol;
+  // With snapping, the inputs are kept: the snapped result is checked against them (and done again
+  // without snapping if it fails), and remeshing must stay within the snapping tolerance of them.
+  const bool remesh = options.remesh_near_curves && snap_tol > 0;
+  std::optional<Mesh<K>> input_a, input_b;
+  if (snap_tol > 0) {
+    input_a = a;
+    input_b = b;
+  }
 
   auto t = Clock::now();
   std::size_t touching = 0;
@@ -534,31 +542,98 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
 
   // Experimental: coarsen the curve to about the edge length and remesh both meshes next to it
   // (see internal/improve.h and PairOptions::remesh_near_curves). Kept only when both succeed.
-  if (options.remesh_near_curves && !result.curves.empty()) {
+  auto add_note = [&](const std::string& sentence) { st.note += (st.note.empty() ? "" : "; ") + sentence; };
+
+  // Snapping moves vertices, which the embedding then takes as given: a moved vertex can make a
+  // surface meet itself, or the other one off the curves. The snapped result is checked with
+  // seam check's own tests (on the whole meshes, once) and, if it fails, done again without
+  // snapping.
+  const bool snapped = st.vertices_snapped_a + st.vertices_snapped_b + st.edges_snapped_a + st.edges_snapped_b > 0;
+  if (snapped && !result.curves.empty()) {
     t = Clock::now();
+    const auto report = check_pair<K>(*input_a, *input_b, a, b, result.curves, std::numeric_limits<double>::infinity());
+    st.stage_seconds["verify"] = seconds_since(t);
+    if (!report.ok()) {
+      a = *input_a;
+      b = *input_b;
+      PairOptions unsnapped_options = options;
+      unsnapped_options.embed.snap_tol = 0;
+      PairResult<K> redone = pair<K>(a, b, unsnapped_options);
+      redone.stats.note = "snapping was undone: the snapped result failed seam check's tests (" +
+                          report.problems.front() + ")" + (redone.stats.note.empty() ? "" : "; " + redone.stats.note);
+      return redone;
+    }
+  }
+
+  if (remesh && !result.curves.empty()) {
+    t = Clock::now();
+    // The coarse curve: points about the smaller edge length apart, its chords within the snapping
+    // tolerance of the curve.
     const double spacing = std::min(la, lb);
-    auto kept = internal::choose_curve_points<K>(result.curves, spacing);
+    const auto chosen = internal::choose_curve_points<K>(result.curves, spacing, snap_tol);
+    const internal::SurfaceDistance surface_a(internal::triangles_of<K>(*input_a)),
+        surface_b(internal::triangles_of<K>(*input_b));
+    // Positions kept besides the chosen ones: refused collapses (they would break a surface), and
+    // where an attempt failed (the meshes crossed, or strayed from the inputs): first all the
+    // embedded points there are kept (the remeshing still runs), then, if it fails there again,
+    // the stretch is frozen (left as embedded).
+    std::vector<std::vector<std::size_t>> also_kept(result.curves.size());
+    std::vector<std::vector<char>> keep_all(result.curves.size()), frozen(result.curves.size());
+    for (std::size_t c = 0; c < result.curves.size(); ++c) {
+      frozen[c].assign(result.curves[c].size() - (is_closed(result.curves[c]) ? 1 : 0), 0);
+      keep_all[c] = frozen[c];
+    }
     std::vector<std::vector<std::size_t>> refused;
     auto keep_refused_too = [&]() {
+      for (std::size_t c = 0; c < also_kept.size(); ++c)
+        also_kept[c].insert(also_kept[c].end(), refused[c].begin(), refused[c].end());
+    };
+    // Escalates the curve positions within `radius` of a vertex of a failing face (kept, then
+    // frozen); returns how many changed.
+    auto escalate_near = [&](const Mesh<K>& m, const std::vector<std::size_t>& faces, double radius) {
+      std::vector<Filtered::Point_3> near;
+      for (std::size_t f : faces)
+        for (auto v : CGAL::vertices_around_face(m.halfedge(typename Mesh<K>::Face_index(f)), m))
+          near.push_back(to_filtered(m.point(v)));
+      std::size_t count = 0;
+      for (std::size_t c = 0; c < frozen.size(); ++c)
+        for (std::size_t i = 0; i < frozen[c].size(); ++i) {
+          if (frozen[c][i]) continue;
+          const auto p = to_filtered(result.curves[c][i]);
+          for (const auto& q : near)
+            if (CGAL::squared_distance(p, q) < radius * radius) {
+              (keep_all[c][i] ? frozen[c][i] : keep_all[c][i]) = 1;
+              ++count;
+              break;
+            }
+        }
+      return count;
+    };
+    constexpr int max_attempts = 12;
+    for (int attempt = 0; attempt < max_attempts; ++attempt) {
+      auto kept = chosen;
       for (std::size_t c = 0; c < kept.size(); ++c) {
-        kept[c].insert(kept[c].end(), refused[c].begin(), refused[c].end());
+        kept[c].insert(kept[c].end(), also_kept[c].begin(), also_kept[c].end());
+        for (std::size_t i = 0; i < keep_all[c].size(); ++i)
+          if (keep_all[c][i]) kept[c].push_back(i);
         std::sort(kept[c].begin(), kept[c].end());
         kept[c].erase(std::unique(kept[c].begin(), kept[c].end()), kept[c].end());
       }
-    };
-    for (int attempt = 0; attempt < 8; ++attempt) {
       Mesh<K> a2 = a, b2 = b;
       auto cva = result.a.curve_vertices, cvb = result.b.curve_vertices;
-      if (!internal::coarsen_and_remesh_near_curves<K>(a2, cva, kept, la, refused)) {
-        if (std::all_of(refused.begin(), refused.end(), [](const auto& r) { return r.empty(); })) break;
+      if (!internal::coarsen_and_remesh_near_curves<K>(a2, cva, kept, frozen, la, refused) ||
+          !internal::coarsen_and_remesh_near_curves<K>(b2, cvb, kept, frozen, lb, refused)) {
+        if (std::all_of(refused.begin(), refused.end(), [](const auto& r) { return r.empty(); })) {
+          add_note("remeshing next to the curves failed; the embedded meshes are kept");
+          break;
+        }
         keep_refused_too();
         continue;
       }
-      if (!internal::coarsen_and_remesh_near_curves<K>(b2, cvb, kept, lb, refused)) {
-        if (std::all_of(refused.begin(), refused.end(), [](const auto& r) { return r.empty(); })) break;
-        keep_refused_too();
-        continue;
-      }
+      // Remeshed faces that cut across bends of the input surface: split them, their new
+      // vertices on the input surface, until within the snapping tolerance (three rounds).
+      internal::split_edges_off_surface<K>(a2, cva, surface_a, snap_tol, 3);
+      internal::split_edges_off_surface<K>(b2, cvb, surface_b, snap_tol, 3);
       std::vector<Polyline<K>> ca, cb;
       for (const auto& vs : cva) {
         ca.emplace_back();
@@ -568,34 +643,69 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
         cb.emplace_back();
         for (auto v : vs) cb.back().push_back(b2.point(v));
       }
-      // Accept the remeshed pair only if it still meets only along the curves (seam check's test).
-      const bool conforming =
-          ca == cb && check_pair<K>(a, b, a2, b2, ca, std::numeric_limits<double>::infinity()).ok();
-      if (!conforming) st.note = "remeshing next to the curves was undone: the remeshed meshes crossed off the curves";
-      if (conforming) {
-        a = std::move(a2);
-        b = std::move(b2);
-        result.curves = ca;
-        result.a.curves = ca;
-        result.b.curves = cb;
-        result.a.curve_vertices = cva;
-        result.b.curve_vertices = cvb;
-        st.remeshed = true;
-        for (auto* r : {&result.a, &result.b}) {  // the figures of the remeshed meshes
-          const auto& m = r == &result.a ? a : b;
-          const auto q = new_face_quality<K>(m);
-          r->stats.min_angle_deg_new = q.min_angle_deg;
-          r->stats.new_faces_below_10 = q.below_10;
-          r->stats.new_faces_below_20 = q.below_20;
-          r->stats.new_faces_below_10_unforced = q.below_10;
-          r->stats.faces_added = q.new_faces;
-          r->stats.output_vertices = m.number_of_vertices();
-          r->stats.output_faces = m.number_of_faces();
-          r->stats.curve_nodes_out = 0;
-          for (const auto& c : r->curves) r->stats.curve_nodes_out += is_closed(c) ? c.size() - 1 : c.size();
-        }
-        st.curve_vertices = result.a.stats.curve_nodes_out;
+      if (!(ca == cb)) {
+        add_note("remeshing next to the curves failed (the two curves differ); the embedded meshes are kept");
+        break;
       }
+      // Accept the remeshed pair only if it passes seam check's tests (valid, no self-intersection,
+      // meeting only along the curves); otherwise freeze the curve next to the conflicting faces
+      // and try again.
+      // Only the faces that changed need checking (the rest passed above, or has no snapping).
+      CheckFocus focus;
+      for (auto [m, marks] : {std::make_pair(&a2, &focus.faces_a), std::make_pair(&b2, &focus.faces_b)}) {
+        const auto source = m->template property_map<typename Mesh<K>::Face_index, std::uint32_t>(source_face_property).first;
+        marks->assign(m->number_of_faces() + m->number_of_removed_faces(), 0);
+        for (auto f : m->faces()) (*marks)[std::size_t(f)] = source[f] == std::numeric_limits<std::uint32_t>::max();
+      }
+      const auto report = check_pair<K>(a, b, a2, b2, ca, std::numeric_limits<double>::infinity(),
+                                        snapped ? &focus : nullptr);
+      // Nor may a remeshed face stray farther than the snapping tolerance from its input surface
+      // (a flip across a bend of the surface, say).
+      double deviation_a = 0, deviation_b = 0;
+      std::vector<std::size_t> off_a, off_b;
+      if (report.ok()) {
+        off_a = internal::remeshed_faces_off_surface<K>(a2, surface_a, snap_tol, deviation_a);
+        off_b = internal::remeshed_faces_off_surface<K>(b2, surface_b, snap_tol, deviation_b);
+      }
+      if (!report.ok() || !off_a.empty() || !off_b.empty()) {
+        auto& faces_a = report.ok() ? off_a : report.conflict_faces_a;
+        auto& faces_b = report.ok() ? off_b : report.conflict_faces_b;
+        std::size_t newly = 0;
+        for (double radius = 0.5 * spacing; newly == 0 && radius < 1e3 * spacing; radius *= 2)
+          newly = escalate_near(a2, faces_a, radius) + escalate_near(b2, faces_b, radius);
+        if (newly == 0 || attempt + 1 == max_attempts) {
+          add_note(report.ok() ? "remeshing next to the curves was undone: it moved the surfaces farther than the "
+                                 "snapping tolerance"
+                               : "remeshing next to the curves was undone: the remeshed meshes crossed off the curves");
+          break;
+        }
+        continue;
+      }
+      st.remesh_max_deviation = std::max(deviation_a, deviation_b);
+      a = std::move(a2);
+      b = std::move(b2);
+      result.curves = ca;
+      result.a.curves = ca;
+      result.b.curves = cb;
+      result.a.curve_vertices = cva;
+      result.b.curve_vertices = cvb;
+      st.remeshed = true;
+      for (const auto& f : frozen) st.curve_vertices_frozen += std::size_t(std::count(f.begin(), f.end(), 1));
+      st.remesh_attempts = std::size_t(attempt + 1);
+      for (auto* r : {&result.a, &result.b}) {  // the figures of the remeshed meshes
+        const auto& m = r == &result.a ? a : b;
+        const auto q = new_face_quality<K>(m);
+        r->stats.min_angle_deg_new = q.min_angle_deg;
+        r->stats.new_faces_below_10 = q.below_10;
+        r->stats.new_faces_below_20 = q.below_20;
+        r->stats.new_faces_below_10_unforced = q.below_10;
+        r->stats.faces_added = q.new_faces;
+        r->stats.output_vertices = m.number_of_vertices();
+        r->stats.output_faces = m.number_of_faces();
+        r->stats.curve_nodes_out = 0;
+        for (const auto& c : r->curves) r->stats.curve_nodes_out += is_closed(c) ? c.size() - 1 : c.size();
+      }
+      st.curve_vertices = result.a.stats.curve_nodes_out;
       break;
     }
     st.stage_seconds["remesh"] = seconds_since(t);

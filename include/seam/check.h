@@ -77,14 +77,25 @@ struct PairCheckReport {
   std::size_t new_faces_a = 0, new_faces_b = 0;
   std::size_t vertices_a2 = 0, faces_a2 = 0, vertices_b2 = 0, faces_b2 = 0;
   double tolerance = 0;  ///< the tolerance of check 4
+  /// Faces of A2 / B2 that fail check 1 or 3 (degenerate, in a self-intersection, or meeting the
+  /// other mesh off the curves), by face index, sorted, each once: where a repair must look.
+  std::vector<std::size_t> conflict_faces_a, conflict_faces_b;
   bool ok() const { return problems.empty(); }
 };
 
 /// Runs the checks above on inputs `a`, `b`, outputs `a2`, `b2` and the shared `curves` (closed
 /// ones repeat their first point). `a` and `b` are assumed valid (seam::validate_triangle_mesh).
 /// Never throws for a failed check: every failure is in the report.
+/// Restricts a check to the faces that changed (seam::pair checks the faces it remeshed this
+/// way): degenerate faces and face pairs (checks 1 and 3) are tested only where at least one face
+/// is marked (faces_a / faces_b, indexed by face index of A2 / B2), and check 4 and the quality
+/// figures are skipped. The rest of checks 1 and 2 runs on the whole meshes.
+struct CheckFocus {
+  std::vector<char> faces_a, faces_b;
+};
+
 template <class K>
 PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2, const Mesh<K>& b2,
-                           const std::vector<Polyline<K>>& curves, double tol);
+                           const std::vector<Polyline<K>>& curves, double tol, const CheckFocus* focus = nullptr);
 
 }  // namespace seam

@@ -17,8 +17,11 @@
 // point move onto it (a move that would flip or flatten a face is refused), and the curves are
 // computed again on the moved surfaces; crossings next to vertices become curves through vertices.
 // Snapping is undone (PairStats::note says so) when it turns a crossing into a touching contact
-// (a vertex a few units in the last place inside the other surface), or when the curves of the
-// snapped surfaces cannot be embedded.
+// (a vertex a few units in the last place inside the other surface), when the curves of the
+// snapped surfaces cannot be embedded, or when the snapped result fails seam check's tests
+// (a moved vertex can make a surface meet itself): the run is then done again without snapping.
+// With snapping, the curves are then coarsened and both meshes remeshed next to them
+// (PairOptions::remesh_near_curves).
 //
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
@@ -35,12 +38,18 @@ struct PairOptions {
   /// two mean edge lengths; 0 disables snapping. curve_tol and max_distance are not used with
   /// computed curves.
   EmbedOptions embed;
-  /// Experimental (off by default): after embedding, coarsen the shared curves to about the
-  /// edge length and remesh both meshes next to them (CGAL isotropic remeshing, curve fixed).
-  /// On the generated crossovers this leaves about 1% of new faces below 10 degrees instead of
-  /// 30%, but the remeshed surfaces can cross each other next to the curve: the result is then
-  /// checked (seam::check_pair) and the remeshing undone if they do (PairStats::note says so).
-  bool remesh_near_curves = false;
+  /// With snapping (on by default): after embedding, coarsen the shared curves to about the
+  /// smaller mean edge length (chords within snap_tol of the curve) and remesh both meshes next to
+  /// them (see internal/improve.h). Remeshed faces that stray farther than snap_tol from their
+  /// input surface get their edges split, the new vertices on the input surface. Every attempt is
+  /// checked with seam::check_pair's own tests on the faces that changed (valid, no
+  /// self-intersection, meeting only along the curves) and against the inputs (no remeshed face
+  /// farther than snap_tol from its input surface, sampled). Where it fails, all embedded curve
+  /// points near the failing faces are kept, then, if it fails there again, the curve there is
+  /// frozen (left as embedded); up to 12 attempts, then the remeshing is undone altogether
+  /// (PairStats::note says so). Measured on 72 generated crossovers (resolutions 5-24): 2.4% of
+  /// the new faces below 10 degrees and 7.8% below 20, instead of 16.9% and 40.8%.
+  bool remesh_near_curves = true;
   /// With snapping: collapse curve segments shorter than the snapping tolerance in both meshes
   /// where that improves the angles (see internal/collapse.h). Edges below 1e-9 of the pair's
   /// size are collapsed even when this is off: written in doubles, their faces would be flat.
@@ -61,6 +70,12 @@ struct PairStats {
   /// True when the surfaces touch (a common point) without crossing: nothing to embed.
   bool touching_only = false;
   bool remeshed = false;  ///< the curves were coarsened and the meshes remeshed next to them
+  /// Remeshing: attempts made, and curve points left as embedded (frozen) because remeshing next
+  /// to them failed twice.
+  std::size_t remesh_attempts = 0, curve_vertices_frozen = 0;
+  /// Remeshing: the largest distance of a remeshed face from its input surface (sampled at
+  /// corners, edge midpoints and centroid; at most snap_tol).
+  double remesh_max_deviation = 0;
   bool given_curves = false;      ///< the curves were given (seam::pair_with_curves)
   double max_curve_move = 0;   ///< given curves: the largest move of a curve vertex (onto the given curve)
   std::string note;  ///< a sentence for the report (e.g. "the meshes do not intersect")
