@@ -285,3 +285,49 @@ TEST_CASE("pair: collapsing short curve segments leaves fewer thin triangles and
   CHECK(a2.number_of_vertices() >= a.number_of_vertices());
   CHECK(b2.number_of_vertices() >= b.number_of_vertices());
 }
+
+TEST_CASE("pair: remeshing next to the curves gives far fewer thin triangles, within the snap tolerance",
+          "[pair][remesh]") {
+  using K = seam::Exact;
+  struct Case {
+    const char* name;
+    Crossover c;
+  };
+  // Crossovers on which the embedded curves alone leave 14-20% of the new faces below 10 degrees.
+  const std::vector<Case> cases = {
+      {"elliptical x lenticular, resolution 8", crossover(8, seam::Section::lenticular, 0.25)},
+      {"elliptical x elliptical, resolution 12", crossover(12, seam::Section::elliptical, 0.2)},
+      {"turned about x", crossover(7, seam::Section::lenticular, 0.3, 0.37)},
+  };
+  for (const auto& cs : cases) {
+    INFO("case: " << cs.name);
+    const auto a = mesh_of<K>(cs.c.weft, cs.c.turn), b = mesh_of<K>(cs.c.warp, cs.c.turn);
+    seam::PairOptions embedded_only;
+    embedded_only.remesh_near_curves = false;
+    auto a1 = a, b1 = b;
+    const auto before = seam::pair<K>(a1, b1, embedded_only);
+    auto a2 = a, b2 = b;
+    const auto after = seam::pair<K>(a2, b2, {});
+    REQUIRE(after.stats.remeshed);
+    CHECK_FALSE(before.stats.remeshed);
+    // Quality measured on the outputs, as seam check does (faces not in the input).
+    const auto q_before = seam::check_pair<K>(a, b, a1, b1, before.curves, before.stats.snap_tol * (1 + 1e-9));
+    const auto q_after = seam::check_pair<K>(a, b, a2, b2, after.curves, after.stats.snap_tol * (1 + 1e-9));
+    require_check<K>(q_after);
+    const double share_10_before = double(q_before.below_10_a + q_before.below_10_b) /
+                                   double(q_before.new_faces_a + q_before.new_faces_b);
+    const double share_10 = double(q_after.below_10_a + q_after.below_10_b) / double(q_after.new_faces_a + q_after.new_faces_b);
+    const double share_20 = double(q_after.below_20_a + q_after.below_20_b) / double(q_after.new_faces_a + q_after.new_faces_b);
+    INFO("below 10 degrees: " << share_10_before << " before, " << share_10 << " after; below 20: " << share_20);
+    CHECK(share_10_before > 0.1);
+    CHECK(share_10 < 0.5 * share_10_before);
+    CHECK(share_10 < 0.06);
+    CHECK(share_20 < 0.2);
+    // The remeshed surfaces stay within the snap tolerance of the inputs (sampled on the faces).
+    CHECK(after.stats.remesh_max_deviation <= after.stats.snap_tol);
+    // Both meshes share the coarser curve, every vertex and segment.
+    CHECK(seam::check_curves_embedded<K>(a2, after.a).empty());
+    CHECK(seam::check_curves_embedded<K>(b2, after.b).empty());
+    CHECK(after.stats.curve_vertices < before.stats.curve_vertices);
+  }
+}
