@@ -182,11 +182,13 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
     const auto dh = dmesh.halfedge(DV(std::uint32_t(std::size_t(work.source(h)))), DV(std::uint32_t(std::size_t(work.target(h)))));
     d_cons[dmesh.edge(dh)] = true;
   }
-  // Faces that are tiny or flat once rounded to doubles (features of a few units in the last
-  // place: CGAL's remeshing divides by their areas) stay out, with the faces around them.
+  // Faces that are flat or tiny once rounded to doubles (features of a few units in the last
+  // place: CGAL's remeshing divides by their areas; edges below 1e-12 of the target length) stay
+  // out, with the faces around them. (A larger bound, 1e-6, kept more faces out and left 2.4%
+  // of the new faces below 10 degrees on the 72 test crossovers instead of 1.9%.)
   {
     std::vector<char> tiny_vertex(dmesh.number_of_vertices(), 0);
-    const double min_length2 = CGAL::square(1e-6 * target_edge_length);
+    const double min_length2 = CGAL::square(1e-12 * target_edge_length);
     for (DF f : dmesh.faces()) {
       const auto h = dmesh.halfedge(f);
       const auto &p = dmesh.point(dmesh.source(h)), &q = dmesh.point(dmesh.target(h)),

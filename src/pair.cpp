@@ -631,9 +631,10 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
         continue;
       }
       // Remeshed faces that cut across bends of the input surface: split them, their new
-      // vertices on the input surface, until within the snapping tolerance (three rounds).
-      internal::split_edges_off_surface<K>(a2, cva, surface_a, snap_tol, 3);
-      internal::split_edges_off_surface<K>(b2, cvb, surface_b, snap_tol, 3);
+      // vertices on the input surface, until within the snapping tolerance (up to eight rounds:
+      // at the sharp edge of a lenticular tow fewer leave faces outside).
+      internal::split_edges_off_surface<K>(a2, cva, surface_a, snap_tol, 8);
+      internal::split_edges_off_surface<K>(b2, cvb, surface_b, snap_tol, 8);
       std::vector<Polyline<K>> ca, cb;
       for (const auto& vs : cva) {
         ca.emplace_back();
