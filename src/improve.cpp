@@ -1,6 +1,7 @@
 // seam: better triangles next to the shared curves of a pair. See seam/internal/improve.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/internal/improve.h>
+#include <seam/quality.h>
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -407,6 +408,57 @@ std::size_t split_edges_off_surface(Mesh<K>& mesh, const std::vector<std::vector
   return splits;
 }
 
+template <class K>
+std::size_t flip_to_improve_angles(Mesh<K>& mesh, const std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
+                                   const SurfaceDistance& surface, double tol, int rounds) {
+  using M = Mesh<K>;
+  using V = typename M::Vertex_index;
+  using F = typename M::Face_index;
+  using FP = Filtered::Point_3;
+  auto source = mesh.template property_map<F, std::uint32_t>(source_face_property).first;
+  auto is_new = mesh.template property_map<F, bool>(new_face_property).first;
+  std::set<std::pair<V, V>> curve_edges;
+  for (const auto& vs : curve_vertices)
+    for (std::size_t i = 0; i + 1 < vs.size(); ++i) curve_edges.emplace(std::min(vs[i], vs[i + 1]), std::max(vs[i], vs[i + 1]));
+  auto point = [&](V v) { return to_filtered(mesh.point(v)); };
+  // The new faces turn by less than 30 degrees from the ones they replace.
+  auto close_normals = [](const FP& a, const FP& b, const FP& c, const FP& d, const FP& e, const FP& f) {
+    const auto n = CGAL::normal(a, b, c), m = CGAL::normal(d, e, f);
+    const double norms = std::sqrt(n.squared_length() * m.squared_length());
+    return norms > 0 && n * m > 0.866 * norms;
+  };
+  std::size_t flips = 0;
+  for (int round = 0; round < rounds; ++round) {
+    std::size_t flipped = 0;
+    for (auto e : mesh.edges()) {
+      if (mesh.is_border(e)) continue;
+      const auto h = mesh.halfedge(e), o = mesh.opposite(h);
+      if (source[mesh.face(h)] != remeshed_face || source[mesh.face(o)] != remeshed_face) continue;
+      const V p = mesh.source(h), q = mesh.target(h), r = mesh.target(mesh.next(h)), t = mesh.target(mesh.next(o));
+      if (curve_edges.count({std::min(p, q), std::max(p, q)})) continue;  // shared: left as it is
+      if (r == t || mesh.halfedge(r, t) != M::null_halfedge()) continue;  // the other diagonal exists
+      const FP P = point(p), Q = point(q), R = point(r), T = point(t);
+      // Faces (p, q, r) and (q, p, t) become (q, r, t) and (r, p, t).
+      const double before = std::min(min_angle_deg(P, Q, R), min_angle_deg(Q, P, T));
+      const double after = std::min(min_angle_deg(Q, R, T), min_angle_deg(R, P, T));
+      if (!(after > before + 1.0)) continue;
+      if (!close_normals(P, Q, R, Q, R, T) || !close_normals(P, Q, R, R, P, T) || !close_normals(Q, P, T, Q, R, T) ||
+          !close_normals(Q, P, T, R, P, T))
+        continue;
+      if (surface.distance(CGAL::midpoint(R, T)) > tol) continue;
+      CGAL::Euler::flip_edge(h, mesh);
+      for (F g : {mesh.face(h), mesh.face(o)}) {
+        source[g] = remeshed_face;
+        is_new[g] = true;
+      }
+      ++flipped;
+    }
+    flips += flipped;
+    if (flipped == 0) break;
+  }
+  return flips;
+}
+
 #define SEAM_INSTANTIATE(K)                                                                                          \
   template std::vector<std::vector<std::size_t>> choose_curve_points<K>(const std::vector<Polyline<K>>&, double, double);   \
   template bool coarsen_and_remesh_near_curves<K>(Mesh<K>&, std::vector<std::vector<typename MeshTypes<K>::V>>&,   \
@@ -417,7 +469,9 @@ std::size_t split_edges_off_surface(Mesh<K>& mesh, const std::vector<std::vector
   template std::vector<std::size_t> remeshed_faces_off_surface<K>(const Mesh<K>&, const SurfaceDistance&, double,   \
                                                                   double&);                                         \
   template std::size_t split_edges_off_surface<K>(Mesh<K>&, const std::vector<std::vector<typename MeshTypes<K>::V>>&, \
-                                                  const SurfaceDistance&, double, int);
+                                                  const SurfaceDistance&, double, int);                             \
+  template std::size_t flip_to_improve_angles<K>(Mesh<K>&, const std::vector<std::vector<typename MeshTypes<K>::V>>&, \
+                                                 const SurfaceDistance&, double, int);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)
 SEAM_INSTANTIATE(Float)

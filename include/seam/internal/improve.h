@@ -77,4 +77,12 @@ template <class K>
 std::size_t split_edges_off_surface(Mesh<K>& mesh, const std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
                                     const SurfaceDistance& surface, double tol, int rounds);
 
+/// Flips edges between two remeshed faces where that raises the smaller of their smallest
+/// angles by more than a degree, the new faces turn by less than 30 degrees from the old ones and
+/// the new edge's middle lies within `tol` of `surface` (doubles); curve edges are never flipped.
+/// Up to `rounds` passes over the edges. Returns the number of flips.
+template <class K>
+std::size_t flip_to_improve_angles(Mesh<K>& mesh, const std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
+                                   const SurfaceDistance& surface, double tol, int rounds);
+
 }  // namespace seam::internal
