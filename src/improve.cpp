@@ -459,6 +459,69 @@ std::size_t flip_to_improve_angles(Mesh<K>& mesh, const std::vector<std::vector<
   return flips;
 }
 
+template <class K>
+std::size_t smooth_remeshed_vertices(Mesh<K>& mesh, const std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
+                                     const SurfaceDistance& surface, double tol, int rounds) {
+  using M = Mesh<K>;
+  using V = typename M::Vertex_index;
+  using F = typename M::Face_index;
+  using FP = Filtered::Point_3;
+  auto source = mesh.template property_map<F, std::uint32_t>(source_face_property).first;
+  std::set<V> on_curve;
+  for (const auto& vs : curve_vertices) on_curve.insert(vs.begin(), vs.end());
+  auto point = [&](V v) { return to_filtered(mesh.point(v)); };
+  std::size_t moves = 0;
+  for (int round = 0; round < rounds; ++round) {
+    std::size_t moved = 0;
+    for (V v : mesh.vertices()) {
+      if (on_curve.count(v) || mesh.is_border(v)) continue;
+      // Only vertices all of whose faces are remeshed (not the band's border).
+      bool inside = true;
+      std::vector<V> ring;
+      for (auto h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh)) {
+        if (source[mesh.face(h)] != remeshed_face) inside = false;
+        ring.push_back(mesh.source(h));
+      }
+      if (!inside || ring.size() < 3) continue;
+      // The fan's faces (v, ring[i + 1], ring[i])... as (ring[i], v, next) in halfedge order.
+      auto worst_angle = [&](const FP& at) {
+        double worst = 180;
+        for (auto h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh))
+          worst = std::min(worst, min_angle_deg(point(mesh.source(h)), at, point(mesh.target(mesh.next(h)))));
+        return worst;
+      };
+      double x = 0, y = 0, z = 0;
+      for (V w : ring) {
+        const FP p = point(w);
+        x += p.x(), y += p.y(), z += p.z();
+      }
+      const double n = double(ring.size());
+      const FP target = surface.closest_point(FP(x / n, y / n, z / n));
+      const FP here = point(v);
+      if (!(worst_angle(target) > worst_angle(here) + 1.0)) continue;
+      // The fan's faces keep their orientation (turn by less than 30 degrees) and stay near the
+      // surface (their centroids within tol).
+      bool ok = true;
+      for (auto h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh)) {
+        const FP a = point(mesh.source(h)), c = point(mesh.target(mesh.next(h)));
+        const auto before = CGAL::normal(a, here, c), after = CGAL::normal(a, target, c);
+        const double norms = std::sqrt(before.squared_length() * after.squared_length());
+        if (!(norms > 0) || !(before * after > 0.866 * norms) || surface.distance(CGAL::centroid(a, target, c)) > tol ||
+            surface.distance(CGAL::midpoint(a, target)) > tol) {
+          ok = false;
+          break;
+        }
+      }
+      if (!ok) continue;
+      mesh.point(v) = typename K::Point_3(target.x(), target.y(), target.z());
+      ++moved;
+    }
+    moves += moved;
+    if (moved == 0) break;
+  }
+  return moves;
+}
+
 #define SEAM_INSTANTIATE(K)                                                                                          \
   template std::vector<std::vector<std::size_t>> choose_curve_points<K>(const std::vector<Polyline<K>>&, double, double);   \
   template bool coarsen_and_remesh_near_curves<K>(Mesh<K>&, std::vector<std::vector<typename MeshTypes<K>::V>>&,   \
@@ -471,7 +534,9 @@ std::size_t flip_to_improve_angles(Mesh<K>& mesh, const std::vector<std::vector<
   template std::size_t split_edges_off_surface<K>(Mesh<K>&, const std::vector<std::vector<typename MeshTypes<K>::V>>&, \
                                                   const SurfaceDistance&, double, int);                             \
   template std::size_t flip_to_improve_angles<K>(Mesh<K>&, const std::vector<std::vector<typename MeshTypes<K>::V>>&, \
-                                                 const SurfaceDistance&, double, int);
+                                                 const SurfaceDistance&, double, int);                              \
+  template std::size_t smooth_remeshed_vertices<K>(Mesh<K>&, const std::vector<std::vector<typename MeshTypes<K>::V>>&, \
+                                                   const SurfaceDistance&, double, int);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)
 SEAM_INSTANTIATE(Float)

@@ -635,10 +635,16 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
       // at the sharp edge of a lenticular tow fewer leave faces outside).
       internal::split_edges_off_surface<K>(a2, cva, surface_a, snap_tol, 8);
       internal::split_edges_off_surface<K>(b2, cvb, surface_b, snap_tol, 8);
-      // Then edge flips between remeshed faces where they raise the smallest angle (CGAL's
-      // remeshing flips for valence, not angles), still within the tolerance (two passes).
-      internal::flip_to_improve_angles<K>(a2, cva, surface_a, snap_tol, 2);
-      internal::flip_to_improve_angles<K>(b2, cvb, surface_b, snap_tol, 2);
+      // Then smoothing (vertices inside the remeshed band towards the centroid of their
+      // neighbours, on the input surface) and edge flips between remeshed faces, each where it
+      // raises the smallest angle and stays within the tolerance (CGAL's remeshing aims at edge
+      // lengths and valences, not angles), twice.
+      for (int pass = 0; pass < 2; ++pass) {
+        internal::smooth_remeshed_vertices<K>(a2, cva, surface_a, snap_tol, 2);
+        internal::smooth_remeshed_vertices<K>(b2, cvb, surface_b, snap_tol, 2);
+        internal::flip_to_improve_angles<K>(a2, cva, surface_a, snap_tol, 2);
+        internal::flip_to_improve_angles<K>(b2, cvb, surface_b, snap_tol, 2);
+      }
       std::vector<Polyline<K>> ca, cb;
       for (const auto& vs : cva) {
         ca.emplace_back();

@@ -85,4 +85,13 @@ template <class K>
 std::size_t flip_to_improve_angles(Mesh<K>& mesh, const std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
                                    const SurfaceDistance& surface, double tol, int rounds);
 
+/// Moves vertices all of whose faces are remeshed (not curve vertices, not the band's border) to
+/// the closest point of `surface` to the centroid of their neighbours, where that raises the
+/// smallest angle of their faces by more than a degree, the faces turn by less than 30 degrees
+/// and their centroids and spokes' middles stay within `tol` of `surface`. Up to `rounds`
+/// passes. Returns the number of moves.
+template <class K>
+std::size_t smooth_remeshed_vertices(Mesh<K>& mesh, const std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
+                                     const SurfaceDistance& surface, double tol, int rounds);
+
 }  // namespace seam::internal
