@@ -41,15 +41,16 @@ struct PairOptions {
   /// With snapping (on by default): after embedding, coarsen the shared curves to about the
   /// smaller mean edge length (chords within snap_tol of the curve) and remesh both meshes next to
   /// them (see internal/improve.h). Remeshed faces that stray farther than snap_tol from their
-  /// input surface get their edges split, the new vertices on the input surface; then edges between
-  /// remeshed faces are flipped where that raises the smallest angle (within the tolerance). Every attempt is
+  /// input surface get their edges split, the new vertices on the input surface; then vertices
+  /// inside the band are smoothed and edges between remeshed faces flipped where that raises the
+  /// smallest angle (within the tolerance). Every attempt is
   /// checked with seam::check_pair's own tests on the faces that changed (valid, no
   /// self-intersection, meeting only along the curves) and against the inputs (no remeshed face
   /// farther than snap_tol from its input surface, sampled). Where it fails, all embedded curve
   /// points near the failing faces are kept, then, if it fails there again, the curve there is
   /// frozen (left as embedded); up to 12 attempts, then the remeshing is undone altogether
-  /// (PairStats::note says so). Measured on 72 generated crossovers (resolutions 5-24): 1.4% of
-  /// the new faces below 10 degrees and 4.9% below 20, instead of 16.9% and 40.8%.
+  /// (PairStats::note says so). Measured on 72 generated crossovers (resolutions 5-24): 1.1% of
+  /// the new faces below 10 degrees and 3.7% below 20, instead of 16.9% and 40.8%.
   bool remesh_near_curves = true;
   /// With snapping: collapse curve segments shorter than the snapping tolerance in both meshes
   /// where that improves the angles (see internal/collapse.h). Edges below 1e-9 of the pair's
