@@ -325,6 +325,21 @@ Filtered::Point_3 SurfaceDistance::closest_point(const Filtered::Point_3& p) con
 
 namespace {
 constexpr std::uint32_t remeshed_face = std::numeric_limits<std::uint32_t>::max();
+
+/// The curve edges (consecutive curve vertices), each as (smaller, larger) vertex.
+template <class V> std::set<std::pair<V, V>> curve_edge_set(const std::vector<std::vector<V>>& curve_vertices) {
+  std::set<std::pair<V, V>> edges;
+  for (const auto& vs : curve_vertices)
+    for (std::size_t i = 0; i + 1 < vs.size(); ++i) edges.emplace(std::min(vs[i], vs[i + 1]), std::max(vs[i], vs[i + 1]));
+  return edges;
+}
+
+/// Normals `before` and `after` (of a face before and after a change) are non-zero and less than
+/// 30 degrees apart (doubles).
+bool turns_less_than_30_degrees(const Filtered::Vector_3& before, const Filtered::Vector_3& after) {
+  const double norms = std::sqrt(before.squared_length() * after.squared_length());
+  return norms > 0 && before * after > 0.866 * norms;
+}
 }
 
 template <class K>
@@ -358,9 +373,7 @@ std::size_t split_edges_off_surface(Mesh<K>& mesh, const std::vector<std::vector
   using F = typename M::Face_index;
   auto source = mesh.template property_map<F, std::uint32_t>(source_face_property).first;
   auto is_new = mesh.template property_map<F, bool>(new_face_property).first;
-  std::set<std::pair<V, V>> curve_edges;
-  for (const auto& vs : curve_vertices)
-    for (std::size_t i = 0; i + 1 < vs.size(); ++i) curve_edges.emplace(std::min(vs[i], vs[i + 1]), std::max(vs[i], vs[i + 1]));
+  const auto curve_edges = curve_edge_set(curve_vertices);
   auto point = [&](V v) { return to_filtered(mesh.point(v)); };
 
   std::size_t splits = 0;
@@ -417,15 +430,11 @@ std::size_t flip_to_improve_angles(Mesh<K>& mesh, const std::vector<std::vector<
   using FP = Filtered::Point_3;
   auto source = mesh.template property_map<F, std::uint32_t>(source_face_property).first;
   auto is_new = mesh.template property_map<F, bool>(new_face_property).first;
-  std::set<std::pair<V, V>> curve_edges;
-  for (const auto& vs : curve_vertices)
-    for (std::size_t i = 0; i + 1 < vs.size(); ++i) curve_edges.emplace(std::min(vs[i], vs[i + 1]), std::max(vs[i], vs[i + 1]));
+  const auto curve_edges = curve_edge_set(curve_vertices);
   auto point = [&](V v) { return to_filtered(mesh.point(v)); };
   // The new faces turn by less than 30 degrees from the ones they replace.
   auto close_normals = [](const FP& a, const FP& b, const FP& c, const FP& d, const FP& e, const FP& f) {
-    const auto n = CGAL::normal(a, b, c), m = CGAL::normal(d, e, f);
-    const double norms = std::sqrt(n.squared_length() * m.squared_length());
-    return norms > 0 && n * m > 0.866 * norms;
+    return turns_less_than_30_degrees(CGAL::normal(a, b, c), CGAL::normal(d, e, f));
   };
   std::size_t flips = 0;
   for (int round = 0; round < rounds; ++round) {
@@ -504,9 +513,8 @@ std::size_t smooth_remeshed_vertices(Mesh<K>& mesh, const std::vector<std::vecto
       bool ok = true;
       for (auto h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh)) {
         const FP a = point(mesh.source(h)), c = point(mesh.target(mesh.next(h)));
-        const auto before = CGAL::normal(a, here, c), after = CGAL::normal(a, target, c);
-        const double norms = std::sqrt(before.squared_length() * after.squared_length());
-        if (!(norms > 0) || !(before * after > 0.866 * norms) || surface.distance(CGAL::centroid(a, target, c)) > tol ||
+        if (!turns_less_than_30_degrees(CGAL::normal(a, here, c), CGAL::normal(a, target, c)) ||
+            surface.distance(CGAL::centroid(a, target, c)) > tol ||
             surface.distance(CGAL::midpoint(a, target)) > tol) {
           ok = false;
           break;
