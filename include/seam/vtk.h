@@ -12,7 +12,8 @@ namespace seam {
 
 /// Writes both meshes as triangles and the curves as polylines into one VTK unstructured grid:
 /// legacy ASCII (.vtk) or XML (.vtu), by extension. Cell fields: `tow` (0 for A, 1 for B, -1 for
-/// a curve), `source_face` (the input face a triangle came from; -1 for curves), `new` (1 for
+/// a curve), `source_face` (the input face a triangle came from; -1 for curves and for faces
+/// remeshed next to the curves, which have no single input face), `new` (1 for
 /// triangles created by seam) and `min_angle` (degrees; 0 for curves). Written atomically.
 /// Throws InvalidInput for another extension, IOError when the file cannot be written.
 template <class K>
