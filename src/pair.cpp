@@ -621,29 +621,40 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
       }
       Mesh<K> a2 = a, b2 = b;
       auto cva = result.a.curve_vertices, cvb = result.b.curve_vertices;
-      if (!internal::coarsen_and_remesh_near_curves<K>(a2, cva, kept, frozen, la, refused) ||
-          !internal::coarsen_and_remesh_near_curves<K>(b2, cvb, kept, frozen, lb, refused)) {
+      // CGAL's remeshing on rounded coordinates can fail its own assertions on a degenerate
+      // band: that attempt then counts as a failure of the remeshing, the embedded meshes stay.
+      bool coarsened = false;
+      try {
+        coarsened = internal::coarsen_and_remesh_near_curves<K>(a2, cva, kept, frozen, la, refused) &&
+                    internal::coarsen_and_remesh_near_curves<K>(b2, cvb, kept, frozen, lb, refused);
+        if (coarsened) {
+          // Remeshed faces that cut across bends of the input surface: split them, their new
+          // vertices on the input surface, until within the snapping tolerance (up to eight rounds:
+          // at the sharp edge of a lenticular tow fewer leave faces outside).
+          internal::split_edges_off_surface<K>(a2, cva, surface_a, snap_tol, 8);
+          internal::split_edges_off_surface<K>(b2, cvb, surface_b, snap_tol, 8);
+          // Then smoothing (vertices inside the remeshed band towards the centroid of their
+          // neighbours, on the input surface) and edge flips between remeshed faces, each where it
+          // raises the smallest angle and stays within the tolerance (CGAL's remeshing aims at edge
+          // lengths and valences, not angles), twice.
+          for (int pass = 0; pass < 2; ++pass) {
+            internal::smooth_remeshed_vertices<K>(a2, cva, surface_a, snap_tol, 2);
+            internal::smooth_remeshed_vertices<K>(b2, cvb, surface_b, snap_tol, 2);
+            internal::flip_to_improve_angles<K>(a2, cva, surface_a, snap_tol, 2);
+            internal::flip_to_improve_angles<K>(b2, cvb, surface_b, snap_tol, 2);
+          }
+        }
+      } catch (const CGAL::Failure_exception&) {
+        add_note("remeshing next to the curves failed (a CGAL assertion); the embedded meshes are kept");
+        break;
+      }
+      if (!coarsened) {
         if (std::all_of(refused.begin(), refused.end(), [](const auto& r) { return r.empty(); })) {
           add_note("remeshing next to the curves failed; the embedded meshes are kept");
           break;
         }
         keep_refused_too();
         continue;
-      }
-      // Remeshed faces that cut across bends of the input surface: split them, their new
-      // vertices on the input surface, until within the snapping tolerance (up to eight rounds:
-      // at the sharp edge of a lenticular tow fewer leave faces outside).
-      internal::split_edges_off_surface<K>(a2, cva, surface_a, snap_tol, 8);
-      internal::split_edges_off_surface<K>(b2, cvb, surface_b, snap_tol, 8);
-      // Then smoothing (vertices inside the remeshed band towards the centroid of their
-      // neighbours, on the input surface) and edge flips between remeshed faces, each where it
-      // raises the smallest angle and stays within the tolerance (CGAL's remeshing aims at edge
-      // lengths and valences, not angles), twice.
-      for (int pass = 0; pass < 2; ++pass) {
-        internal::smooth_remeshed_vertices<K>(a2, cva, surface_a, snap_tol, 2);
-        internal::smooth_remeshed_vertices<K>(b2, cvb, surface_b, snap_tol, 2);
-        internal::flip_to_improve_angles<K>(a2, cva, surface_a, snap_tol, 2);
-        internal::flip_to_improve_angles<K>(b2, cvb, surface_b, snap_tol, 2);
       }
       std::vector<Polyline<K>> ca, cb;
       for (const auto& vs : cva) {
