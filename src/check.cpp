@@ -307,7 +307,6 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
     const double scale = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
                                    CGAL::square(box.zmax() - box.zmin()));
     const double slack = 1e-12 * (scale + 1.0);  // rounding of the double distance
-    const typename K::FT tol2 = typename K::FT(tol) * typename K::FT(tol);
     std::size_t far = 0;
     std::size_t first_far = 0;
     double first_far_distance = 0;
@@ -324,7 +323,9 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
         const typename K::Triangle_3 t(input.point(input.source(h)), input.point(input.target(h)),
                                        input.point(input.target(input.next(h))));
         const auto d2 = CGAL::squared_distance(m.point(v), t);
-        within = d2 <= tol2;
+        // (tol is finite here: d <= tol holds for every d when it is not; an infinite FT is a
+        // CGAL assertion failure)
+        within = d2 <= typename K::FT(tol) * typename K::FT(tol);
         d = std::min(d, std::sqrt(CGAL::to_double(d2)));
       }
       max_distance = std::max(max_distance, d);
