@@ -376,8 +376,11 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
 template <class K>
 PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2, const Mesh<K>& b2,
                            const std::vector<Polyline<K>>& curves, double tol, const CheckFocus* focus) {
-  const std::vector<char>* focus_a = focus ? &focus->faces_a : nullptr;
-  const std::vector<char>* focus_b = focus ? &focus->faces_b : nullptr;
+  // Faces are restricted only when some are marked: an empty focus restricts nothing (and still
+  // leaves check 4 and the figures to the caller).
+  const bool restricted = focus && !(focus->faces_a.empty() && focus->faces_b.empty());
+  const std::vector<char>* focus_a = restricted ? &focus->faces_a : nullptr;
+  const std::vector<char>* focus_b = restricted ? &focus->faces_b : nullptr;
   using M = Mesh<K>;
   using Point = typename K::Point_3;
   using V = typename M::Vertex_index;
@@ -524,7 +527,7 @@ PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2
         }
       }
     };
-    if (focus) {
+    if (restricted) {
       // The pairs with a face in focus: A2's in focus against all of B2, the rest of A2 against
       // B2's in focus.
       std::vector<Box> focused_a = face_boxes(va, focus_a, 1), all_b = face_boxes(vb);

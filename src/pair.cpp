@@ -551,7 +551,10 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   const bool snapped = st.vertices_snapped_a + st.vertices_snapped_b + st.edges_snapped_a + st.edges_snapped_b > 0;
   if (snapped && !result.curves.empty()) {
     t = Clock::now();
-    const auto report = check_pair<K>(*input_a, *input_b, a, b, result.curves, std::numeric_limits<double>::infinity());
+    // (Check 4, the distances from the inputs, and the figures are not needed: an empty focus.)
+    const CheckFocus whole_meshes;
+    const auto report = check_pair<K>(*input_a, *input_b, a, b, result.curves,
+                                      std::numeric_limits<double>::infinity(), &whole_meshes);
     st.stage_seconds["verify"] = seconds_since(t);
     if (!report.ok()) {
       a = *input_a;
@@ -672,15 +675,16 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
       // Accept the remeshed pair only if it passes seam check's tests (valid, no self-intersection,
       // meeting only along the curves); otherwise freeze the curve next to the conflicting faces
       // and try again.
-      // Only the faces that changed need checking (the rest passed above, or has no snapping).
+      // Only the faces that changed need checking when the rest passed the check above; without
+      // snapping nothing was checked, and the empty focus takes all faces. Check 4 is not needed.
       CheckFocus focus;
-      for (auto [m, marks] : {std::make_pair(&a2, &focus.faces_a), std::make_pair(&b2, &focus.faces_b)}) {
-        const auto source = m->template property_map<typename Mesh<K>::Face_index, std::uint32_t>(source_face_property).first;
-        marks->assign(m->number_of_faces() + m->number_of_removed_faces(), 0);
-        for (auto f : m->faces()) (*marks)[std::size_t(f)] = source[f] == std::numeric_limits<std::uint32_t>::max();
-      }
-      const auto report = check_pair<K>(a, b, a2, b2, ca, std::numeric_limits<double>::infinity(),
-                                        snapped ? &focus : nullptr);
+      if (snapped)
+        for (auto [m, marks] : {std::make_pair(&a2, &focus.faces_a), std::make_pair(&b2, &focus.faces_b)}) {
+          const auto source = m->template property_map<typename Mesh<K>::Face_index, std::uint32_t>(source_face_property).first;
+          marks->assign(m->number_of_faces() + m->number_of_removed_faces(), 0);
+          for (auto f : m->faces()) (*marks)[std::size_t(f)] = source[f] == std::numeric_limits<std::uint32_t>::max();
+        }
+      const auto report = check_pair<K>(a, b, a2, b2, ca, std::numeric_limits<double>::infinity(), &focus);
       // Nor may a remeshed face stray farther than the snapping tolerance from its input surface
       // (a flip across a bend of the surface, say).
       double deviation_a = 0, deviation_b = 0;

@@ -89,7 +89,8 @@ struct PairCheckReport {
 /// Restricts a check to the faces that changed (seam::pair checks the faces it remeshed this
 /// way): degenerate faces and face pairs (checks 1 and 3) are tested only where at least one face
 /// is marked (faces_a / faces_b, indexed by face index of A2 / B2), and check 4 and the quality
-/// figures are skipped. The rest of checks 1 and 2 runs on the whole meshes.
+/// figures are skipped. The rest of checks 1 and 2 runs on the whole meshes. An empty focus (no
+/// face marked in either mesh) restricts nothing: checks 1-3 on the whole meshes, 4 skipped.
 struct CheckFocus {
   std::vector<char> faces_a, faces_b;
 };
