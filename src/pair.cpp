@@ -104,6 +104,77 @@ template <class Point> std::vector<std::vector<Point>> chain(std::vector<std::ve
 }
 
 
+/// Orients each curve along n_A x n_B, the cross product of the normals of the faces of A and B
+/// that contain it (faces as oriented in the inputs): the usual orientation of a transverse
+/// intersection, and the same for the same pair whatever order CGAL returned the pieces in.
+/// Decided on the first segment whose containing faces all give the same nonzero sign (exact
+/// under the exact kernel; normals rounded under Epick). A curve without one (the boundary of a
+/// flat contact, where the normals are parallel) runs from its smaller end point, or, closed,
+/// from its first point towards the smaller of its two neighbours.
+template <class K> void orient_curves(const Mesh<K>& a, const Mesh<K>& b, std::vector<std::vector<typename K::Point_3>>& curves) {
+  using Point = typename K::Point_3;
+  using F = typename Mesh<K>::Face_index;
+  constexpr std::size_t segments_tried = 32;
+  auto corners = [](const Mesh<K>& m, F f) {
+    const auto h = m.halfedge(f);
+    return std::array<Point, 3>{m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h)))};
+  };
+  auto face_box = [](const Mesh<K>& m, F f) {
+    CGAL::Bbox_3 box;
+    for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) box += m.point(v).bbox();
+    return box;
+  };
+  for (auto& line : curves) {
+    if (line.size() < 2) continue;
+    const std::size_t tried = std::min(line.size() - 1, segments_tried);
+    CGAL::Bbox_3 near;
+    for (std::size_t i = 0; i <= tried; ++i) near += line[i].bbox();
+    std::vector<std::pair<F, CGAL::Bbox_3>> near_a, near_b;
+    for (F f : a.faces())
+      if (const auto box = face_box(a, f); CGAL::do_overlap(box, near)) near_a.emplace_back(f, box);
+    for (F f : b.faces())
+      if (const auto box = face_box(b, f); CGAL::do_overlap(box, near)) near_b.emplace_back(f, box);
+    auto containing = [&](const Mesh<K>& m, const std::vector<std::pair<F, CGAL::Bbox_3>>& faces, const Point& p,
+                          const Point& q) {
+      std::vector<std::array<Point, 3>> result;
+      const CGAL::Bbox_3 box = p.bbox() + q.bbox();
+      for (const auto& [f, fbox] : faces) {
+        if (!CGAL::do_overlap(box, fbox)) continue;
+        const auto c = corners(m, f);
+        const typename K::Triangle_3 t(c[0], c[1], c[2]);
+        if (!t.is_degenerate() && t.has_on(p) && t.has_on(q)) result.push_back(c);
+      }
+      return result;
+    };
+    int direction = 0;
+    for (std::size_t i = 0; i < tried && direction == 0; ++i) {
+      const Point &p = line[i], &q = line[i + 1];
+      const auto fa = containing(a, near_a, p, q), fb = containing(b, near_b, p, q);
+      int sign = 0;
+      bool agree = !fa.empty() && !fb.empty();
+      for (const auto& ca : fa)
+        for (const auto& cb : fb) {
+          if (!agree) break;
+          const int s = CGAL::sign(CGAL::determinant(q - p, CGAL::normal(ca[0], ca[1], ca[2]),
+                                                     CGAL::normal(cb[0], cb[1], cb[2])));
+          if (s == 0 || (sign != 0 && s != sign)) agree = false;
+          sign = s;
+        }
+      if (agree) direction = sign;
+    }
+    if (direction == 0) {
+      const bool closed = line.size() > 3 && line.front() == line.back();
+      const Point& forward = closed ? line[1] : line.front();
+      const Point& backward = closed ? line[line.size() - 2] : line.back();
+      direction = CGAL::compare_xyz(backward, forward) == CGAL::SMALLER ? -1 : 1;
+    }
+    if (direction < 0) std::reverse(line.begin(), line.end());  // a closed curve keeps its first point
+  }
+  std::sort(curves.begin(), curves.end(), [](const auto& x, const auto& y) {
+    return CGAL::compare_xyz(x.front(), y.front()) == CGAL::SMALLER;
+  });
+}
+
 }  // namespace
 
 template <class K>
@@ -340,7 +411,9 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
     }
   }
   if (touching_points) *touching_points = touching + chain(std::move(touched)).size();
-  return chain(std::move(kept));
+  auto curves = chain(std::move(kept));
+  orient_curves<K>(a, b, curves);
+  return curves;
 }
 
 template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions& options) {

@@ -7,6 +7,7 @@
 #include <seam/pair.h>
 #include <seam/verify.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -146,6 +147,43 @@ TEST_CASE("pair: TetGen finds no intersecting faces in the merged outputs, hundr
   INFO(seam_test::read_bytes(dir.file("tetgen.log")));
   CHECK(before > 100);
   CHECK(after == 0);
+}
+
+TEST_CASE("pair: computed curves run along n_A x n_B, whatever order the meshes come in", "[pair]") {
+  using K = seam::Exact;
+  using Point = K::Point_3;
+  const auto c = crossover(8, seam::Section::lenticular, 0.25);
+  const auto a = mesh_of<K>(c.weft, 0.37), b = mesh_of<K>(c.warp, 0.37);
+  const auto ab = seam::intersection_curves<K>(a, b), ba = seam::intersection_curves<K>(b, a);
+  REQUIRE(ab.size() >= 1);
+  REQUIRE(ab.size() == ba.size());
+  // The same curves, from the same first point, in the opposite direction (n_B x n_A).
+  for (std::size_t i = 0; i < ab.size(); ++i) {
+    auto reversed = ba[i];
+    std::reverse(reversed.begin(), reversed.end());
+    CHECK(ab[i] == reversed);
+  }
+  // Every segment inside one face of each mesh runs along the cross product of their normals.
+  auto faces_containing = [](const seam::Mesh<K>& m, const Point& p, const Point& q) {
+    std::vector<K::Triangle_3> result;
+    for (auto f : m.faces()) {
+      const auto h = m.halfedge(f);
+      const K::Triangle_3 t(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h))));
+      if (CGAL::do_overlap(t.bbox(), p.bbox() + q.bbox()) && t.has_on(p) && t.has_on(q)) result.push_back(t);
+    }
+    return result;
+  };
+  std::size_t tested = 0, along = 0;
+  for (const auto& curve : ab)
+    for (std::size_t i = 0; i + 1 < curve.size(); i += 7) {
+      const auto fa = faces_containing(a, curve[i], curve[i + 1]), fb = faces_containing(b, curve[i], curve[i + 1]);
+      if (fa.size() != 1 || fb.size() != 1) continue;
+      ++tested;
+      const auto na = CGAL::normal(fa[0][0], fa[0][1], fa[0][2]), nb = CGAL::normal(fb[0][0], fb[0][1], fb[0][2]);
+      if (CGAL::sign(CGAL::determinant(curve[i + 1] - curve[i], na, nb)) == CGAL::POSITIVE) ++along;
+    }
+  CHECK(tested > 10);
+  CHECK(along == tested);
 }
 
 TEST_CASE("pair: disjoint and nested tows give no curve and unchanged meshes", "[pair]") {

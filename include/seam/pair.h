@@ -3,7 +3,11 @@
 // Computed curves (the default): the intersection of the two surfaces, computed exactly under the
 // exact kernel (CGAL::Polygon_mesh_processing::surface_intersection), chained into one polyline
 // per connected curve (closed where both surfaces are closed), duplicate points merged, each
-// closed curve starting at its lexicographically smallest point. Every curve point lies on both
+// closed curve starting at its lexicographically smallest point, each curve running along
+// n_A x n_B (the normals of the faces of A and B that contain it, as the inputs orient them; the
+// boundary of a flat contact, where these are parallel, runs from its smaller end, or neighbour
+// of its first point), the curves sorted by first point: the same output, run after run,
+// whatever order CGAL returns the pieces in. Every curve point lies on both
 // surfaces, so embedding keeps all of them (they are the crossing points of one mesh or the
 // other) and both meshes receive the identical curve. Each piece is classified from the faces of
 // each mesh that contain it (exact tests): where the surfaces cross it is kept; where they only
