@@ -1,6 +1,7 @@
 // seam::pair: two tows, one interface. See seam/pair.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/internal/collapse.h>
+#include <seam/internal/general_position_curves.h>
 #include <seam/internal/improve.h>
 #include <seam/internal/provenance.h>
 #include <seam/internal/snap.h>
@@ -206,6 +207,13 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
       for (const auto& p : c) result.back().emplace_back(p.x(), p.y(), p.z());
     }
     return result;
+  }
+  // Meshes in general position with respect to each other (no zero predicate): the direct path.
+  if (auto direct = internal::general_position_curves<K>(a, b)) {
+    if (touching_points) *touching_points = 0;
+    auto curves = chain(std::move(*direct));
+    orient_curves<K>(a, b, curves);
+    return curves;
   }
   using Point = typename K::Point_3;
   using F = typename Mesh<K>::Face_index;

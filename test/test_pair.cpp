@@ -1,8 +1,11 @@
 // Tests of seam::pair and `seam pair`: two interpenetrating tows made conforming.
 #include <catch2/catch.hpp>
 
+#include <CGAL/Polygon_mesh_processing/intersection.h>
+
 #include <seam/check.h>
 #include <seam/generate.h>
+#include <seam/internal/general_position_curves.h>
 #include <seam/io.h>
 #include <seam/pair.h>
 #include <seam/verify.h>
@@ -12,6 +15,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <set>
 
 #include <sys/wait.h>
 
@@ -184,6 +188,86 @@ TEST_CASE("pair: computed curves run along n_A x n_B, whatever order the meshes 
     }
   CHECK(tested > 10);
   CHECK(along == tested);
+}
+
+TEMPLATE_TEST_CASE("pair: in general position the direct curves are CGAL's surface_intersection, point for point",
+                   "[pair]", seam::Exact, seam::Filtered) {
+  using K = TestType;
+  using Point = typename K::Point_3;
+  struct Less {
+    bool operator()(const Point& x, const Point& y) const { return CGAL::compare_xyz(x, y) == CGAL::SMALLER; }
+    bool operator()(const std::pair<Point, Point>& x, const std::pair<Point, Point>& y) const {
+      if ((*this)(x.first, y.first)) return true;
+      if ((*this)(y.first, x.first)) return false;
+      return (*this)(x.second, y.second);
+    }
+  };
+  using Points = std::set<Point, Less>;
+  using Segments = std::set<std::pair<Point, Point>, Less>;
+  auto add = [](const std::vector<std::vector<Point>>& lines, Points& points, Segments& segments) {
+    for (const auto& line : lines)
+      for (std::size_t i = 0; i < line.size(); ++i) {
+        points.insert(line[i]);
+        if (i + 1 < line.size()) {
+          auto p = line[i], q = line[i + 1];
+          if (Less()(q, p)) std::swap(p, q);
+          segments.emplace(p, q);
+        }
+      }
+  };
+  for (const auto& [c, turn] : {std::pair{crossover(8, seam::Section::lenticular, 0.25), 0.0},
+                                std::pair{crossover(5, seam::Section::elliptical, 0.2), 0.0},
+                                std::pair{crossover(7, seam::Section::lenticular, 0.3), 0.37},
+                                std::pair{crossover(12, seam::Section::elliptical, 0.15), 1.1}}) {
+    const auto a = mesh_of<K>(c.weft, turn), b = mesh_of<K>(c.warp, turn);
+    const auto direct = seam::internal::general_position_curves<K>(a, b);
+    REQUIRE(direct.has_value());
+    std::vector<std::vector<Point>> pieces;
+    CGAL::Polygon_mesh_processing::surface_intersection(a, b, std::back_inserter(pieces));
+    Points points_direct, points_cgal;
+    Segments segments_direct, segments_cgal;
+    add(*direct, points_direct, segments_direct);
+    add(pieces, points_cgal, segments_cgal);
+    CHECK(points_direct.size() > 50);
+    CHECK(points_direct.size() == points_cgal.size());
+    CHECK(segments_direct.size() == segments_cgal.size());
+    if constexpr (seam::kernel_traits<K>::exact_constructions) {
+      // The same exact points and segments.
+      if (points_direct.size() == points_cgal.size())
+        CHECK(std::equal(points_direct.begin(), points_direct.end(), points_cgal.begin(),
+                         [](const Point& x, const Point& y) { return x == y; }));
+      if (segments_direct.size() == segments_cgal.size())
+        CHECK(std::equal(segments_direct.begin(), segments_direct.end(), segments_cgal.begin(),
+                         [](const auto& x, const auto& y) { return x.first == y.first && x.second == y.second; }));
+    } else {
+      // Constructed by different formulas, rounded: each point within 1e-12 of one of CGAL's.
+      std::size_t near = 0;
+      for (const auto& p : points_direct)
+        if (std::any_of(points_cgal.begin(), points_cgal.end(),
+                        [&](const Point& q) { return CGAL::squared_distance(p, q) < 1e-24; }))
+          ++near;
+      CHECK(near == points_direct.size());
+    }
+    for (const auto& line : *direct) CHECK(seam::is_closed(line));
+  }
+}
+
+TEST_CASE("pair: the direct curves leave degenerate pairs to CGAL (a mesh and itself, snapped outputs)", "[pair]") {
+  using K = seam::Exact;
+  const auto c = crossover(6, seam::Section::lenticular, 0.25);
+  const auto a = mesh_of<K>(c.weft), b = mesh_of<K>(c.warp);
+  CHECK_FALSE(seam::internal::general_position_curves<K>(a, a).has_value());
+  // With snapping, curve points are vertices of both outputs: zero predicates everywhere on the curve.
+  auto a2 = a, b2 = b;
+  seam::PairOptions o;
+  o.remesh_near_curves = false;
+  const auto r = seam::pair<K>(a2, b2, o);
+  REQUIRE(r.stats.curves >= 1);
+  CHECK_FALSE(seam::internal::general_position_curves<K>(a2, b2).has_value());
+  // ... and the curves computed on them (by CGAL) are the embedded ones.
+  const auto again = seam::intersection_curves<K>(a2, b2);
+  REQUIRE(again.size() == r.curves.size());
+  for (std::size_t i = 0; i < again.size(); ++i) CHECK(again[i].size() == r.curves[i].size());
 }
 
 TEST_CASE("pair: disjoint and nested tows give no curve and unchanged meshes", "[pair]") {

@@ -1,0 +1,33 @@
+// seam internal: the intersection curves of two triangle meshes in general position with respect
+// to each other, computed directly (pair step "curves", fast path). See
+// src/general_position_curves.cpp.
+//
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <seam/kernels.h>
+#include <seam/types.h>
+
+#include <optional>
+#include <vector>
+
+namespace seam::internal {
+
+/// The intersection curves of `a` and `b` when the two meshes are in general position with
+/// respect to each other: no vertex of one lies in the plane of a face of the other that its
+/// bounding box meets, and no edge of one meets an edge of the other (every predicate below is
+/// nonzero). Then two faces meet in a segment or not at all, each end of it is where an edge of
+/// one face crosses the inside of the other face, and the curves are chains of such segments,
+/// every point identified by its (edge, face) pair instead of by comparing coordinates.
+///
+/// Exact decisions (orientation predicates of the kernel); the points are constructed once per
+/// (edge, face) pair, exact under the exact kernel, rounded under Epick. Returns the chained
+/// polylines (closed ones repeating their first point; unsorted, not oriented), or nothing as
+/// soon as a predicate is zero or the pieces do not chain into simple curves: then the caller
+/// takes the general path (CGAL's surface_intersection), which handles every degenerate contact.
+/// The face pairs are tested on all cores (oneTBB), the result does not depend on their number.
+template <class K>
+std::optional<std::vector<std::vector<typename K::Point_3>>> general_position_curves(const Mesh<K>& a,
+                                                                                     const Mesh<K>& b);
+
+}  // namespace seam::internal

@@ -1,0 +1,253 @@
+// seam internal: the intersection curves of two meshes in general position, computed directly.
+// See include/seam/internal/general_position_curves.h.
+//
+// Why not always CGAL's surface_intersection: it handles every degenerate contact (vertices on
+// faces, coplanar faces), and pays for that on every input: on the 77k/64k-face benchmark pair it
+// costs as much as the whole of CGAL's corefine. Generic tow pairs (crossings without snapping)
+// are in general position; this path decides that with the same exact predicates and stops at the
+// first zero, so nothing degenerate is ever decided here.
+//
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/internal/general_position_curves.h>
+
+#include <CGAL/box_intersection_d.h>
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cstdint>
+
+namespace seam::internal {
+
+namespace {
+
+/// A curve point: an edge of one mesh crossing the inside of a face of the other.
+struct CrossingKey {
+  std::uint32_t edge_of_b = 0;  ///< 0: an edge of A and a face of B; 1: an edge of B and a face of A
+  std::uint32_t edge = 0, face = 0;
+  bool operator<(const CrossingKey& o) const {
+    return std::tie(edge_of_b, edge, face) < std::tie(o.edge_of_b, o.edge, o.face);
+  }
+  bool operator==(const CrossingKey& o) const {
+    return edge_of_b == o.edge_of_b && edge == o.edge && face == o.face;
+  }
+};
+
+/// What two faces have in common: nothing, a segment between two crossing points, or a
+/// configuration this path does not decide (a zero predicate).
+struct FacePairResult {
+  enum { none, segment, degenerate } kind = none;
+  std::array<CrossingKey, 2> ends;
+};
+
+template <class K> struct FaceCorners {
+  using M = Mesh<K>;
+  std::array<typename M::Vertex_index, 3> v;
+  std::array<typename M::Edge_index, 3> e;  ///< e[i] joins v[i] and v[(i + 1) % 3]
+  FaceCorners(const M& m, typename M::Face_index f) {
+    auto h = m.halfedge(f);
+    for (int i = 0; i < 3; ++i, h = m.next(h)) {
+      v[i] = m.source(h);
+      e[i] = m.edge(h);
+    }
+  }
+};
+
+/// Where triangle `p` (of mesh P) and triangle `q` (of mesh Q) meet, from exact predicates only.
+/// `p_is_b` says which mesh P is, for the keys.
+template <class K>
+void crossings_of_edges(const std::array<typename K::Point_3, 3>& p, const FaceCorners<K>& pc,
+                        const std::array<CGAL::Orientation, 3>& side, const std::array<typename K::Point_3, 3>& q,
+                        std::uint32_t q_face, std::uint32_t p_is_b, FacePairResult& r, int& count) {
+  for (int i = 0; i < 3 && r.kind != FacePairResult::degenerate; ++i) {
+    const int j = (i + 1) % 3;
+    if (side[i] == side[j]) continue;  // the edge does not cross q's plane
+    // The edge crosses the plane; through the inside of q when it turns the same way about all
+    // three edges of q. A zero: through an edge or vertex of q, or along a line through them.
+    const auto s0 = CGAL::orientation(p[i], p[j], q[0], q[1]);
+    const auto s1 = CGAL::orientation(p[i], p[j], q[1], q[2]);
+    const auto s2 = CGAL::orientation(p[i], p[j], q[2], q[0]);
+    const bool has_positive = s0 == CGAL::POSITIVE || s1 == CGAL::POSITIVE || s2 == CGAL::POSITIVE;
+    const bool has_negative = s0 == CGAL::NEGATIVE || s1 == CGAL::NEGATIVE || s2 == CGAL::NEGATIVE;
+    if (has_positive && has_negative) continue;  // misses q, surely
+    if (s0 == CGAL::ZERO || s1 == CGAL::ZERO || s2 == CGAL::ZERO || count == 2) {
+      r.kind = FacePairResult::degenerate;
+      return;
+    }
+    r.ends[count++] = CrossingKey{p_is_b, std::uint32_t(pc.e[i]), q_face};
+  }
+}
+
+template <class K>
+FacePairResult meet(const Mesh<K>& a, typename Mesh<K>::Face_index fa, const Mesh<K>& b,
+                    typename Mesh<K>::Face_index fb) {
+  FacePairResult r;
+  const FaceCorners<K> ca(a, fa), cb(b, fb);
+  const std::array<typename K::Point_3, 3> pa{a.point(ca.v[0]), a.point(ca.v[1]), a.point(ca.v[2])};
+  const std::array<typename K::Point_3, 3> pb{b.point(cb.v[0]), b.point(cb.v[1]), b.point(cb.v[2])};
+  auto sides = [](const std::array<typename K::Point_3, 3>& plane, const std::array<typename K::Point_3, 3>& p) {
+    return std::array<CGAL::Orientation, 3>{CGAL::orientation(plane[0], plane[1], plane[2], p[0]),
+                                            CGAL::orientation(plane[0], plane[1], plane[2], p[1]),
+                                            CGAL::orientation(plane[0], plane[1], plane[2], p[2])};
+  };
+  auto one_side = [](const std::array<CGAL::Orientation, 3>& s) {
+    return s[0] != CGAL::ZERO && s[0] == s[1] && s[1] == s[2];
+  };
+  const auto side_a = sides(pb, pa);  // A's corners against B's plane
+  if (one_side(side_a)) return r;
+  const auto side_b = sides(pa, pb);
+  if (one_side(side_b)) return r;
+  for (const auto& s : {side_a, side_b})
+    if (s[0] == CGAL::ZERO || s[1] == CGAL::ZERO || s[2] == CGAL::ZERO) {  // a corner in the other plane
+      r.kind = FacePairResult::degenerate;
+      return r;
+    }
+  // Both faces straddle the other's plane: they meet along the common line in the overlap of two
+  // intervals, whose ends (in general position) are edges of one face crossing the other face.
+  int count = 0;
+  crossings_of_edges<K>(pa, ca, side_a, pb, std::uint32_t(fb), 0, r, count);
+  if (r.kind != FacePairResult::degenerate) crossings_of_edges<K>(pb, cb, side_b, pa, std::uint32_t(fa), 1, r, count);
+  if (r.kind == FacePairResult::degenerate) return r;
+  if (count == 2)
+    r.kind = FacePairResult::segment;
+  else if (count != 0)
+    r.kind = FacePairResult::degenerate;
+  return r;
+}
+
+/// The point where edge `e` of `m` crosses the plane of face `f` of `other`: exact under the
+/// exact kernel, rounded under Epick (from the edge's end with the smaller index, so the same
+/// doubles every time).
+template <class K>
+typename K::Point_3 crossing_point(const Mesh<K>& m, typename Mesh<K>::Edge_index e, const Mesh<K>& other,
+                                   typename Mesh<K>::Face_index f) {
+  auto u = m.vertex(e, 0), v = m.vertex(e, 1);
+  if (v < u) std::swap(u, v);
+  const FaceCorners<K> c(other, f);
+  const auto &p = m.point(u), &q = m.point(v);
+  const auto &r = other.point(c.v[0]), &s = other.point(c.v[1]), &t = other.point(c.v[2]);
+  const auto ds = s - r, dt = t - r;
+  const auto du = CGAL::determinant(ds, dt, p - r), dv = CGAL::determinant(ds, dt, q - r);
+  return p + (q - p) * (du / (du - dv));  // du and dv have opposite signs (decided exactly)
+}
+
+}  // namespace
+
+template <class K>
+std::optional<std::vector<std::vector<typename K::Point_3>>> general_position_curves(const Mesh<K>& a,
+                                                                                     const Mesh<K>& b) {
+  using Point = typename K::Point_3;
+  using F = typename Mesh<K>::Face_index;
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
+
+  // Candidate face pairs: overlapping bounding boxes (of the exact kernel's interval
+  // approximations: they contain the exact faces).
+  auto face_box = [](const Mesh<K>& m, F f) {
+    CGAL::Bbox_3 box;
+    for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) box += m.point(v).bbox();
+    return box;
+  };
+  auto mesh_box = [&](const Mesh<K>& m) {
+    CGAL::Bbox_3 box;
+    for (auto v : m.vertices()) box += m.point(v).bbox();
+    return box;
+  };
+  const CGAL::Bbox_3 box_a = mesh_box(a), box_b = mesh_box(b);
+  auto boxes_near = [&](const Mesh<K>& m, const CGAL::Bbox_3& other) {
+    std::vector<Box> boxes;
+    for (F f : m.faces())
+      if (const auto box = face_box(m, f); CGAL::do_overlap(box, other)) boxes.emplace_back(box, std::uint32_t(f));
+    return boxes;
+  };
+  std::vector<Box> faces_a = boxes_near(a, box_b), faces_b = boxes_near(b, box_a);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> candidates;
+  CGAL::box_intersection_d(faces_a.begin(), faces_a.end(), faces_b.begin(), faces_b.end(),
+                           [&](const Box& x, const Box& y) { candidates.emplace_back(x.info(), y.info()); });
+  std::sort(candidates.begin(), candidates.end());
+
+  // Each pair decided with exact predicates, on all cores.
+  std::vector<FacePairResult> met(candidates.size());
+  std::atomic<bool> degenerate{false};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 256),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        if (degenerate.load(std::memory_order_relaxed)) return;
+                        met[i] = meet<K>(a, F(candidates[i].first), b, F(candidates[i].second));
+                        if (met[i].kind == FacePairResult::degenerate) degenerate = true;
+                      }
+                    });
+  if (degenerate) return std::nullopt;
+
+  // The crossing points, each once, and the segments between them.
+  std::vector<CrossingKey> keys;
+  for (const auto& m : met)
+    if (m.kind == FacePairResult::segment) keys.insert(keys.end(), m.ends.begin(), m.ends.end());
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  auto index_of = [&](const CrossingKey& k) {
+    return std::size_t(std::lower_bound(keys.begin(), keys.end(), k) - keys.begin());
+  };
+  constexpr std::size_t none = std::size_t(-1);
+  std::vector<std::array<std::size_t, 2>> neighbours(keys.size(), {none, none});
+  for (const auto& m : met) {
+    if (m.kind != FacePairResult::segment) continue;
+    const std::size_t i = index_of(m.ends[0]), j = index_of(m.ends[1]);
+    for (auto [from, to] : {std::pair{i, j}, std::pair{j, i}}) {
+      auto& n = neighbours[from];
+      if (n[0] == none)
+        n[0] = to;
+      else if (n[1] == none)
+        n[1] = to;
+      else
+        return std::nullopt;  // three segments at one point: not a simple curve
+    }
+  }
+  std::vector<Point> points(keys.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size(), 64), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      const auto& k = keys[i];
+      points[i] = k.edge_of_b ? crossing_point<K>(b, typename Mesh<K>::Edge_index(k.edge), a, F(k.face))
+                              : crossing_point<K>(a, typename Mesh<K>::Edge_index(k.edge), b, F(k.face));
+      make_exact(points[i]);  // kept points: cut the expression trees once
+    }
+  });
+
+  // Chains: open ones from their ends (an edge on a mesh border), then the closed ones.
+  std::vector<char> used(keys.size(), 0);
+  std::vector<std::vector<Point>> curves;
+  auto walk = [&](std::size_t start) {
+    std::vector<Point> line{points[start]};
+    used[start] = 1;
+    for (std::size_t previous = none, at = start;;) {
+      const auto& n = neighbours[at];
+      const std::size_t next = n[0] != previous ? n[0] : n[1];
+      if (next == none) break;  // an open end
+      if (next == start) {      // closed
+        line.push_back(points[start]);
+        break;
+      }
+      if (used[next]) break;
+      used[next] = 1;
+      line.push_back(points[next]);
+      previous = at;
+      at = next;
+    }
+    curves.push_back(std::move(line));
+  };
+  for (std::size_t i = 0; i < keys.size(); ++i)
+    if (!used[i] && (neighbours[i][0] == none || neighbours[i][1] == none)) walk(i);
+  for (std::size_t i = 0; i < keys.size(); ++i)
+    if (!used[i]) walk(i);
+  return curves;
+}
+
+#define SEAM_INSTANTIATE(K)                                                                                  \
+  template std::optional<std::vector<std::vector<typename K::Point_3>>> general_position_curves<K>(const Mesh<K>&, \
+                                                                                                   const Mesh<K>&);
+SEAM_INSTANTIATE(Exact)
+SEAM_INSTANTIATE(Filtered)
+#undef SEAM_INSTANTIATE
+
+}  // namespace seam::internal
