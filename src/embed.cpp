@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/embed.h>
 #include <seam/internal/coarsen.h>
+#include <seam/internal/embed_known_sites.h>
 #include <seam/internal/snap.h>
 #include <seam/internal/splice.h>
 #include <seam/internal/trace.h>
@@ -20,8 +21,10 @@ namespace seam {
 template <class K> double mean_edge_length(const Mesh<K>& mesh) {
   double sum = 0;
   std::size_t count = 0;
+  // On the coordinates rounded to doubles (a length scale for tolerances; under the exact kernel
+  // the exact squared distance would build an expression per edge).
   for (auto e : mesh.edges()) {
-    sum += std::sqrt(CGAL::to_double(CGAL::squared_distance(mesh.point(mesh.vertex(e, 0)), mesh.point(mesh.vertex(e, 1)))));
+    sum += std::sqrt(CGAL::squared_distance(to_filtered(mesh.point(mesh.vertex(e, 0))), to_filtered(mesh.point(mesh.vertex(e, 1)))));
     ++count;
   }
   return count ? sum / double(count) : 0.0;
@@ -117,9 +120,11 @@ double polyline_deviation(const std::vector<Polyline<K>>& input, const std::vect
 
 }  // namespace
 
+namespace internal {
+
 template <class K>
-EmbedResult<K> embed(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, const EmbedOptions& options) {
-  using namespace internal;
+EmbedResult<K> embed_with_known_sites(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves,
+                                      const EmbedOptions& options, const KnownSites<K>* known) {
   using T = MeshTypes<K>;
   using V = typename T::V;
   using E = typename T::E;
@@ -132,7 +137,10 @@ EmbedResult<K> embed(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, cons
 
   // ---- options and preconditions
   if (!CGAL::is_triangle_mesh(mesh) || mesh.is_empty()) throw InvalidInput("the mesh is not a triangle mesh");
-  if (mesh.has_garbage()) mesh.collect_garbage();
+  if (mesh.has_garbage()) {
+    mesh.collect_garbage();
+    known = nullptr;  // the indices it holds changed
+  }
   validate_options(options);
   for (std::size_t c = 0; c < curves.size(); ++c) {
     if (curves[c].size() < 2) {
@@ -159,7 +167,7 @@ EmbedResult<K> embed(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, cons
 
   // ---- 2, 3. locate and cross
   TraceReport trace_report;
-  const auto traced = trace_curves<K>(mesh, curves, st.max_distance, trace_report, options.keep_all_nodes);
+  const auto traced = trace_curves<K>(mesh, curves, st.max_distance, trace_report, options.keep_all_nodes, 0.0, known);
   st.stage_seconds["locate"] = trace_report.locate_seconds;
   st.stage_seconds["cross"] = trace_report.cross_seconds;
 
@@ -324,8 +332,17 @@ EmbedResult<K> embed(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, cons
   return result;
 }
 
+}  // namespace internal
+
+template <class K>
+EmbedResult<K> embed(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, const EmbedOptions& options) {
+  return internal::embed_with_known_sites<K>(mesh, curves, options, nullptr);
+}
+
 #define SEAM_INSTANTIATE(K)                                                                                \
   template EmbedResult<K> embed<K>(Mesh<K>&, const std::vector<Polyline<K>>&, const EmbedOptions&);       \
+  template EmbedResult<K> internal::embed_with_known_sites<K>(Mesh<K>&, const std::vector<Polyline<K>>&,   \
+                                                             const EmbedOptions&, const internal::KnownSites<K>*); \
   template double mean_edge_length<K>(const Mesh<K>&);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)

@@ -136,8 +136,7 @@ typename K::Point_3 crossing_point(const Mesh<K>& m, typename Mesh<K>::Edge_inde
 }  // namespace
 
 template <class K>
-std::optional<std::vector<std::vector<typename K::Point_3>>> general_position_curves(const Mesh<K>& a,
-                                                                                     const Mesh<K>& b) {
+std::optional<GeneralPositionCurves<K>> general_position_curves(const Mesh<K>& a, const Mesh<K>& b) {
   using Point = typename K::Point_3;
   using F = typename Mesh<K>::Face_index;
   using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
@@ -190,18 +189,18 @@ std::optional<std::vector<std::vector<typename K::Point_3>>> general_position_cu
     return std::size_t(std::lower_bound(keys.begin(), keys.end(), k) - keys.begin());
   };
   constexpr std::size_t none = std::size_t(-1);
-  std::vector<std::array<std::size_t, 2>> neighbours(keys.size(), {none, none});
-  for (const auto& m : met) {
+  // Per point, its (at most two) neighbours and the face pairs of the segments to them.
+  std::vector<std::array<std::size_t, 2>> neighbours(keys.size(), {none, none}), segment_of(keys.size());
+  for (std::size_t s = 0; s < met.size(); ++s) {
+    const auto& m = met[s];
     if (m.kind != FacePairResult::segment) continue;
     const std::size_t i = index_of(m.ends[0]), j = index_of(m.ends[1]);
     for (auto [from, to] : {std::pair{i, j}, std::pair{j, i}}) {
       auto& n = neighbours[from];
-      if (n[0] == none)
-        n[0] = to;
-      else if (n[1] == none)
-        n[1] = to;
-      else
-        return std::nullopt;  // three segments at one point: not a simple curve
+      const int slot = n[0] == none ? 0 : n[1] == none ? 1 : -1;
+      if (slot < 0) return std::nullopt;  // three segments at one point: not a simple curve
+      n[slot] = to;
+      segment_of[from][slot] = s;
     }
   }
   std::vector<Point> points(keys.size());
@@ -214,17 +213,30 @@ std::optional<std::vector<std::vector<typename K::Point_3>>> general_position_cu
     }
   });
 
-  // Chains: open ones from their ends (an edge on a mesh border), then the closed ones.
+  // The sign of (q - p) . (n_A x n_B) for the segment pq of face pair s: positive when pq runs
+  // along n_A x n_B (exact under the exact kernel; zero only from rounding otherwise).
+  auto direction = [&](const Point& p, const Point& q, std::size_t s) {
+    const FaceCorners<K> ca(a, F(candidates[s].first)), cb(b, F(candidates[s].second));
+    const auto na = CGAL::normal(a.point(ca.v[0]), a.point(ca.v[1]), a.point(ca.v[2]));
+    const auto nb = CGAL::normal(b.point(cb.v[0]), b.point(cb.v[1]), b.point(cb.v[2]));
+    return CGAL::sign(CGAL::determinant(q - p, na, nb));
+  };
+  // Chains: open ones from their ends (an edge on a mesh border), then the closed ones; each
+  // turned to run along n_A x n_B.
   std::vector<char> used(keys.size(), 0);
-  std::vector<std::vector<Point>> curves;
+  GeneralPositionCurves<K> result;
+  auto& curves = result.curves;
   auto walk = [&](std::size_t start) {
     std::vector<Point> line{points[start]};
     used[start] = 1;
+    CGAL::Sign along = CGAL::ZERO;
     for (std::size_t previous = none, at = start;;) {
       const auto& n = neighbours[at];
-      const std::size_t next = n[0] != previous ? n[0] : n[1];
+      const int slot = n[0] != previous ? 0 : 1;
+      const std::size_t next = n[slot];
       if (next == none) break;  // an open end
-      if (next == start) {      // closed
+      if (along == CGAL::ZERO) along = direction(points[at], points[next], segment_of[at][slot]);
+      if (next == start) {  // closed
         line.push_back(points[start]);
         break;
       }
@@ -234,18 +246,34 @@ std::optional<std::vector<std::vector<typename K::Point_3>>> general_position_cu
       previous = at;
       at = next;
     }
+    if (along == CGAL::NEGATIVE) std::reverse(line.begin(), line.end());
     curves.push_back(std::move(line));
   };
   for (std::size_t i = 0; i < keys.size(); ++i)
     if (!used[i] && (neighbours[i][0] == none || neighbours[i][1] == none)) walk(i);
   for (std::size_t i = 0; i < keys.size(); ++i)
     if (!used[i]) walk(i);
-  return curves;
+
+  if constexpr (kernel_traits<K>::exact_constructions) {
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+      SurfacePoint<K> on_edge, in_face;
+      on_edge.where = Where::edge;
+      on_edge.e = typename Mesh<K>::Edge_index(keys[i].edge);
+      on_edge.p = points[i];
+      in_face.where = Where::face;
+      in_face.f = F(keys[i].face);
+      in_face.p = points[i];
+      result.sites_a.sites.emplace_back(points[i], keys[i].edge_of_b ? in_face : on_edge);
+      result.sites_b.sites.emplace_back(points[i], keys[i].edge_of_b ? on_edge : in_face);
+    }
+    result.sites_a.sort();
+    result.sites_b.sort();
+  }
+  return result;
 }
 
-#define SEAM_INSTANTIATE(K)                                                                                  \
-  template std::optional<std::vector<std::vector<typename K::Point_3>>> general_position_curves<K>(const Mesh<K>&, \
-                                                                                                   const Mesh<K>&);
+#define SEAM_INSTANTIATE(K) \
+  template std::optional<GeneralPositionCurves<K>> general_position_curves<K>(const Mesh<K>&, const Mesh<K>&);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)
 #undef SEAM_INSTANTIATE

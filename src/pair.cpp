@@ -1,6 +1,7 @@
 // seam::pair: two tows, one interface. See seam/pair.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/internal/collapse.h>
+#include <seam/internal/embed_known_sites.h>
 #include <seam/internal/general_position_curves.h>
 #include <seam/internal/improve.h>
 #include <seam/internal/provenance.h>
@@ -178,8 +179,11 @@ template <class K> void orient_curves(const Mesh<K>& a, const Mesh<K>& b, std::v
 
 }  // namespace
 
+/// intersection_curves; when the direct path computed them (exact kernel), also where each curve
+/// point lies in each mesh (`sites_a`, `sites_b`, may be null; left empty otherwise).
 template <class K>
-std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b, std::size_t* touching_points) {
+std::vector<Polyline<K>> curves_and_sites(const Mesh<K>& a, const Mesh<K>& b, std::size_t* touching_points,
+                                          internal::KnownSites<K>* sites_a, internal::KnownSites<K>* sites_b) {
   if constexpr (std::is_same_v<K, Float>) {
     // CGAL's surface_intersection (its coplanar corefinement in particular) needs exact
     // predicates: with plain doubles it fails assertions or runs into undefined behaviour on
@@ -211,9 +215,9 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
   // Meshes in general position with respect to each other (no zero predicate): the direct path.
   if (auto direct = internal::general_position_curves<K>(a, b)) {
     if (touching_points) *touching_points = 0;
-    auto curves = chain(std::move(*direct));
-    orient_curves<K>(a, b, curves);
-    return curves;
+    if (sites_a) *sites_a = std::move(direct->sites_a);
+    if (sites_b) *sites_b = std::move(direct->sites_b);
+    return chain(std::move(direct->curves));  // already oriented; chain() keeps the direction
   }
   using Point = typename K::Point_3;
   using F = typename Mesh<K>::Face_index;
@@ -424,6 +428,11 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
   return curves;
 }
 
+template <class K>
+std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b, std::size_t* touching_points) {
+  return curves_and_sites<K>(a, b, touching_points, nullptr, nullptr);
+}
+
 template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions& options) {
   validate_options(options.embed);
   PairResult<K> result;
@@ -446,7 +455,9 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
 
   auto t = Clock::now();
   std::size_t touching = 0;
-  std::vector<Polyline<K>> curves = intersection_curves<K>(a, b, &touching);
+  // Where the curve points lie in each mesh, when the direct path knows (until a mesh changes).
+  internal::KnownSites<K> sites_a, sites_b;
+  std::vector<Polyline<K>> curves = curves_and_sites<K>(a, b, &touching, &sites_a, &sites_b);
   st.stage_seconds["intersect"] = seconds_since(t);
 
   // Snapping can turn a crossing into a touching contact (a vertex a few units in the last place
@@ -473,6 +484,8 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     unsnapped.reset();
   };
   if (snap_tol > 0 && !curves.empty()) {
+    sites_a.sites.clear();  // snapping changes the meshes
+    sites_b.sites.clear();
     unsnapped.emplace(Unsnapped{a, b, prov_a, prov_b, curves, touching});
     // Report step 1 on both meshes, against the exact intersection points; then the curves of
     // the moved surfaces.
@@ -551,12 +564,12 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     tbb::parallel_invoke(
         [&] {
           const auto ta = Clock::now();
-          result.a = embed<K>(a, curves, eo);
+          result.a = internal::embed_with_known_sites<K>(a, curves, eo, sites_a.sites.empty() ? nullptr : &sites_a);
           seconds_a = seconds_since(ta);
         },
         [&] {
           const auto tb = Clock::now();
-          result.b = embed<K>(b, curves, eo);
+          result.b = internal::embed_with_known_sites<K>(b, curves, eo, sites_b.sites.empty() ? nullptr : &sites_b);
           seconds_b = seconds_since(tb);
         });
   };

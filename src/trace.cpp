@@ -42,7 +42,7 @@ template <class K> class Tracer {
   /// A node whose closest point found there is not surely the closest on the whole mesh (the
   /// ball around it reaches out of the region) is searched again among all faces.
   Tracer(const Mesh<K>& mesh, double feature_tol, const CGAL::Bbox_3* region)
-      : m_(mesh), feature_tol_(feature_tol), near_(build_search(region)) {
+      : m_(mesh), feature_tol_(feature_tol) {
     if (region) region_ = *region;
   }
 
@@ -50,6 +50,7 @@ template <class K> class Tracer {
   /// (rounded) distance from q to the surface.
   SP locate(const Point& q, double& distance) const {
     const auto dq = to_filtered(q);
+    if (!near_) near_ = build_search(region_ ? &*region_ : nullptr);  // on the first node searched for
     const Search* search = near_.get();
     auto [dp, it] = search->tree.closest_point_and_primitive(dq);
     distance = std::sqrt(CGAL::to_double(CGAL::squared_distance(dq, dp)));
@@ -330,7 +331,7 @@ template <class K> class Tracer {
   const Mesh<K>& m_;
   double feature_tol_ = 0;
   std::optional<CGAL::Bbox_3> region_;  ///< where near_ is complete; none: near_ holds all faces
-  std::unique_ptr<Search> near_;
+  mutable std::unique_ptr<Search> near_;
   mutable std::unique_ptr<Search> all_;  ///< built on the first node near the region's walls
 };
 
@@ -346,7 +347,7 @@ template <class P> std::string describe_point(const P& p) {
 template <class K>
 std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<Polyline<K>>& curves,
                                          double max_distance, TraceReport& report, bool nodes_on_surface,
-                                         double feature_tol) {
+                                         double feature_tol, const KnownSites<K>* known) {
   using Clock = std::chrono::steady_clock;
   auto t0 = Clock::now();
   // The region the nodes can be located in: their bounding box, grown by max_distance (or by a
@@ -378,6 +379,10 @@ std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<
     located[c].reserve(n);
     for (std::size_t i = 0; i < n; ++i) {
       double distance = 0;
+      if (const SurfacePoint<K>* site = known ? known->find(curve[i]) : nullptr) {
+        located[c].push_back(*site);
+        continue;
+      }
       located[c].push_back(tracer.locate(curve[i], distance));
       if (nodes_on_surface && located[c].back().where != Where::vertex) located[c].back().p = curve[i];
       if (!(distance <= max_distance)) {
@@ -441,8 +446,8 @@ std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<
   return traced;
 }
 
-template std::vector<TracedCurve<Exact>> trace_curves<Exact>(const Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double, TraceReport&, bool, double);
-template std::vector<TracedCurve<Filtered>> trace_curves<Filtered>(const Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double, TraceReport&, bool, double);
-template std::vector<TracedCurve<Float>> trace_curves<Float>(const Mesh<Float>&, const std::vector<Polyline<Float>>&, double, TraceReport&, bool, double);
+template std::vector<TracedCurve<Exact>> trace_curves<Exact>(const Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double, TraceReport&, bool, double, const KnownSites<Exact>*);
+template std::vector<TracedCurve<Filtered>> trace_curves<Filtered>(const Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double, TraceReport&, bool, double, const KnownSites<Filtered>*);
+template std::vector<TracedCurve<Float>> trace_curves<Float>(const Mesh<Float>&, const std::vector<Polyline<Float>>&, double, TraceReport&, bool, double, const KnownSites<Float>*);
 
 }  // namespace seam::internal

@@ -5,8 +5,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
-#include <seam/kernels.h>
-#include <seam/types.h>
+#include <seam/internal/surface_point.h>
 
 #include <optional>
 #include <vector>
@@ -22,12 +21,20 @@ namespace seam::internal {
 ///
 /// Exact decisions (orientation predicates of the kernel); the points are constructed once per
 /// (edge, face) pair, exact under the exact kernel, rounded under Epick. Returns the chained
-/// polylines (closed ones repeating their first point; unsorted, not oriented), or nothing as
+/// polylines (closed ones repeating their first point; unsorted), each running along n_A x n_B
+/// (the normals of the two faces its first segment lies in, exact sign), or nothing as
 /// soon as a predicate is zero or the pieces do not chain into simple curves: then the caller
 /// takes the general path (CGAL's surface_intersection), which handles every degenerate contact.
 /// The face pairs are tested on all cores (oneTBB), the result does not depend on their number.
+template <class K> struct GeneralPositionCurves {
+  std::vector<std::vector<typename K::Point_3>> curves;
+  /// Under exact constructions, where each curve point lies in A and in B: inside the edge it
+  /// was constructed on, inside the face it crosses. (Empty otherwise: a rounded point is not
+  /// exactly on its edge.)
+  KnownSites<K> sites_a, sites_b;
+};
+
 template <class K>
-std::optional<std::vector<std::vector<typename K::Point_3>>> general_position_curves(const Mesh<K>& a,
-                                                                                     const Mesh<K>& b);
+std::optional<GeneralPositionCurves<K>> general_position_curves(const Mesh<K>& a, const Mesh<K>& b);
 
 }  // namespace seam::internal

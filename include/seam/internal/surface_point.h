@@ -7,6 +7,7 @@
 #include <seam/kernels.h>
 #include <seam/types.h>
 
+#include <algorithm>
 #include <vector>
 
 namespace seam::internal {
@@ -40,6 +41,25 @@ template <class K> struct SurfacePoint {
       case Where::face: return f == o.f && p == o.p;
     }
     return false;
+  }
+};
+
+/// Where some curve points lie, known before locating them (the direct intersection curves of
+/// a pair in general position know each point's edge and face in both meshes): looked up by
+/// exact point comparison, in place of the search and the exact classification of locating.
+template <class K> struct KnownSites {
+  std::vector<std::pair<typename K::Point_3, SurfacePoint<K>>> sites;  ///< sorted by point (compare_xyz)
+
+  void sort() {
+    std::sort(sites.begin(), sites.end(), [](const auto& x, const auto& y) {
+      return CGAL::compare_xyz(x.first, y.first) == CGAL::SMALLER;
+    });
+  }
+  const SurfacePoint<K>* find(const typename K::Point_3& p) const {
+    auto it = std::lower_bound(sites.begin(), sites.end(), p, [](const auto& x, const typename K::Point_3& q) {
+      return CGAL::compare_xyz(x.first, q) == CGAL::SMALLER;
+    });
+    return it != sites.end() && it->first == p ? &it->second : nullptr;
   }
 };
 

@@ -40,9 +40,11 @@ struct TraceReport {
 /// `feature_tol` > 0: a node whose projection lies within that relative (barycentric) distance of
 /// an edge or vertex of its face is put on it (given curves, rounded to doubles); rounded kernels
 /// always use at least 1e-9.
+/// `known`: nodes found there are taken as located there (distance 0), without a search; the
+/// search tree is built only if some node is not.
 template <class K>
 std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<Polyline<K>>& curves,
                                          double max_distance, TraceReport& report, bool nodes_on_surface = false,
-                                         double feature_tol = 0);
+                                         double feature_tol = 0, const KnownSites<K>* known = nullptr);
 
 }  // namespace seam::internal
