@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <set>
 
 namespace seam::internal {
@@ -19,6 +20,15 @@ template <class K>
 std::vector<std::vector<std::size_t>> choose_curve_points(const std::vector<Polyline<K>>& curves, double spacing,
                                                           double max_chord_deviation) {
   std::vector<std::vector<std::size_t>> kept(curves.size());
+  // A point at more than one curve position (where curves meet, or a curve passes twice) is one
+  // vertex for all of them: it is kept (collapsing it for one position would remove it from the
+  // others).
+  auto less = [](const typename K::Point_3& x, const typename K::Point_3& y) {
+    return CGAL::compare_xyz(x, y) == CGAL::SMALLER;
+  };
+  std::map<typename K::Point_3, int, decltype(less)> positions(less);
+  for (const auto& pts : curves)
+    for (std::size_t i = 0; i < (is_closed(pts) ? pts.size() - 1 : pts.size()); ++i) ++positions[pts[i]];
   for (std::size_t c = 0; c < curves.size(); ++c) {
     const auto& pts = curves[c];
     const bool closed = is_closed(pts);
@@ -51,6 +61,10 @@ std::vector<std::vector<std::size_t>> choose_curve_points(const std::vector<Poly
       k.clear();
       for (std::size_t i = 0; i < n; ++i) k.push_back(i);
     }
+    for (std::size_t i = 0; i < n; ++i)
+      if (positions[pts[i]] > 1) k.push_back(i);
+    std::sort(k.begin(), k.end());
+    k.erase(std::unique(k.begin(), k.end()), k.end());
   }
   return kept;
 }
@@ -94,7 +108,11 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
       }
       // Collapse position i into the last kept position (their edge exists: earlier collapses
       // merged the points in between into it).
-      const auto h = work.halfedge(handle[i], handle[last]);
+      // (A vertex removed by an earlier collapse, which the choice of kept points rules out,
+      // would make the search for their edge circulate forever: refused instead.)
+      const auto h = work.is_removed(handle[i]) || work.is_removed(handle[last])
+                         ? M::null_halfedge()
+                         : work.halfedge(handle[i], handle[last]);
       // No test of the geometry here: a collapse that folds the surface is undone by the
       // remeshing, or the caller's check finds the fold and freezes the curve there.
       if (h == M::null_halfedge() || !CGAL::Euler::does_satisfy_link_condition(work.edge(h), work)) {
@@ -116,6 +134,10 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
   }
   for (const auto& r : refused)
     if (!r.empty()) return false;  // the caller keeps these points too and tries again
+
+  for (const auto& vs : coarse)
+    for (V v : vs)
+      if (work.is_removed(v)) return false;  // see the choice of kept points
 
   // 2. Mark the curve: vertices fixed, edges constrained.
   auto vfixed = work.template add_property_map<V, bool>("v:seam_fixed", false).first;

@@ -144,13 +144,15 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
   std::sort(candidates.begin(), candidates.end());
   for (const auto& [d, vi, si] : candidates) {
     const V v(static_cast<typename V::size_type>(vi));
-    // The exact closest point of the segment (the segment lies on the surface).
+    // The point of the segment (which lies on the surface) at the closest point's parameter
+    // rounded to a multiple of 2^-16: exactly on the segment, at most 2^-17 of its length from
+    // the closest point, and with far shorter exact coordinates than the closest point itself
+    // (whose parameter is a long rational): every later intersection is computed from them.
     const Point &p = *ends[si].first, &q = *ends[si].second;
     const auto pq = q - p;
-    auto t = ((mesh.point(v) - p) * pq) / pq.squared_length();
-    if (t < 0) t = 0;
-    if (t > 1) t = 1;
-    Point target = p + pq * t;
+    const double closest = CGAL::to_double(((mesh.point(v) - p) * pq) / pq.squared_length());
+    const double t = std::clamp(std::round(closest * 65536.0) / 65536.0, 0.0, 1.0);
+    Point target = t == 0 ? p : t == 1 ? q : p + pq * typename K::FT(t);
     make_exact(target);
     if (!move_keeps_faces<K>(mesh, v, target)) {
       ++report.refused;
