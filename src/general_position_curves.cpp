@@ -130,7 +130,24 @@ typename K::Point_3 crossing_point(const Mesh<K>& m, typename Mesh<K>::Edge_inde
   const auto &r = other.point(c.v[0]), &s = other.point(c.v[1]), &t = other.point(c.v[2]);
   const auto ds = s - r, dt = t - r;
   const auto du = CGAL::determinant(ds, dt, p - r), dv = CGAL::determinant(ds, dt, q - r);
-  return p + (q - p) * (du / (du - dv));  // du and dv have opposite signs (decided exactly)
+  const auto lambda = du / (du - dv);  // du and dv have opposite signs (decided exactly)
+  if constexpr (!kernel_traits<K>::exact_constructions) {
+    // Rounded determinants near a degenerate configuration can agree in sign or vanish (NaN or a
+    // point off the edge): then the point is constructed exactly and rounded.
+    const double l = CGAL::to_double(lambda);
+    if (!(l >= 0 && l <= 1)) {
+      auto exact = [](const typename K::Point_3& x) {
+        return Exact::Point_3(CGAL::to_double(x.x()), CGAL::to_double(x.y()), CGAL::to_double(x.z()));
+      };
+      const auto ep = exact(p), eq = exact(q), er = exact(r);
+      const auto eds = exact(s) - er, edt = exact(t) - er;
+      const auto eu = CGAL::determinant(eds, edt, ep - er), ev = CGAL::determinant(eds, edt, eq - er);
+      const auto ex = ep + (eq - ep) * (eu / (eu - ev));
+      return typename K::Point_3(CGAL::to_double(CGAL::exact(ex.x())), CGAL::to_double(CGAL::exact(ex.y())),
+                                 CGAL::to_double(CGAL::exact(ex.z())));
+    }
+  }
+  return p + (q - p) * lambda;
 }
 
 }  // namespace

@@ -204,3 +204,37 @@ TEST_CASE("pair robustness: under the filtered kernel a curve segment between po
   }
   CHECK((valid || internal_error));
 }
+
+TEST_CASE("pair robustness: under the filtered kernel a crossing whose rounded determinants agree is constructed "
+          "exactly, not as NaN", "[pair][robustness][filtered]") {
+  using K = seam::Filtered;
+  // seam_robustness case 57 (seed 1, "resolution", --snap auto): a warp of 80 faces across a weft
+  // of 12,584. Under Epick the direct curves' crossing parameter du / (du - dv) came out NaN
+  // for one edge (both rounded determinants zero), and locating the NaN point raised SIGFPE
+  // in GMP. Now such a point is constructed exactly and rounded.
+  seam::TowOptions weft;
+  weft.segments_along = 241;
+  weft.segments_around = 26;
+  weft.translate = {-5.0, 0.0, 0.0};
+  seam::TowOptions warp;
+  warp.section = seam::Section::lenticular;
+  warp.crimp_amplitude = -0.3;
+  warp.rotate_z = M_PI / 2;
+  warp.translate = {0.0, -5.0, 0.55};
+  warp.segments_along = 9;
+  warp.segments_around = 4;
+  const auto soup_a = seam::make_tow(warp), soup_b = seam::make_tow(weft);
+  const auto curves = seam::intersection_curves<K>(mesh<K>(soup_a), mesh<K>(soup_b));
+  REQUIRE(!curves.empty());
+  for (const auto& c : curves)
+    for (const auto& p : c) CHECK((std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z())));
+  auto a = mesh<K>(soup_a), b = mesh<K>(soup_b);
+  bool valid = false, internal_error = false;
+  try {
+    const auto r = seam::pair<K>(a, b);
+    valid = seam::check_pair<K>(mesh<K>(soup_a), mesh<K>(soup_b), a, b, r.curves, r.stats.snap_tol * (1 + 1e-9)).ok();
+  } catch (const seam::InternalError&) {
+    internal_error = true;
+  }
+  CHECK((valid || internal_error));
+}
