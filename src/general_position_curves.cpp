@@ -234,8 +234,8 @@ std::optional<GeneralPositionCurves<K>> general_position_curves(const Mesh<K>& a
   // along n_A x n_B (exact under the exact kernel; zero only from rounding otherwise).
   auto direction = [&](const Point& p, const Point& q, std::size_t s) {
     const FaceCorners<K> ca(a, F(candidates[s].first)), cb(b, F(candidates[s].second));
-    const auto na = CGAL::normal(a.point(ca.v[0]), a.point(ca.v[1]), a.point(ca.v[2]));
-    const auto nb = CGAL::normal(b.point(cb.v[0]), b.point(cb.v[1]), b.point(cb.v[2]));
+    const auto na = CGAL::cross_product(a.point(ca.v[1]) - a.point(ca.v[0]), a.point(ca.v[2]) - a.point(ca.v[0]));
+    const auto nb = CGAL::cross_product(b.point(cb.v[1]) - b.point(cb.v[0]), b.point(cb.v[2]) - b.point(cb.v[0]));
     return CGAL::sign(CGAL::determinant(q - p, na, nb));
   };
   // Chains: open ones from their ends (an edge on a mesh border), then the closed ones; each

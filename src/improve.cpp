@@ -459,9 +459,10 @@ std::size_t flip_to_improve_angles(Mesh<K>& mesh, const std::vector<std::vector<
   auto is_new = mesh.template property_map<F, bool>(new_face_property).first;
   const auto curve_edges = curve_edge_set(curve_vertices);
   auto point = [&](V v) { return to_filtered(mesh.point(v)); };
-  // The new faces turn by less than 30 degrees from the ones they replace.
+  // The new faces turn by less than 30 degrees from the ones they replace. (Cross products, not
+  // CGAL::normal, whose precondition fails on a flat triangle: a zero vector here never passes.)
   auto close_normals = [](const FP& a, const FP& b, const FP& c, const FP& d, const FP& e, const FP& f) {
-    return turns_less_than_30_degrees(CGAL::normal(a, b, c), CGAL::normal(d, e, f));
+    return turns_less_than_30_degrees(CGAL::cross_product(b - a, c - a), CGAL::cross_product(e - d, f - d));
   };
   std::size_t flips = 0;
   for (int round = 0; round < rounds; ++round) {
@@ -540,7 +541,7 @@ std::size_t smooth_remeshed_vertices(Mesh<K>& mesh, const std::vector<std::vecto
       bool ok = true;
       for (auto h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh)) {
         const FP a = point(mesh.source(h)), c = point(mesh.target(mesh.next(h)));
-        if (!turns_less_than_30_degrees(CGAL::normal(a, here, c), CGAL::normal(a, target, c)) ||
+        if (!turns_less_than_30_degrees(CGAL::cross_product(here - a, c - a), CGAL::cross_product(target - a, c - a)) ||
             surface.distance(CGAL::centroid(a, target, c)) > tol ||
             surface.distance(CGAL::midpoint(a, target)) > tol) {
           ok = false;

@@ -157,8 +157,8 @@ template <class K> void orient_curves(const Mesh<K>& a, const Mesh<K>& b, std::v
       for (const auto& ca : fa)
         for (const auto& cb : fb) {
           if (!agree) break;
-          const int s = CGAL::sign(CGAL::determinant(q - p, CGAL::normal(ca[0], ca[1], ca[2]),
-                                                     CGAL::normal(cb[0], cb[1], cb[2])));
+          const int s = CGAL::sign(CGAL::determinant(q - p, CGAL::cross_product(ca[1] - ca[0], ca[2] - ca[0]),
+                                                     CGAL::cross_product(cb[1] - cb[0], cb[2] - cb[0])));
           if (s == 0 || (sign != 0 && s != sign)) agree = false;
           sign = s;
         }
