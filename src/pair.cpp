@@ -641,7 +641,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   // Snapping moves vertices, which the embedding then takes as given: a moved vertex can make a
   // surface meet itself, or the other one off the curves. The snapped result is checked with
   // seam check's own tests (on the whole meshes, once) and, if it fails, done again without
-  // snapping.
+  // the collapses of short curve segments (if any), and failing that without snapping.
   const bool snapped = st.vertices_snapped_a + st.vertices_snapped_b + st.edges_snapped_a + st.edges_snapped_b > 0;
   if (snapped && !result.curves.empty()) {
     t = Clock::now();
@@ -650,6 +650,18 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     const auto report = check_pair<K>(*input_a, *input_b, a, b, result.curves,
                                       std::numeric_limits<double>::infinity(), &whole_meshes);
     st.stage_seconds["verify"] = seconds_since(t);
+    if (!report.ok() && options.collapse_short_segments && st.curve_vertices_collapsed > 0) {
+      // The collapses tilt faces by up to the snapping tolerance, which can make a surface meet
+      // itself (they are tested against the other mesh only): done again without them first.
+      a = *input_a;
+      b = *input_b;
+      PairOptions keep_segments = options;
+      keep_segments.collapse_short_segments = false;
+      PairResult<K> redone = pair<K>(a, b, keep_segments);
+      redone.stats.note = "short curve segments were kept: with them collapsed the result failed seam check's tests (" +
+                          report.problems.front() + ")" + (redone.stats.note.empty() ? "" : "; " + redone.stats.note);
+      return redone;
+    }
     if (!report.ok()) {
       a = *input_a;
       b = *input_b;

@@ -23,7 +23,8 @@
 // Snapping is undone (PairStats::note says so) when it turns a crossing into a touching contact
 // (a vertex a few units in the last place inside the other surface), when the curves of the
 // snapped surfaces cannot be embedded, or when the snapped result fails seam check's tests
-// (a moved vertex can make a surface meet itself): the run is then done again without snapping.
+// (a moved vertex can make a surface meet itself): the run is then done again without snapping
+// (first, when short curve segments were collapsed, with snapping but without the collapses).
 // With snapping, the curves are then coarsened and both meshes remeshed next to them
 // (PairOptions::remesh_near_curves).
 //
