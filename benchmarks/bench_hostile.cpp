@@ -120,16 +120,7 @@ template <class K> void million_faces(benchmark::State& state) {
 
 void self_intersection_check(benchmark::State& state) {
   // The two tows of bench_pair.
-  seam::TowOptions weft;
-  weft.segments_along = 600;
-  weft.segments_around = 64;
-  weft.translate = {-5, 0, 0};
-  seam::TowOptions warp = weft;
-  warp.section = seam::Section::lenticular;
-  warp.crimp_amplitude = -0.3;
-  warp.rotate_z = M_PI / 2;
-  warp.segments_along = 499;
-  warp.translate = {0, -5, 0.45};
+  const auto [weft, warp] = seam::make_crossover(600, 64, 499, 64, seam::Section::lenticular, 0.45);
   const auto a = seam::make_tow(weft), b = seam::make_tow(warp);
   for (auto _ : state) {
     const auto t = Clock::now();

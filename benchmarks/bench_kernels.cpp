@@ -76,17 +76,8 @@ std::filesystem::path& temp_dir() {
 
 Size prepare(int faces) {
   const int around = std::max(8, int(std::lround(std::sqrt(faces / 4.0))));
-  seam::TowOptions weft;
-  weft.segments_along = 2 * around;
-  weft.segments_around = around;
-  weft.translate = {-5.0, 0.0, 0.0};
-  seam::TowOptions warp;
-  warp.section = seam::Section::lenticular;
-  warp.crimp_amplitude = -0.3;
-  warp.rotate_z = M_PI / 2;
-  warp.translate = {0.0, -5.0, 0.45};
-  warp.segments_along = 2 * around - 1;  // not the weft's: no two rings meet at the same place
-  warp.segments_around = around;
+  // The warp's segments along not the weft's: no two rings meet at the same place.
+  const auto [weft, warp] = seam::make_crossover(2 * around, around, 2 * around - 1, around, seam::Section::lenticular, 0.45);
   const seam::TriangleSoup sa = seam::make_tow(weft), sb = seam::make_tow(warp);
   Size s;
   s.faces = faces;

@@ -101,17 +101,7 @@ Input& input() {
 /// Generates and writes the two tows; returns false (with a message on stderr) on failure.
 bool prepare() {
   Input& in = input();
-  seam::TowOptions weft;
-  weft.segments_along = 600;
-  weft.segments_around = 64;
-  weft.translate = {-5.0, 0.0, 0.0};
-  seam::TowOptions warp;
-  warp.section = seam::Section::lenticular;
-  warp.crimp_amplitude = -0.3;
-  warp.rotate_z = M_PI / 2;
-  warp.translate = {0.0, -5.0, 0.45};
-  warp.segments_along = 499;
-  warp.segments_around = 64;
+  const auto [weft, warp] = seam::make_crossover(600, 64, 499, 64, seam::Section::lenticular, 0.45);
   const seam::TriangleSoup soup_a = seam::make_tow(weft), soup_b = seam::make_tow(warp);
 
   in.dir = std::filesystem::temp_directory_path() / ("seam_bench_pair." + std::to_string(::getpid()));

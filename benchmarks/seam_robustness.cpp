@@ -285,20 +285,11 @@ seam::TowOptions small_tow(Rng& r) {
 /// A weft along x and a warp along y crossing it, like one crossing of a plain weave.
 /// Returns the warp's height (translate z).
 double tow_crossover(Rng& r, Case& c, int along_a, int around_a, int along_b, int around_b) {
-  seam::TowOptions weft;
-  weft.segments_along = along_a;
-  weft.segments_around = around_a;
-  weft.translate = {-5.0, 0.0, 0.0};
-  seam::TowOptions warp;
-  warp.section = seam::Section::lenticular;
-  warp.crimp_amplitude = -0.3;
-  warp.rotate_z = M_PI / 2;
-  warp.translate = {0.0, -5.0, 0.3 + 0.05 * r.range(0, 6)};
-  warp.segments_along = along_b;
-  warp.segments_around = around_b;
-  c.a = seam::make_tow(weft);
-  c.b = seam::make_tow(warp);
-  return warp.translate[2];
+  const auto tows = seam::make_crossover(along_a, around_a, along_b, around_b, seam::Section::lenticular,
+                                         0.3 + 0.05 * r.range(0, 6));
+  c.a = seam::make_tow(tows.weft);
+  c.b = seam::make_tow(tows.warp);
+  return tows.warp.translate[2];
 }
 
 void make_family_case(Case& c, Rng& r) {

@@ -185,6 +185,21 @@ std::vector<Point3d> make_ring_curve(const TowOptions& options, double s_center,
   return curve;
 }
 
+CrossoverTows make_crossover(int weft_along, int weft_around, int warp_along, int warp_around,
+                             Section warp_section, double warp_height) {
+  CrossoverTows c;
+  c.weft.segments_along = weft_along;
+  c.weft.segments_around = weft_around;
+  c.weft.translate = {-5.0, 0.0, 0.0};
+  c.warp.section = warp_section;
+  c.warp.crimp_amplitude = -0.3;
+  c.warp.rotate_z = M_PI / 2;
+  c.warp.translate = {0.0, -5.0, warp_height};
+  c.warp.segments_along = warp_along;
+  c.warp.segments_around = warp_around;
+  return c;
+}
+
 std::vector<NamedTow> make_weave(const WeaveOptions& o) {
   const auto need = [](bool ok, const std::string& what) {
     if (!ok) throw InvalidInput("weave options: " + what);

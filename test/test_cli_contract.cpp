@@ -342,17 +342,7 @@ namespace {
 /// The crossover of test_pair.cpp (resolution 6, lenticular warp dipping 0.25 into the weft) as
 /// in/a.off and in/b.off, and a ring curve around the weft as in/ring.txt.
 void write_crossover(const Dir& dir) {
-  seam::TowOptions weft;
-  weft.segments_along = 36;
-  weft.segments_around = 16;
-  weft.translate = {-5, 0, 0};
-  seam::TowOptions warp = weft;
-  warp.section = seam::Section::lenticular;
-  warp.rotate_z = M_PI / 2;
-  warp.crimp_amplitude = -0.3;
-  warp.segments_along = 27;
-  warp.segments_around = 13;
-  warp.translate = {0, -5, 0.45};
+  const auto [weft, warp] = seam::make_crossover(36, 16, 27, 13, seam::Section::lenticular, 0.45);
   seam::write_triangle_mesh(seam::make_tow(weft), dir.in("a.off"));
   seam::write_triangle_mesh(seam::make_tow(warp), dir.in("b.off"));
   seam::write_polylines({seam::make_ring_curve(weft, 4.9, 0.4, 499)}, dir.in("ring.txt"));

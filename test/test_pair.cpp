@@ -31,17 +31,12 @@ struct Crossover {
 };
 
 Crossover crossover(int resolution, seam::Section warp_section, double overlap, double turn = 0) {
+  // The warp at a different resolution; the weft is 0.7 thick at the crossing.
+  const auto tows = seam::make_crossover(6 * resolution, 2 * resolution + 4, 4 * resolution + 3, resolution + 7,
+                                         warp_section, 0.7 - overlap);
   Crossover c;
-  c.weft.segments_along = 6 * resolution;
-  c.weft.segments_around = 2 * resolution + 4;
-  c.weft.translate = {-5, 0, 0};
-  c.warp = c.weft;
-  c.warp.section = warp_section;
-  c.warp.rotate_z = M_PI / 2;
-  c.warp.crimp_amplitude = -0.3;
-  c.warp.segments_along = 4 * resolution + 3;  // a different resolution
-  c.warp.segments_around = resolution + 7;
-  c.warp.translate = {0, -5, 0.7 - overlap};  // the weft is 0.7 thick at the crossing
+  c.weft = tows.weft;
+  c.warp = tows.warp;
   c.turn = turn;
   return c;
 }

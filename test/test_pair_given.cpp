@@ -14,18 +14,8 @@ namespace {
 /// One crossover of a plain weave (as in test_pair.cpp): an elliptical weft along x, a crimped
 /// lenticular warp along y at another resolution, pushed 0.25 into each other.
 std::pair<seam::TowOptions, seam::TowOptions> given_crossover(seam::Section warp_section = seam::Section::lenticular) {
-  seam::TowOptions weft;
-  weft.segments_along = 48;
-  weft.segments_around = 20;
-  weft.translate = {-5, 0, 0};
-  seam::TowOptions warp = weft;
-  warp.section = warp_section;
-  warp.rotate_z = M_PI / 2;
-  warp.crimp_amplitude = -0.3;
-  warp.segments_along = 35;
-  warp.segments_around = 15;
-  warp.translate = {0, -5, 0.45};
-  return {weft, warp};
+  const auto c = seam::make_crossover(48, 20, 35, 15, warp_section, 0.45);
+  return {c.weft, c.warp};
 }
 
 template <class K> seam::Mesh<K> mesh_of(const seam::TowOptions& o) {

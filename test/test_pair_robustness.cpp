@@ -212,18 +212,8 @@ TEST_CASE("pair robustness: under the filtered kernel a crossing whose rounded d
   // of 12,584. Under Epick the direct curves' crossing parameter du / (du - dv) came out NaN
   // for one edge (both rounded determinants zero), and locating the NaN point raised SIGFPE
   // in GMP. Now such a point is constructed exactly and rounded.
-  seam::TowOptions weft;
-  weft.segments_along = 241;
-  weft.segments_around = 26;
-  weft.translate = {-5.0, 0.0, 0.0};
-  seam::TowOptions warp;
-  warp.section = seam::Section::lenticular;
-  warp.crimp_amplitude = -0.3;
-  warp.rotate_z = M_PI / 2;
-  warp.translate = {0.0, -5.0, 0.55};
-  warp.segments_along = 9;
-  warp.segments_around = 4;
-  const auto soup_a = seam::make_tow(warp), soup_b = seam::make_tow(weft);
+  const auto tows = seam::make_crossover(241, 26, 9, 4, seam::Section::lenticular, 0.55);
+  const auto soup_a = seam::make_tow(tows.warp), soup_b = seam::make_tow(tows.weft);
   const auto curves = seam::intersection_curves<K>(mesh<K>(soup_a), mesh<K>(soup_b));
   REQUIRE(!curves.empty());
   for (const auto& c : curves)

@@ -49,6 +49,17 @@ struct TowOptions {
 /// sizes, segments_along < 1, segments_around < 3, non-finite values).
 TriangleSoup make_tow(const TowOptions& options);
 
+/// One crossover of a plain weave, the pair the tests and benchmarks use: an elliptical weft
+/// along x (the default tow, its path from x = -5 to 5) and a warp along y (turned by pi/2,
+/// crimped the other way, amplitude -0.3) whose path is lifted to `warp_height`: the weft is 0.7
+/// thick at the crossing, so the two interpenetrate by 0.7 - warp_height there. Resolutions
+/// (TowOptions::segments_along, segments_around) per tow.
+struct CrossoverTows {
+  TowOptions weft, warp;
+};
+CrossoverTows make_crossover(int weft_along, int weft_around, int warp_along, int warp_around,
+                             Section warp_section, double warp_height);
+
 /// The point of the smooth tow surface at path parameter s in [0, length] and angle phi.
 /// phi = 0 is the +y side of the section (before the transform), phi = pi/2 its top (towards +z).
 /// Elliptical: (a cos phi, b sin phi); lenticular: x = a cos phi and the lens profile
