@@ -164,6 +164,7 @@ EmbedResult<K> embed_with_known_sites(Mesh<K>& mesh, const std::vector<Polyline<
   st.snaps_refused = snap.refused;
   st.max_snap_move = snap.max_move;
   st.stage_seconds["snap"] = seconds_since(t);
+  if (snap.snapped > 0) known = nullptr;  // vertices moved: the known sites may no longer hold
 
   // ---- 2, 3. locate and cross
   TraceReport trace_report;

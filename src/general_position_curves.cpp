@@ -14,6 +14,10 @@
 
 #include <tbb/parallel_for.h>
 
+#ifndef CGAL_HAS_THREADS
+#error "general_position_curves reads the meshes' lazy exact points on several threads: CGAL must be thread-aware"
+#endif
+
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -57,18 +61,22 @@ template <class K> struct FaceCorners {
 
 /// Where triangle `p` (of mesh P) and triangle `q` (of mesh Q) meet, from exact predicates only.
 /// `p_is_b` says which mesh P is, for the keys.
+/// The three corners of a face, by reference (copies of lazy points would each change a shared
+/// reference count, on every core).
+template <class K> using Corners = std::array<const typename K::Point_3*, 3>;
+
 template <class K>
-void crossings_of_edges(const std::array<typename K::Point_3, 3>& p, const FaceCorners<K>& pc,
-                        const std::array<CGAL::Orientation, 3>& side, const std::array<typename K::Point_3, 3>& q,
-                        std::uint32_t q_face, std::uint32_t p_is_b, FacePairResult& r, int& count) {
+void crossings_of_edges(const Corners<K>& p, const FaceCorners<K>& pc, const std::array<CGAL::Orientation, 3>& side,
+                        const Corners<K>& q, std::uint32_t q_face, std::uint32_t p_is_b, FacePairResult& r,
+                        int& count) {
   for (int i = 0; i < 3 && r.kind != FacePairResult::degenerate; ++i) {
     const int j = (i + 1) % 3;
     if (side[i] == side[j]) continue;  // the edge does not cross q's plane
     // The edge crosses the plane; through the inside of q when it turns the same way about all
     // three edges of q. A zero: through an edge or vertex of q, or along a line through them.
-    const auto s0 = CGAL::orientation(p[i], p[j], q[0], q[1]);
-    const auto s1 = CGAL::orientation(p[i], p[j], q[1], q[2]);
-    const auto s2 = CGAL::orientation(p[i], p[j], q[2], q[0]);
+    const auto s0 = CGAL::orientation(*p[i], *p[j], *q[0], *q[1]);
+    const auto s1 = CGAL::orientation(*p[i], *p[j], *q[1], *q[2]);
+    const auto s2 = CGAL::orientation(*p[i], *p[j], *q[2], *q[0]);
     const bool has_positive = s0 == CGAL::POSITIVE || s1 == CGAL::POSITIVE || s2 == CGAL::POSITIVE;
     const bool has_negative = s0 == CGAL::NEGATIVE || s1 == CGAL::NEGATIVE || s2 == CGAL::NEGATIVE;
     if (has_positive && has_negative) continue;  // misses q, surely
@@ -85,12 +93,12 @@ FacePairResult meet(const Mesh<K>& a, typename Mesh<K>::Face_index fa, const Mes
                     typename Mesh<K>::Face_index fb) {
   FacePairResult r;
   const FaceCorners<K> ca(a, fa), cb(b, fb);
-  const std::array<typename K::Point_3, 3> pa{a.point(ca.v[0]), a.point(ca.v[1]), a.point(ca.v[2])};
-  const std::array<typename K::Point_3, 3> pb{b.point(cb.v[0]), b.point(cb.v[1]), b.point(cb.v[2])};
-  auto sides = [](const std::array<typename K::Point_3, 3>& plane, const std::array<typename K::Point_3, 3>& p) {
-    return std::array<CGAL::Orientation, 3>{CGAL::orientation(plane[0], plane[1], plane[2], p[0]),
-                                            CGAL::orientation(plane[0], plane[1], plane[2], p[1]),
-                                            CGAL::orientation(plane[0], plane[1], plane[2], p[2])};
+  const Corners<K> pa{&a.point(ca.v[0]), &a.point(ca.v[1]), &a.point(ca.v[2])};
+  const Corners<K> pb{&b.point(cb.v[0]), &b.point(cb.v[1]), &b.point(cb.v[2])};
+  auto sides = [](const Corners<K>& plane, const Corners<K>& p) {
+    return std::array<CGAL::Orientation, 3>{CGAL::orientation(*plane[0], *plane[1], *plane[2], *p[0]),
+                                            CGAL::orientation(*plane[0], *plane[1], *plane[2], *p[1]),
+                                            CGAL::orientation(*plane[0], *plane[1], *plane[2], *p[2])};
   };
   auto one_side = [](const std::array<CGAL::Orientation, 3>& s) {
     return s[0] != CGAL::ZERO && s[0] == s[1] && s[1] == s[2];
@@ -117,6 +125,24 @@ FacePairResult meet(const Mesh<K>& a, typename Mesh<K>::Face_index fa, const Mes
   return r;
 }
 
+/// A point of a rounded kernel as an exact one (its doubles, exactly).
+template <class P> Exact::Point_3 exactly(const P& x) {
+  return Exact::Point_3(CGAL::to_double(x.x()), CGAL::to_double(x.y()), CGAL::to_double(x.z()));
+}
+
+/// Under a rounded kernel: the exact point where edge `e` of `m` crosses the plane of face `f` of
+/// `other`, from the meshes' doubles.
+template <class K>
+Exact::Point_3 exact_crossing_point(const Mesh<K>& m, typename Mesh<K>::Edge_index e, const Mesh<K>& other,
+                                    typename Mesh<K>::Face_index f) {
+  const FaceCorners<K> c(other, f);
+  const auto p = exactly(m.point(m.vertex(e, 0))), q = exactly(m.point(m.vertex(e, 1)));
+  const auto r = exactly(other.point(c.v[0]));
+  const auto ds = exactly(other.point(c.v[1])) - r, dt = exactly(other.point(c.v[2])) - r;
+  const auto du = CGAL::determinant(ds, dt, p - r), dv = CGAL::determinant(ds, dt, q - r);
+  return p + (q - p) * (du / (du - dv));
+}
+
 /// The point where edge `e` of `m` crosses the plane of face `f` of `other`: exact under the
 /// exact kernel, rounded under Epick (from the edge's end with the smaller index, so the same
 /// doubles every time).
@@ -136,15 +162,9 @@ typename K::Point_3 crossing_point(const Mesh<K>& m, typename Mesh<K>::Edge_inde
     // point off the edge): then the point is constructed exactly and rounded.
     const double l = CGAL::to_double(lambda);
     if (!(l >= 0 && l <= 1)) {
-      auto exact = [](const typename K::Point_3& x) {
-        return Exact::Point_3(CGAL::to_double(x.x()), CGAL::to_double(x.y()), CGAL::to_double(x.z()));
-      };
-      const auto ep = exact(p), eq = exact(q), er = exact(r);
-      const auto eds = exact(s) - er, edt = exact(t) - er;
-      const auto eu = CGAL::determinant(eds, edt, ep - er), ev = CGAL::determinant(eds, edt, eq - er);
-      const auto ex = ep + (eq - ep) * (eu / (eu - ev));
-      return typename K::Point_3(CGAL::to_double(CGAL::exact(ex.x())), CGAL::to_double(CGAL::exact(ex.y())),
-                                 CGAL::to_double(CGAL::exact(ex.z())));
+      const auto x = exact_crossing_point<K>(m, e, other, f);
+      return typename K::Point_3(CGAL::to_double(CGAL::exact(x.x())), CGAL::to_double(CGAL::exact(x.y())),
+                                 CGAL::to_double(CGAL::exact(x.z())));
     }
   }
   return p + (q - p) * lambda;
@@ -215,7 +235,9 @@ std::optional<GeneralPositionCurves<K>> general_position_curves(const Mesh<K>& a
     for (auto [from, to] : {std::pair{i, j}, std::pair{j, i}}) {
       auto& n = neighbours[from];
       const int slot = n[0] == none ? 0 : n[1] == none ? 1 : -1;
-      if (slot < 0) return std::nullopt;  // three segments at one point: not a simple curve
+      // Three segments at one point, or two to the same point (two faces with the same corners:
+      // a mesh meeting itself): not a simple curve.
+      if (slot < 0 || n[0] == to) return std::nullopt;
       n[slot] = to;
       segment_of[from][slot] = s;
     }
@@ -230,13 +252,25 @@ std::optional<GeneralPositionCurves<K>> general_position_curves(const Mesh<K>& a
     }
   });
 
-  // The sign of (q - p) . (n_A x n_B) for the segment pq of face pair s: positive when pq runs
-  // along n_A x n_B (exact under the exact kernel; zero only from rounding otherwise).
-  auto direction = [&](const Point& p, const Point& q, std::size_t s) {
+  // The sign of (q - p) . (n_A x n_B) for the segment pq (points i and j) of face pair s:
+  // positive when pq runs along n_A x n_B. Exact: under a rounded kernel from the exact points of
+  // the inputs' doubles (a short segment's rounded ends could point the other way).
+  auto direction = [&](std::size_t i, std::size_t j, std::size_t s) {
     const FaceCorners<K> ca(a, F(candidates[s].first)), cb(b, F(candidates[s].second));
-    const auto na = CGAL::cross_product(a.point(ca.v[1]) - a.point(ca.v[0]), a.point(ca.v[2]) - a.point(ca.v[0]));
-    const auto nb = CGAL::cross_product(b.point(cb.v[1]) - b.point(cb.v[0]), b.point(cb.v[2]) - b.point(cb.v[0]));
-    return CGAL::sign(CGAL::determinant(q - p, na, nb));
+    if constexpr (kernel_traits<K>::exact_constructions) {
+      const auto na = CGAL::cross_product(a.point(ca.v[1]) - a.point(ca.v[0]), a.point(ca.v[2]) - a.point(ca.v[0]));
+      const auto nb = CGAL::cross_product(b.point(cb.v[1]) - b.point(cb.v[0]), b.point(cb.v[2]) - b.point(cb.v[0]));
+      return CGAL::sign(CGAL::determinant(points[j] - points[i], na, nb));
+    } else {
+      auto exact_point = [&](const CrossingKey& k) {
+        return k.edge_of_b ? exact_crossing_point<K>(b, typename Mesh<K>::Edge_index(k.edge), a, F(k.face))
+                           : exact_crossing_point<K>(a, typename Mesh<K>::Edge_index(k.edge), b, F(k.face));
+      };
+      const auto a0 = exactly(a.point(ca.v[0])), b0 = exactly(b.point(cb.v[0]));
+      const auto na = CGAL::cross_product(exactly(a.point(ca.v[1])) - a0, exactly(a.point(ca.v[2])) - a0);
+      const auto nb = CGAL::cross_product(exactly(b.point(cb.v[1])) - b0, exactly(b.point(cb.v[2])) - b0);
+      return CGAL::sign(CGAL::determinant(exact_point(keys[j]) - exact_point(keys[i]), na, nb));
+    }
   };
   // Chains: open ones from their ends (an edge on a mesh border), then the closed ones; each
   // turned to run along n_A x n_B.
@@ -252,12 +286,12 @@ std::optional<GeneralPositionCurves<K>> general_position_curves(const Mesh<K>& a
       const int slot = n[0] != previous ? 0 : 1;
       const std::size_t next = n[slot];
       if (next == none) break;  // an open end
-      if (along == CGAL::ZERO) along = direction(points[at], points[next], segment_of[at][slot]);
+      if (along == CGAL::ZERO) along = direction(at, next, segment_of[at][slot]);
       if (next == start) {  // closed
         line.push_back(points[start]);
         break;
       }
-      if (used[next]) break;
+      if (used[next]) return false;  // (not reached on simple chains)
       used[next] = 1;
       line.push_back(points[next]);
       previous = at;
@@ -265,11 +299,12 @@ std::optional<GeneralPositionCurves<K>> general_position_curves(const Mesh<K>& a
     }
     if (along == CGAL::NEGATIVE) std::reverse(line.begin(), line.end());
     curves.push_back(std::move(line));
+    return true;
   };
   for (std::size_t i = 0; i < keys.size(); ++i)
-    if (!used[i] && (neighbours[i][0] == none || neighbours[i][1] == none)) walk(i);
+    if (!used[i] && (neighbours[i][0] == none || neighbours[i][1] == none) && !walk(i)) return std::nullopt;
   for (std::size_t i = 0; i < keys.size(); ++i)
-    if (!used[i]) walk(i);
+    if (!used[i] && !walk(i)) return std::nullopt;
 
   if constexpr (kernel_traits<K>::exact_constructions) {
     for (std::size_t i = 0; i < keys.size(); ++i) {

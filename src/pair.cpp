@@ -469,6 +469,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     std::optional<internal::FaceProvenance> prov_a, prov_b;  // none: no provenance before snapping
     std::vector<Polyline<K>> curves;
     std::size_t touching;
+    internal::KnownSites<K> sites_a, sites_b;
   };
   std::optional<Unsnapped> unsnapped;
   auto undo_snapping = [&](const char* why) {
@@ -478,15 +479,15 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     prov_b = unsnapped->prov_b;
     curves = unsnapped->curves;
     touching = unsnapped->touching;
+    sites_a = std::move(unsnapped->sites_a);
+    sites_b = std::move(unsnapped->sites_b);
     st.vertices_snapped_a = st.vertices_snapped_b = st.edges_snapped_a = st.edges_snapped_b = 0;
     st.snaps_refused = 0;
     st.note = std::string("snapping was undone: ") + why;
     unsnapped.reset();
   };
   if (snap_tol > 0 && !curves.empty()) {
-    sites_a.sites.clear();  // snapping changes the meshes
-    sites_b.sites.clear();
-    unsnapped.emplace(Unsnapped{a, b, prov_a, prov_b, curves, touching});
+    unsnapped.emplace(Unsnapped{a, b, prov_a, prov_b, curves, touching, sites_a, sites_b});
     // Report step 1 on both meshes, against the exact intersection points; then the curves of
     // the moved surfaces.
     t = Clock::now();
@@ -501,6 +502,8 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     st.snaps_refused = sa.refused + sb.refused;
     st.stage_seconds["snap"] = seconds_since(t);
     if (sa.snapped + sb.snapped > 0) {
+      sites_a.sites.clear();  // the meshes changed
+      sites_b.sites.clear();
       t = Clock::now();
       curves = intersection_curves<K>(a, b, &touching);
       st.stage_seconds["intersect"] += seconds_since(t);
@@ -527,6 +530,8 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
       st.snaps_refused += se.refused;
       st.stage_seconds["snap"] += seconds_since(t);
       if (se.snapped > 0) {
+        sites_a.sites.clear();  // a mesh changed
+        sites_b.sites.clear();
         t = Clock::now();
         curves = intersection_curves<K>(a, b, &touching);
         st.stage_seconds["intersect"] += seconds_since(t);

@@ -50,7 +50,11 @@ double seconds_since(Clock::time_point t) { return std::chrono::duration<double>
 // bounced between cores). So nothing lazy crosses a task boundary: the meshes go to the pair
 // tasks as plain values (FrozenMesh: doubles, or exact rationals deep-copied), and each pair
 // task hands each of its two tows its own copy of the curves, made from the exact coordinates
-// (`detached`). Every lazy node is then created, evaluated and destroyed by one task.
+// (`detached`). Every lazy node is then created, evaluated and destroyed by one task. (One
+// exception: inside a pair task, internal::general_position_curves reads the task's two tow
+// copies from several TBB workers at once. Their points are leaves made from doubles or exact
+// rationals, whose intervals are already as tight as they get, so no worker's evaluation changes
+// what another sees; the points it constructs are each made by one worker.)
 
 using ExactNT = std::decay_t<decltype(CGAL::exact(std::declval<const Exact::FT&>()))>;
 

@@ -288,6 +288,20 @@ TEST_CASE("pair: the direct curves leave degenerate pairs to CGAL (a mesh and it
   for (std::size_t i = 0; i < again.size(); ++i) CHECK(again[i].size() == r.curves[i].size());
 }
 
+TEST_CASE("pair: the direct curves leave a mesh with two faces on the same corners to CGAL", "[pair]") {
+  using K = seam::Exact;
+  using P = K::Point_3;
+  // A: a flat "pillow", one triangle and its reverse (a closed mesh that meets itself), crossing
+  // B's triangle. A crossing point of B's edge then had the same neighbour on both sides, and the
+  // walk made a two-point "closed" curve that the embedding could not splice (found in review).
+  seam::Mesh<K> a, b;
+  const auto u = a.add_vertex(P(1, 0.5, -1)), v = a.add_vertex(P(1.25, 1.5, 1)), w = a.add_vertex(P(3, 2.75, 1));
+  a.add_face(u, v, w);
+  a.add_face(v, u, w);
+  b.add_face(b.add_vertex(P(0, 0, 0)), b.add_vertex(P(4, 0, 0)), b.add_vertex(P(0, 4, 0)));
+  CHECK_FALSE(seam::internal::general_position_curves<K>(a, b).has_value());
+}
+
 TEST_CASE("pair: disjoint and nested tows give no curve and unchanged meshes", "[pair]") {
   using K = seam::Exact;
   seam::TowOptions big;

@@ -10,7 +10,7 @@ namespace seam::internal {
 
 /// seam::embed, except that curve nodes found in `known` (may be null) are taken as lying where
 /// it says instead of being located (see KnownSites). Ignored when the mesh has garbage to collect
-/// (its indices would change).
+/// (its indices would change) or when snapping (options.snap_tol) moves a vertex.
 template <class K>
 EmbedResult<K> embed_with_known_sites(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves,
                                       const EmbedOptions& options, const KnownSites<K>* known);

@@ -13,9 +13,10 @@
 namespace seam::internal {
 
 /// The intersection curves of `a` and `b` when the two meshes are in general position with
-/// respect to each other: no vertex of one lies in the plane of a face of the other that its
-/// bounding box meets, and no edge of one meets an edge of the other (every predicate below is
-/// nonzero). Then two faces meet in a segment or not at all, each end of it is where an edge of
+/// respect to each other: no vertex of one lies in the plane of a face of the other that it may
+/// touch (their bounding boxes meet, and neither face is strictly on one side of the other's
+/// plane), and no edge of one meets an edge (or the line of an edge) of the other where that
+/// could be a contact. A zero predicate that proves a miss is allowed; any other is not. Then two faces meet in a segment or not at all, each end of it is where an edge of
 /// one face crosses the inside of the other face, and the curves are chains of such segments,
 /// every point identified by its (edge, face) pair instead of by comparing coordinates.
 ///
