@@ -6,6 +6,7 @@
 //
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/check.h>
+#include <seam/errors.h>
 #include <seam/internal/certified.h>
 #include <seam/quality.h>
 
@@ -373,9 +374,11 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
 
 }  // namespace
 
+namespace {
+
 template <class K>
-PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2, const Mesh<K>& b2,
-                           const std::vector<Polyline<K>>& curves, double tol, const CheckFocus* focus) {
+PairCheckReport check_pair_unguarded(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2, const Mesh<K>& b2,
+                                     const std::vector<Polyline<K>>& curves, double tol, const CheckFocus* focus) {
   // Faces are restricted only when some are marked: an empty focus restricts nothing (and still
   // leaves check 4 and the figures to the caller).
   const bool restricted = focus && !(focus->faces_a.empty() && focus->faces_b.empty());
@@ -562,6 +565,21 @@ PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2
     check_against_input(b, vb, tol, report.max_distance_b, report.min_angle_deg_b, report.below_10_b,
                         report.below_20_b, report.new_faces_b, problems);
   return report;
+}
+
+}  // namespace
+
+template <class K>
+PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2, const Mesh<K>& b2,
+                           const std::vector<Polyline<K>>& curves, double tol, const CheckFocus* focus) {
+  try {
+    return check_pair_unguarded<K>(a, b, a2, b2, curves, tol, focus);
+  } catch (const CGAL::Failure_exception& e) {
+    // Only where CGAL's assertions are compiled in (the fuzz build), and in practice only under
+    // the float kernel, whose rounded predicates can contradict a CGAL precondition (a coplanar
+    // triangle test, say): the check could not be done.
+    throw InternalError(std::string("check: a CGAL assertion failed (") + e.expression() + ")");
+  }
 }
 
 #define SEAM_INSTANTIATE(K)                                                                                  \

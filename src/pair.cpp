@@ -652,8 +652,13 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     t = Clock::now();
     // (Check 4, the distances from the inputs, and the figures are not needed: an empty focus.)
     const CheckFocus whole_meshes;
-    const auto report = check_pair<K>(*input_a, *input_b, a, b, result.curves,
-                                      std::numeric_limits<double>::infinity(), &whole_meshes);
+    PairCheckReport report;
+    try {
+      report = check_pair<K>(*input_a, *input_b, a, b, result.curves, std::numeric_limits<double>::infinity(),
+                             &whole_meshes);
+    } catch (const InternalError& e) {  // the check could not be done (rounded kernels): a failure
+      report.problems.push_back(e.what());
+    }
     st.stage_seconds["verify"] = seconds_since(t);
     if (!report.ok() && options.collapse_short_segments && st.curve_vertices_collapsed > 0) {
       // The collapses tilt faces by up to the snapping tolerance, which can make a surface meet
@@ -795,7 +800,13 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
           marks->assign(m->number_of_faces() + m->number_of_removed_faces(), 0);
           for (auto f : m->faces()) (*marks)[std::size_t(f)] = source[f] == std::numeric_limits<std::uint32_t>::max();
         }
-      const auto report = check_pair<K>(a, b, a2, b2, ca, std::numeric_limits<double>::infinity(), &focus);
+      PairCheckReport report;
+      try {
+        report = check_pair<K>(a, b, a2, b2, ca, std::numeric_limits<double>::infinity(), &focus);
+      } catch (const InternalError&) {  // the check could not be done (rounded kernels)
+        add_note("remeshing next to the curves failed (its check could not be done); the embedded meshes are kept");
+        break;
+      }
       // Nor may a remeshed face stray farther than the snapping tolerance from its input surface
       // (a flip across a bend of the surface, say).
       double deviation_a = 0, deviation_b = 0;
