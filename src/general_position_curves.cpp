@@ -10,6 +10,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/internal/general_position_curves.h>
 
+#include <CGAL/Polygon_mesh_processing/bbox.h>
 #include <CGAL/box_intersection_d.h>
 
 #include <tbb/parallel_for.h>
@@ -125,6 +126,14 @@ FacePairResult meet(const Mesh<K>& a, typename Mesh<K>::Face_index fa, const Mes
   return r;
 }
 
+/// The parameter lambda at which p + lambda (q - p) lies in the plane through r, s and t (p and
+/// q strictly on opposite sides of it), in the points' own kernel.
+template <class P> auto crossing_parameter(const P& p, const P& q, const P& r, const P& s, const P& t) {
+  const auto ds = s - r, dt = t - r;
+  const auto du = CGAL::determinant(ds, dt, p - r), dv = CGAL::determinant(ds, dt, q - r);
+  return du / (du - dv);
+}
+
 /// A point of a rounded kernel as an exact one (its doubles, exactly).
 template <class P> Exact::Point_3 exactly(const P& x) {
   return Exact::Point_3(CGAL::to_double(x.x()), CGAL::to_double(x.y()), CGAL::to_double(x.z()));
@@ -137,10 +146,8 @@ Exact::Point_3 exact_crossing_point(const Mesh<K>& m, typename Mesh<K>::Edge_ind
                                     typename Mesh<K>::Face_index f) {
   const FaceCorners<K> c(other, f);
   const auto p = exactly(m.point(m.vertex(e, 0))), q = exactly(m.point(m.vertex(e, 1)));
-  const auto r = exactly(other.point(c.v[0]));
-  const auto ds = exactly(other.point(c.v[1])) - r, dt = exactly(other.point(c.v[2])) - r;
-  const auto du = CGAL::determinant(ds, dt, p - r), dv = CGAL::determinant(ds, dt, q - r);
-  return p + (q - p) * (du / (du - dv));
+  return p + (q - p) * crossing_parameter(p, q, exactly(other.point(c.v[0])), exactly(other.point(c.v[1])),
+                                          exactly(other.point(c.v[2])));
 }
 
 /// The point where edge `e` of `m` crosses the plane of face `f` of `other`: exact under the
@@ -153,10 +160,8 @@ typename K::Point_3 crossing_point(const Mesh<K>& m, typename Mesh<K>::Edge_inde
   if (v < u) std::swap(u, v);
   const FaceCorners<K> c(other, f);
   const auto &p = m.point(u), &q = m.point(v);
-  const auto &r = other.point(c.v[0]), &s = other.point(c.v[1]), &t = other.point(c.v[2]);
-  const auto ds = s - r, dt = t - r;
-  const auto du = CGAL::determinant(ds, dt, p - r), dv = CGAL::determinant(ds, dt, q - r);
-  const auto lambda = du / (du - dv);  // du and dv have opposite signs (decided exactly)
+  // du and dv (see crossing_parameter) have opposite signs, decided exactly.
+  const auto lambda = crossing_parameter(p, q, other.point(c.v[0]), other.point(c.v[1]), other.point(c.v[2]));
   if constexpr (!kernel_traits<K>::exact_constructions) {
     // Rounded determinants near a degenerate configuration can agree in sign or vanish (NaN or a
     // point off the edge): then the point is constructed exactly and rounded.
@@ -180,21 +185,12 @@ std::optional<GeneralPositionCurves<K>> general_position_curves(const Mesh<K>& a
 
   // Candidate face pairs: overlapping bounding boxes (of the exact kernel's interval
   // approximations: they contain the exact faces).
-  auto face_box = [](const Mesh<K>& m, F f) {
-    CGAL::Bbox_3 box;
-    for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) box += m.point(v).bbox();
-    return box;
-  };
-  auto mesh_box = [&](const Mesh<K>& m) {
-    CGAL::Bbox_3 box;
-    for (auto v : m.vertices()) box += m.point(v).bbox();
-    return box;
-  };
-  const CGAL::Bbox_3 box_a = mesh_box(a), box_b = mesh_box(b);
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  const CGAL::Bbox_3 box_a = PMP::bbox(a), box_b = PMP::bbox(b);
   auto boxes_near = [&](const Mesh<K>& m, const CGAL::Bbox_3& other) {
     std::vector<Box> boxes;
     for (F f : m.faces())
-      if (const auto box = face_box(m, f); CGAL::do_overlap(box, other)) boxes.emplace_back(box, std::uint32_t(f));
+      if (const auto box = PMP::face_bbox(f, m); CGAL::do_overlap(box, other)) boxes.emplace_back(box, std::uint32_t(f));
     return boxes;
   };
   std::vector<Box> faces_a = boxes_near(a, box_b), faces_b = boxes_near(b, box_a);

@@ -37,6 +37,13 @@ template <class Point> struct PointLess {
   bool operator()(const Point& a, const Point& b) const { return CGAL::compare_xyz(a, b) == CGAL::SMALLER; }
 };
 
+/// Sorts polylines by their first points (compare_xyz, exact): a deterministic curve order.
+template <class Point> void sort_by_first_point(std::vector<std::vector<Point>>& lines) {
+  std::sort(lines.begin(), lines.end(), [](const auto& x, const auto& y) {
+    return CGAL::compare_xyz(x.front(), y.front()) == CGAL::SMALLER;
+  });
+}
+
 /// Chains polylines that share end points (exact comparison) into maximal polylines.
 template <class Point> std::vector<std::vector<Point>> chain(std::vector<std::vector<Point>> pieces) {
   // Drop repeated consecutive points and pieces with no length.
@@ -99,9 +106,7 @@ template <class Point> std::vector<std::vector<Point>> chain(std::vector<std::ve
     std::rotate(line.begin(), first, line.end());
     line.push_back(line.front());
   }
-  std::sort(result.begin(), result.end(), [](const auto& x, const auto& y) {
-    return CGAL::compare_xyz(x.front(), y.front()) == CGAL::SMALLER;
-  });
+  sort_by_first_point(result);
   return result;
 }
 
@@ -121,11 +126,6 @@ template <class K> void orient_curves(const Mesh<K>& a, const Mesh<K>& b, std::v
     const auto h = m.halfedge(f);
     return std::array<Point, 3>{m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h)))};
   };
-  auto face_box = [](const Mesh<K>& m, F f) {
-    CGAL::Bbox_3 box;
-    for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) box += m.point(v).bbox();
-    return box;
-  };
   for (auto& line : curves) {
     if (line.size() < 2) continue;
     const std::size_t tried = std::min(line.size() - 1, segments_tried);
@@ -133,9 +133,11 @@ template <class K> void orient_curves(const Mesh<K>& a, const Mesh<K>& b, std::v
     for (std::size_t i = 0; i <= tried; ++i) near += line[i].bbox();
     std::vector<std::pair<F, CGAL::Bbox_3>> near_a, near_b;
     for (F f : a.faces())
-      if (const auto box = face_box(a, f); CGAL::do_overlap(box, near)) near_a.emplace_back(f, box);
+      if (const auto box = CGAL::Polygon_mesh_processing::face_bbox(f, a); CGAL::do_overlap(box, near))
+        near_a.emplace_back(f, box);
     for (F f : b.faces())
-      if (const auto box = face_box(b, f); CGAL::do_overlap(box, near)) near_b.emplace_back(f, box);
+      if (const auto box = CGAL::Polygon_mesh_processing::face_bbox(f, b); CGAL::do_overlap(box, near))
+        near_b.emplace_back(f, box);
     auto containing = [&](const Mesh<K>& m, const std::vector<std::pair<F, CGAL::Bbox_3>>& faces, const Point& p,
                           const Point& q) {
       std::vector<std::array<Point, 3>> result;
@@ -172,9 +174,7 @@ template <class K> void orient_curves(const Mesh<K>& a, const Mesh<K>& b, std::v
     }
     if (direction < 0) std::reverse(line.begin(), line.end());  // a closed curve keeps its first point
   }
-  std::sort(curves.begin(), curves.end(), [](const auto& x, const auto& y) {
-    return CGAL::compare_xyz(x.front(), y.front()) == CGAL::SMALLER;
-  });
+  sort_by_first_point(curves);
 }
 
 }  // namespace
@@ -283,11 +283,9 @@ std::vector<Polyline<K>> curves_and_sites(const Mesh<K>& a, const Mesh<K>& b, st
   auto candidate_faces = [&](const Mesh<K>& m) {
     std::vector<std::vector<F>> result(segments.size());
     std::vector<Box> face_boxes;
-    for (F f : m.faces()) {
-      CGAL::Bbox_3 box;
-      for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) box += m.point(v).bbox();
-      if (CGAL::do_overlap(box, all_segments)) face_boxes.emplace_back(box, std::size_t(f));
-    }
+    for (F f : m.faces())
+      if (const auto box = CGAL::Polygon_mesh_processing::face_bbox(f, m); CGAL::do_overlap(box, all_segments))
+        face_boxes.emplace_back(box, std::size_t(f));
     CGAL::Protect_FPU_rounding<true> rounding;
     CGAL::box_intersection_d(segment_boxes.begin(), segment_boxes.end(), face_boxes.begin(), face_boxes.end(),
                              [&](const Box& sb, const Box& fb) {
