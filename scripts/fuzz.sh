@@ -3,6 +3,8 @@
 # in build-fuzz/ and runs one of them for SECONDS on its committed seed corpus.
 #   scripts/fuzz.sh TARGET SECONDS     TARGET: off obj ply stl polylines pair
 #   scripts/fuzz.sh --build            only build every target
+#   scripts/fuzz.sh --configure        only configure build-fuzz/ (scripts/test.sh --sanitize
+#                                      builds and runs the test suite in the same directory)
 # Corpus: fuzz/corpus/TARGET/ (read only; new inputs found go to build-fuzz/corpus/TARGET/).
 # A crash, a sanitizer finding, a leak or an input slower than 10 s fails the run; libFuzzer
 # writes the input to build-fuzz/crash-*: minimise it (fuzz_TARGET -minimize_crash=1 FILE),
@@ -11,11 +13,14 @@
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
-usage="usage: scripts/fuzz.sh TARGET SECONDS | --build   (TARGET: off obj ply stl polylines pair)"
+usage="usage: scripts/fuzz.sh TARGET SECONDS | --build | --configure   (TARGET: off obj ply stl polylines pair)"
 targets=(off obj ply stl polylines pair)
 build_only=0
+configure_only=0
 if [[ $# -eq 1 && "$1" == "--build" ]]; then
   build_only=1
+elif [[ $# -eq 1 && "$1" == "--configure" ]]; then
+  configure_only=1
 elif [[ $# -eq 2 ]]; then
   target="$1"
   seconds="$2"
@@ -46,9 +51,14 @@ if command -v ninja >/dev/null 2>&1 && [[ ! -f "$build_dir/CMakeCache.txt" ]]; t
   generator=(-G Ninja)
 fi
 # -O1 -g1 (line tables) without NDEBUG: CGAL's assertions stay on and throw, so the fuzzer reports them.
-[[ "${SEAM_FUZZ_NO_BUILD:-0}" == 1 && $build_only -eq 0 ]] ||
+# The test suite is configured too: scripts/test.sh --sanitize runs it on this same build, so the
+# library is compiled once for both.
+[[ "${SEAM_FUZZ_NO_BUILD:-0}" == 1 && $build_only -eq 0 && $configure_only -eq 0 ]] ||
 cmake -S . -B "$build_dir" "${generator[@]}" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Fuzz \
-  -DCMAKE_CXX_FLAGS_FUZZ="-O1 -g1" -DSEAM_FUZZ=ON -DSEAM_BUILD_TESTS=OFF -DSEAM_BUILD_BENCHMARKS=OFF >/dev/null
+  -DCMAKE_CXX_FLAGS_FUZZ="-O1 -g1" -DSEAM_FUZZ=ON -DSEAM_BUILD_TESTS=ON -DSEAM_BUILD_BENCHMARKS=OFF >/dev/null
+if [[ $configure_only -eq 1 ]]; then
+  exit 0
+fi
 if [[ $build_only -eq 1 ]]; then
   cmake --build "$build_dir" -j"${SEAM_JOBS:-2}" --target "${targets[@]/#/fuzz_}"
   exit 0

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds seam (scripts/build.sh) and runs the test suite with ctest.
 #   scripts/test.sh              Release build in build/
-#   scripts/test.sh --sanitize   AddressSanitizer + UBSan build in build-asan/ (no benchmarks)
+#   scripts/test.sh --sanitize   AddressSanitizer + UBSan build in build-fuzz/ (clang, CGAL's
+#                                assertions on; the build the fuzz targets use, see scripts/fuzz.sh)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -21,11 +22,12 @@ for arg in "$@"; do
 done
 
 if [[ $sanitize -eq 1 ]]; then
-  build_dir=build-asan
-  # The later -DCMAKE_BUILD_TYPE overrides build.sh's Release.
-  SEAM_BUILD_DIR="$build_dir" bash scripts/build.sh \
-    -DSEAM_SANITIZE=ON -DSEAM_BUILD_BENCHMARKS=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG"  # line tables only: CGAL compiles much faster
+  # One sanitized build serves the suite and the fuzzers: clang, -O1 with line tables only (CGAL
+  # compiles much faster), ASan + UBSan, coverage instrumentation for libFuzzer, and CGAL's
+  # assertions on (no NDEBUG), so that a CGAL precondition the suite reaches fails it too.
+  build_dir=build-fuzz
+  bash scripts/fuzz.sh --configure
+  cmake --build "$build_dir" -j2
   export ASAN_OPTIONS="${ASAN_OPTIONS:-abort_on_error=0:detect_stack_use_after_return=1}"
   export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 else
