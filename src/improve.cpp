@@ -9,6 +9,7 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/boost/graph/Euler_operations.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -550,6 +551,110 @@ std::size_t smooth_remeshed_vertices(Mesh<K>& mesh, const std::vector<std::vecto
   return moves;
 }
 
+template <class K>
+std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
+                                               std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
+                                               const SurfaceDistance& surface, double tol, double thin_deg, int rounds) {
+  using M = Mesh<K>;
+  using V = typename M::Vertex_index;
+  using F = typename M::Face_index;
+  using FP = Filtered::Point_3;
+  auto source = mesh.template property_map<F, std::uint32_t>(source_face_property).first;
+  auto is_new = mesh.template property_map<F, bool>(new_face_property).first;
+  std::set<V> on_curve;
+  std::set<std::pair<V, V>> curve_edges;
+  auto index_curves = [&]() {
+    on_curve.clear();
+    for (const auto& vs : curve_vertices) on_curve.insert(vs.begin(), vs.end());
+    curve_edges = curve_edge_set(curve_vertices);
+  };
+  index_curves();
+  auto point = [&](V v) { return to_filtered(mesh.point(v)); };
+  auto face_angle = [&](F f) {
+    const auto h = mesh.halfedge(f);
+    return min_angle_deg(point(mesh.source(h)), point(mesh.target(h)), point(mesh.target(mesh.next(h))));
+  };
+  // The smallest angle of the faces around v after merging v into w (its neighbour), or a
+  // negative value when the merge is not allowed.
+  auto angle_after_merge = [&](V v, V w) {
+    if (on_curve.count(v) || mesh.is_border(v)) return -1.0;
+    const auto vw = mesh.halfedge(v, w);
+    if (vw == M::null_halfedge() || !CGAL::Euler::does_satisfy_link_condition(mesh.edge(vw), mesh)) return -1.0;
+    const FP W = point(w);
+    double after = 180;
+    for (auto h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh)) {
+      const F g = mesh.face(h);
+      if (source[g] != remeshed_face) return -1.0;  // only remeshed faces change
+      const V a = mesh.source(h), c = mesh.target(mesh.next(h));  // g is (a, v, c)
+      if (a == w || c == w) continue;                              // removed by the merge
+      // Exact: the merged face is not flat.
+      if (CGAL::collinear(mesh.point(a), mesh.point(w), mesh.point(c))) return -1.0;
+      const FP A = point(a), C = point(c), Vp = point(v);
+      if (!turns_less_than_30_degrees(CGAL::cross_product(Vp - A, C - A), CGAL::cross_product(W - A, C - A)) ||
+          surface.distance(CGAL::centroid(A, W, C)) > tol || surface.distance(CGAL::midpoint(A, W)) > tol ||
+          surface.distance(CGAL::midpoint(W, C)) > tol)
+        return -1.0;
+      after = std::min(after, min_angle_deg(A, W, C));
+    }
+    return after;
+  };
+  std::size_t collapses = 0;
+  for (int round = 0; round < rounds; ++round) {
+    std::vector<F> thin;
+    for (F f : mesh.faces())
+      if (source[f] == remeshed_face && face_angle(f) < thin_deg) thin.push_back(f);
+    std::size_t merged = 0;
+    for (F f : thin) {
+      if (mesh.is_removed(f) || face_angle(f) >= thin_deg) continue;
+      // The face's shortest edge (p, q), not a curve edge.
+      auto shortest = mesh.halfedge(f);
+      for (auto h : CGAL::halfedges_around_face(mesh.halfedge(f), mesh))
+        if (CGAL::squared_distance(point(mesh.source(h)), point(mesh.target(h))) <
+            CGAL::squared_distance(point(mesh.source(shortest)), point(mesh.target(shortest))))
+          shortest = h;
+      const V p = mesh.source(shortest), q = mesh.target(shortest);
+      if (curve_edges.count({std::min(p, q), std::max(p, q)})) continue;  // shared: left as it is
+      // Merge p into q or q into p, whichever leaves the larger smallest angle, if that raises
+      // the smallest angle of the faces around the removed vertex by more than a degree.
+      const double into_q = angle_after_merge(p, q), into_p = angle_after_merge(q, p);
+      const V v = into_q >= into_p ? p : q, w = into_q >= into_p ? q : p;
+      double before = 180;
+      for (auto g : CGAL::faces_around_target(mesh.halfedge(v), mesh)) before = std::min(before, face_angle(g));
+      if (!(std::max(into_q, into_p) > before + 1.0)) continue;
+      // No vertex moves: w keeps its point, exactly. CGAL keeps the target of the edge's own
+      // halfedge, which may hold v's index: it then gets w's point, and w's curve positions.
+      const auto w_point = mesh.point(w);
+      const V kept = CGAL::Euler::collapse_edge(mesh.edge(mesh.halfedge(v, w)), mesh);
+      if (kept != w) {
+        mesh.point(kept) = w_point;
+        if (on_curve.count(w)) {
+          for (auto& vs : curve_vertices) std::replace(vs.begin(), vs.end(), w, kept);
+          index_curves();
+        }
+      }
+      for (F g : CGAL::faces_around_target(mesh.halfedge(kept), mesh)) {
+        source[g] = remeshed_face;
+        is_new[g] = true;
+      }
+      ++merged;
+    }
+    collapses += merged;
+    if (merged == 0) break;
+  }
+  if (collapses > 0) {
+    // Compact the mesh; the curve vertices follow their vertices.
+    auto old_index = mesh.template add_property_map<V, std::uint32_t>("v:seam_old_index", 0).first;
+    for (V v : mesh.vertices()) old_index[v] = std::uint32_t(std::size_t(v));
+    mesh.collect_garbage();
+    std::map<std::uint32_t, V> now;
+    for (V v : mesh.vertices()) now[old_index[v]] = v;
+    for (auto& vs : curve_vertices)
+      for (auto& v : vs) v = now.at(std::uint32_t(std::size_t(v)));
+    mesh.remove_property_map(old_index);
+  }
+  return collapses;
+}
+
 #define SEAM_INSTANTIATE(K)                                                                                          \
   template std::vector<std::vector<std::size_t>> choose_curve_points<K>(const std::vector<Polyline<K>>&, double, double);   \
   template bool coarsen_and_remesh_near_curves<K>(Mesh<K>&, std::vector<std::vector<typename MeshTypes<K>::V>>&,   \
@@ -564,7 +669,9 @@ std::size_t smooth_remeshed_vertices(Mesh<K>& mesh, const std::vector<std::vecto
   template std::size_t flip_to_improve_angles<K>(Mesh<K>&, const std::vector<std::vector<typename MeshTypes<K>::V>>&, \
                                                  const SurfaceDistance&, double, int);                              \
   template std::size_t smooth_remeshed_vertices<K>(Mesh<K>&, const std::vector<std::vector<typename MeshTypes<K>::V>>&, \
-                                                   const SurfaceDistance&, double, int);
+                                                   const SurfaceDistance&, double, int);                            \
+  template std::size_t collapse_short_edges_of_thin_faces<K>(Mesh<K>&, std::vector<std::vector<typename MeshTypes<K>::V>>&, \
+                                                             const SurfaceDistance&, double, double, int);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)
 SEAM_INSTANTIATE(Float)

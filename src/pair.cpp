@@ -760,6 +760,32 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
             internal::flip_to_improve_angles<K>(a2, cva, surface_a, snap_tol, 2);
             internal::flip_to_improve_angles<K>(b2, cvb, surface_b, snap_tol, 2);
           }
+          // Needles left (a short edge, often from the splits at a sharp bend): merge the ends of
+          // their shortest edge, then smooth and flip once more around them.
+          const double thin = options.embed.min_angle_deg;
+          if (internal::collapse_short_edges_of_thin_faces<K>(a2, cva, surface_a, snap_tol, thin, 3) > 0) {
+            internal::smooth_remeshed_vertices<K>(a2, cva, surface_a, snap_tol, 2);
+            internal::flip_to_improve_angles<K>(a2, cva, surface_a, snap_tol, 2);
+          }
+          if (internal::collapse_short_edges_of_thin_faces<K>(b2, cvb, surface_b, snap_tol, thin, 3) > 0) {
+            internal::smooth_remeshed_vertices<K>(b2, cvb, surface_b, snap_tol, 2);
+            internal::flip_to_improve_angles<K>(b2, cvb, surface_b, snap_tol, 2);
+          }
+          // Curve segments still shorter than the tolerance (kept by the coarsening, or frozen):
+          // collapsed in both meshes where that raises the angles and crosses nothing, as after
+          // the embedding (internal/collapse.h), any curve vertex this time.
+          if (options.collapse_short_segments) {
+            std::vector<Polyline<K>> coarse;
+            for (const auto& vs : cva) {
+              coarse.emplace_back();
+              for (auto v : vs) coarse.back().push_back(a2.point(v));
+            }
+            if (internal::collapse_short_curve_segments<K>(a2, b2, coarse, cva, cvb, snap_tol, 0.0, 0, 0).collapsed > 0)
+              for (auto [m, cv, surface] : {std::tie(a2, cva, surface_a), std::tie(b2, cvb, surface_b)}) {
+                internal::smooth_remeshed_vertices<K>(m, cv, surface, snap_tol, 2);
+                internal::flip_to_improve_angles<K>(m, cv, surface, snap_tol, 2);
+              }
+          }
         }
       } catch (const CGAL::Failure_exception&) {
         add_note("remeshing next to the curves failed (a CGAL assertion); the embedded meshes are kept");
@@ -796,7 +822,10 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
         for (auto [m, marks] : {std::make_pair(&a2, &focus.faces_a), std::make_pair(&b2, &focus.faces_b)}) {
           const auto source = m->template property_map<typename Mesh<K>::Face_index, std::uint32_t>(source_face_property).first;
           marks->assign(m->number_of_faces() + m->number_of_removed_faces(), 0);
-          for (auto f : m->faces()) (*marks)[std::size_t(f)] = source[f] == std::numeric_limits<std::uint32_t>::max();
+          const auto is_new = m->template property_map<typename Mesh<K>::Face_index, bool>(new_face_property).first;
+          // remeshed, or reshaped by a collapse of short curve segments after the remeshing
+          for (auto f : m->faces())
+            (*marks)[std::size_t(f)] = source[f] == std::numeric_limits<std::uint32_t>::max() || is_new[f];
         }
       PairCheckReport report;
       try {

@@ -2,8 +2,13 @@
 #include <catch2/catch.hpp>
 
 #include <seam/internal/improve.h>
+#include <seam/quality.h>
+
+#include <CGAL/boost/graph/helpers.h>
 
 #include <algorithm>
+#include <limits>
+#include <set>
 
 TEST_CASE("improve: a point where two curves cross is kept for both, however close the spacing asks",
           "[pair][remesh]") {
@@ -31,4 +36,81 @@ TEST_CASE("improve: a point where two curves cross is kept for both, however clo
   const auto apart = seam::internal::choose_curve_points<K>({along_x, along_y}, 10.0, 0.0);
   CHECK(apart[0].size() == 2);
   CHECK(apart[1].size() == 2);
+}
+
+TEST_CASE("improve: the needles of a remeshed band are merged away, no vertex moves, the curve stays",
+          "[pair][remesh]") {
+  using K = seam::Exact;
+  using M = seam::Mesh<K>;
+  using V = M::Vertex_index;
+  using F = M::Face_index;
+  // A flat 8 x 8 grid of unit squares, two triangles each, all of it "remeshed"; the curve is the
+  // row y = 4. Vertices (2, 2) and (5, 6) are pulled to 0.02 from a neighbour: needles.
+  M mesh;
+  std::vector<V> grid;
+  auto at = [&](int i, int j) { return grid[std::size_t(j * 9 + i)]; };
+  for (int j = 0; j <= 8; ++j)
+    for (int i = 0; i <= 8; ++i) grid.push_back(mesh.add_vertex(K::Point_3(i, j, 0)));
+  for (int j = 0; j < 8; ++j)
+    for (int i = 0; i < 8; ++i) {
+      mesh.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+      mesh.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+  const auto flat = seam::internal::triangles_of<K>(mesh);  // the input surface: the plane
+  mesh.point(at(2, 2)) = K::Point_3(2.98, 2, 0);
+  mesh.point(at(5, 6)) = K::Point_3(5, 5.02, 0);
+  auto source = mesh.add_property_map<F, std::uint32_t>(seam::source_face_property, 0).first;
+  mesh.add_property_map<F, bool>(seam::new_face_property, false);
+  for (F f : mesh.faces()) source[f] = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::vector<V>> curve(1);
+  for (int i = 0; i <= 8; ++i) curve[0].push_back(at(i, 4));
+
+  auto smallest_angle = [&]() {
+    double worst = 180;
+    for (F f : mesh.faces()) {
+      const auto h = mesh.halfedge(f);
+      worst = std::min(worst, seam::min_angle_deg(mesh.point(mesh.source(h)), mesh.point(mesh.target(h)),
+                                                  mesh.point(mesh.target(mesh.next(h)))));
+    }
+    return worst;
+  };
+  auto area = [&]() {
+    K::FT sum = 0;
+    for (F f : mesh.faces()) {
+      const auto h = mesh.halfedge(f);
+      const auto &p = mesh.point(mesh.source(h)), &q = mesh.point(mesh.target(h)),
+                 &r = mesh.point(mesh.target(mesh.next(h)));
+      sum += CGAL::cross_product(q - p, r - p).z();  // twice the signed area: folds would subtract
+    }
+    return sum;
+  };
+  std::set<K::Point_3> points_before;
+  for (V v : mesh.vertices()) points_before.insert(mesh.point(v));
+  const K::FT area_before = area();
+  const double worst_before = smallest_angle();
+  REQUIRE(worst_before < 2);
+
+  const seam::internal::SurfaceDistance surface(flat);
+  const std::size_t merges = seam::internal::collapse_short_edges_of_thin_faces<K>(mesh, curve, surface, 0.01, 20, 3);
+  CHECK(merges >= 2);  // the two needles, and what they leave thin around them
+  CHECK(mesh.number_of_removed_vertices() == 0);  // compacted
+  REQUIRE(CGAL::is_valid_polygon_mesh(mesh));
+  CHECK(smallest_angle() > 20);
+  CHECK(area() == area_before);  // the same square, covered once: nothing folded (exact)
+  for (V v : mesh.vertices()) CHECK(points_before.count(mesh.point(v)) == 1);  // no vertex moved
+  // The curve: the same points, consecutive ones joined by edges.
+  REQUIRE(curve[0].size() == 9);
+  for (int i = 0; i <= 8; ++i) CHECK(mesh.point(curve[0][std::size_t(i)]) == K::Point_3(i, 4, 0));
+  for (std::size_t i = 0; i + 1 < curve[0].size(); ++i)
+    CHECK(mesh.halfedge(curve[0][i], curve[0][i + 1]) != M::null_halfedge());
+
+  // A needle along the curve itself is left: curve edges are shared with the other mesh.
+  mesh.point(curve[0][3]) = K::Point_3(3.99, 4, 0);
+  seam::internal::collapse_short_edges_of_thin_faces<K>(mesh, curve, surface, 0.01, 20, 3);
+  REQUIRE(curve[0].size() == 9);
+  CHECK(mesh.point(curve[0][3]) == K::Point_3(3.99, 4, 0));
+  CHECK(mesh.point(curve[0][4]) == K::Point_3(4, 4, 0));
+  for (std::size_t i = 0; i + 1 < curve[0].size(); ++i)
+    CHECK(mesh.halfedge(curve[0][i], curve[0][i + 1]) != M::null_halfedge());
+  CHECK(area() == area_before);
 }

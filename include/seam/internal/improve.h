@@ -94,4 +94,17 @@ template <class K>
 std::size_t smooth_remeshed_vertices(Mesh<K>& mesh, const std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
                                      const SurfaceDistance& surface, double tol, int rounds);
 
+/// Removes thin remeshed faces (smallest angle below `thin_deg`) by collapsing their shortest
+/// edge, when it is not a curve edge: one end is merged into the other, which keeps its exact
+/// point (no vertex moves). The removed end is not a curve vertex nor on a border, and all its
+/// faces are remeshed. A merge is made only if it keeps the mesh a 2-manifold (link condition),
+/// leaves no face flat (exact), turns no face by 30 degrees or more, keeps each changed face's
+/// centroid and new edges' middles within `tol` of `surface` (doubles), and raises the smallest
+/// angle of the faces around the removed vertex by more than a degree. Up to `rounds` passes.
+/// The mesh is compacted afterwards; `curve_vertices` follow. Returns the number of merges.
+template <class K>
+std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
+                                               std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
+                                               const SurfaceDistance& surface, double tol, double thin_deg, int rounds);
+
 }  // namespace seam::internal
