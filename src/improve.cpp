@@ -463,7 +463,10 @@ std::size_t flip_to_improve_angles(Mesh<K>& mesh, const std::vector<std::vector<
     for (auto e : mesh.edges()) {
       if (mesh.is_border(e)) continue;
       const auto h = mesh.halfedge(e), o = mesh.opposite(h);
-      if (source[mesh.face(h)] != remeshed_face || source[mesh.face(o)] != remeshed_face) continue;
+      const F fh = mesh.face(h), fo = mesh.face(o);
+      if (!(source[fh] == remeshed_face || is_new[fh]) || !(source[fo] == remeshed_face || is_new[fo])) continue;
+      // Two new faces of one input face stay in it (a flip inside a plane); otherwise remeshed.
+      const std::uint32_t flipped_source = source[fh] == source[fo] ? source[fh] : remeshed_face;
       const V p = mesh.source(h), q = mesh.target(h), r = mesh.target(mesh.next(h)), t = mesh.target(mesh.next(o));
       if (curve_edges.count({std::min(p, q), std::max(p, q)})) continue;  // shared: left as it is
       if (r == t || mesh.halfedge(r, t) != M::null_halfedge()) continue;  // the other diagonal exists
@@ -478,7 +481,7 @@ std::size_t flip_to_improve_angles(Mesh<K>& mesh, const std::vector<std::vector<
       if (surface.distance(CGAL::midpoint(R, T)) > tol) continue;
       CGAL::Euler::flip_edge(h, mesh);
       for (F g : {mesh.face(h), mesh.face(o)}) {
-        source[g] = remeshed_face;
+        source[g] = flipped_source;
         is_new[g] = true;
       }
       ++flipped;
@@ -584,7 +587,7 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
     double after = 180;
     for (auto h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh)) {
       const F g = mesh.face(h);
-      if (source[g] != remeshed_face) return -1.0;  // only remeshed faces change
+      if (source[g] != remeshed_face && !is_new[g]) return -1.0;  // only new faces change
       const V a = mesh.source(h), c = mesh.target(mesh.next(h));  // g is (a, v, c)
       if (a == w || c == w) continue;                              // removed by the merge
       // Exact: the merged face is not flat.
@@ -602,25 +605,28 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
   for (int round = 0; round < rounds; ++round) {
     std::vector<F> thin;
     for (F f : mesh.faces())
-      if (source[f] == remeshed_face && face_angle(f) < thin_deg) thin.push_back(f);
+      if ((source[f] == remeshed_face || is_new[f]) && face_angle(f) < thin_deg) thin.push_back(f);
     std::size_t merged = 0;
     for (F f : thin) {
       if (mesh.is_removed(f) || face_angle(f) >= thin_deg) continue;
-      // The face's shortest edge (p, q), not a curve edge.
-      auto shortest = mesh.halfedge(f);
-      for (auto h : CGAL::halfedges_around_face(mesh.halfedge(f), mesh))
-        if (CGAL::squared_distance(point(mesh.source(h)), point(mesh.target(h))) <
-            CGAL::squared_distance(point(mesh.source(shortest)), point(mesh.target(shortest))))
-          shortest = h;
-      const V p = mesh.source(shortest), q = mesh.target(shortest);
-      if (curve_edges.count({std::min(p, q), std::max(p, q)})) continue;  // shared: left as it is
-      // Merge p into q or q into p, whichever leaves the larger smallest angle, if that raises
-      // the smallest angle of the faces around the removed vertex by more than a degree.
-      const double into_q = angle_after_merge(p, q), into_p = angle_after_merge(q, p);
-      const V v = into_q >= into_p ? p : q, w = into_q >= into_p ? q : p;
-      double before = 180;
-      for (auto g : CGAL::faces_around_target(mesh.halfedge(v), mesh)) before = std::min(before, face_angle(g));
-      if (!(std::max(into_q, into_p) > before + 1.0)) continue;
+      // Merge one end of an edge of the face (not a curve edge) into the other: the merge that
+      // raises the smallest angle of the faces around the removed vertex most, by more than a
+      // degree. (A needle loses its short edge; a cap, whose
+      // long edge no flip could remove, the vertex at its large angle.)
+      V v = M::null_vertex(), w = M::null_vertex();
+      double best_gain = 1.0;
+      for (auto h : CGAL::halfedges_around_face(mesh.halfedge(f), mesh)) {
+        const V p = mesh.source(h), q = mesh.target(h);
+        if (curve_edges.count({std::min(p, q), std::max(p, q)})) continue;  // shared: left as it is
+        for (auto [from, into] : {std::make_pair(p, q), std::make_pair(q, p)}) {
+          const double after = angle_after_merge(from, into);
+          if (after < 0) continue;
+          double before = 180;
+          for (auto g : CGAL::faces_around_target(mesh.halfedge(from), mesh)) before = std::min(before, face_angle(g));
+          if (after - before > best_gain) best_gain = after - before, v = from, w = into;
+        }
+      }
+      if (v == M::null_vertex()) continue;
       // No vertex moves: w keeps its point, exactly. CGAL keeps the target of the edge's own
       // halfedge, which may hold v's index: it then gets w's point, and w's curve positions.
       const auto w_point = mesh.point(w);

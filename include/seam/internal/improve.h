@@ -77,9 +77,11 @@ template <class K>
 std::size_t split_edges_off_surface(Mesh<K>& mesh, const std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
                                     const SurfaceDistance& surface, double tol, int rounds);
 
-/// Flips edges between two remeshed faces where that raises the smaller of their smallest
-/// angles by more than a degree, the new faces turn by less than 30 degrees from the old ones and
-/// the new edge's middle lies within `tol` of `surface` (doubles); curve edges are never flipped.
+/// Flips edges between two new faces (remeshed, or new faces of the embedding) where that raises
+/// the smaller of their smallest angles by more than a degree, the new faces turn by less than 30
+/// degrees from the old ones and the new edge's middle lies within `tol` of `surface` (doubles);
+/// curve edges are never flipped. Two new faces of one input face keep it as their source (the
+/// flip stays in its plane); other flipped faces are marked remeshed.
 /// Up to `rounds` passes over the edges. Returns the number of flips.
 template <class K>
 std::size_t flip_to_improve_angles(Mesh<K>& mesh, const std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
@@ -94,14 +96,16 @@ template <class K>
 std::size_t smooth_remeshed_vertices(Mesh<K>& mesh, const std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
                                      const SurfaceDistance& surface, double tol, int rounds);
 
-/// Removes thin remeshed faces (smallest angle below `thin_deg`) by collapsing their shortest
-/// edge, when it is not a curve edge: one end is merged into the other, which keeps its exact
-/// point (no vertex moves). The removed end is not a curve vertex nor on a border, and all its
-/// faces are remeshed. A merge is made only if it keeps the mesh a 2-manifold (link condition),
-/// leaves no face flat (exact), turns no face by 30 degrees or more, keeps each changed face's
-/// centroid and new edges' middles within `tol` of `surface` (doubles), and raises the smallest
-/// angle of the faces around the removed vertex by more than a degree. Up to `rounds` passes.
-/// The mesh is compacted afterwards; `curve_vertices` follow. Returns the number of merges.
+/// Removes thin new faces (remeshed, or new faces of the embedding; smallest angle below
+/// `thin_deg`) by collapsing one of their edges that is not a curve edge: one end is merged into
+/// the other, which keeps its exact point (no vertex moves). Of the six merges (three edges, two
+/// directions) the one that raises the smallest angle of the faces around the removed vertex
+/// most, by more than a degree, is made, if the removed end is not a curve vertex nor on a border,
+/// all its faces are new, and the merge keeps the mesh a 2-manifold (link condition), leaves no
+/// face flat (exact), turns no face by 30 degrees or more and keeps each changed face's centroid
+/// and new edges' middles within `tol` of `surface` (doubles). Changed faces are marked remeshed.
+/// Up to `rounds` passes. The mesh is compacted afterwards; `curve_vertices` follow. Returns the
+/// number of merges.
 template <class K>
 std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
                                                std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
