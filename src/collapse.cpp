@@ -64,7 +64,8 @@ template <class K> double face_min_angle(const Mesh<K>& m, typename MeshTypes<K>
 /// after. Exact tests for degeneracy and orientation under the exact kernel.
 template <class K>
 bool collapse_allowed(const Mesh<K>& m, typename MeshTypes<K>::V p, typename MeshTypes<K>::V q,
-                      std::size_t input_vertices, Angles& before, Angles& after) {
+                      std::size_t input_vertices, Angles& before, Angles& after, const MergedFaceTest& accept_face,
+                      int mesh_id) {
   using V = typename MeshTypes<K>::V;
   const auto h = m.halfedge(p, q);
   if (h == Mesh<K>::null_halfedge() || m.is_border(p) || m.is_border(q)) return false;
@@ -104,6 +105,7 @@ bool collapse_allowed(const Mesh<K>& m, typename MeshTypes<K>::V p, typename Mes
     const auto n0 = CGAL::cross_product(c[1] - c[0], c[2] - c[0]);
     const auto n1 = CGAL::cross_product(d[1] - d[0], d[2] - d[0]);
     if (CGAL::sign(n0 * n1) != CGAL::POSITIVE) return false;
+    if (accept_face && !accept_face(mesh_id, to_filtered(d[0]), to_filtered(d[1]), to_filtered(d[2]))) return false;
     after.add(min_angle_deg(d[0], d[1], d[2]));
   }
   return true;
@@ -248,7 +250,7 @@ template <class K>
 CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::vector<Polyline<K>>& curves,
                                                   VertexLists<K>& cva, VertexLists<K>& cvb, double max_length,
                                                   double tiny_length, std::size_t input_vertices_a,
-                                                  std::size_t input_vertices_b) {
+                                                  std::size_t input_vertices_b, const MergedFaceTest& accept_face) {
   using V = typename MeshTypes<K>::V;
   using F = typename MeshTypes<K>::F;
   constexpr std::size_t no_curve = std::numeric_limits<std::size_t>::max();
@@ -346,7 +348,7 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
       for (int m = 0; m < 2 && allowed; ++m) {
         if (!(op.mask & (1 << m))) continue;
         Angles bm, am;
-        allowed = collapse_allowed<K>(*meshes[m], op.p[m], op.q[m], input_vertices[m], bm, am);
+        allowed = collapse_allowed<K>(*meshes[m], op.p[m], op.q[m], input_vertices[m], bm, am, accept_face, m);
         before.min = std::min(before.min, bm.min), before.below_10 += bm.below_10;
         after.min = std::min(after.min, am.min), after.below_10 += am.below_10;
       }
@@ -467,7 +469,7 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
 #define SEAM_INSTANTIATE(K)                                                                                     \
   template CurveCollapseReport collapse_short_curve_segments<K>(                                                 \
       Mesh<K>&, Mesh<K>&, std::vector<Polyline<K>>&, VertexLists<K>&, VertexLists<K>&, double, double,     \
-      std::size_t, std::size_t);
+      std::size_t, std::size_t, const MergedFaceTest&);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)
 SEAM_INSTANTIATE(Float)

@@ -771,16 +771,28 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
             internal::smooth_remeshed_vertices<K>(b2, cvb, surface_b, snap_tol, 2);
             internal::flip_to_improve_angles<K>(b2, cvb, surface_b, snap_tol, 2);
           }
-          // Curve segments still shorter than the tolerance (kept by the coarsening, or frozen):
-          // collapsed in both meshes where that raises the angles and crosses nothing, as after
-          // the embedding (internal/collapse.h), any curve vertex this time.
+          // Curve segments still short (kept by the coarsening, or frozen): collapsed in both
+          // meshes where that raises the angles and crosses nothing, as after the embedding
+          // (internal/collapse.h), any curve vertex this time. Segments shorter than half the
+          // spacing (the coarsening's own lower bound) are tried, and each changed face must stay
+          // within the tolerance of its input surface (corners, edge middles and centroid,
+          // doubles): the chords of the coarser curve then lie within it too.
+          const internal::MergedFaceTest near_inputs = [&](int m, const Filtered::Point_3& p,
+                                                           const Filtered::Point_3& q, const Filtered::Point_3& r) {
+            const auto& surface = m == 0 ? surface_a : surface_b;
+            for (const auto& x : {p, q, r, CGAL::midpoint(p, q), CGAL::midpoint(q, r), CGAL::midpoint(r, p),
+                                  CGAL::centroid(p, q, r)})
+              if (surface.distance(x) > snap_tol) return false;
+            return true;
+          };
           if (options.collapse_short_segments) {
             std::vector<Polyline<K>> coarse;
             for (const auto& vs : cva) {
               coarse.emplace_back();
               for (auto v : vs) coarse.back().push_back(a2.point(v));
             }
-            if (internal::collapse_short_curve_segments<K>(a2, b2, coarse, cva, cvb, snap_tol, 0.0, 0, 0).collapsed > 0)
+            if (internal::collapse_short_curve_segments<K>(a2, b2, coarse, cva, cvb, 0.5 * spacing, 0.0, 0, 0,
+                                                          near_inputs).collapsed > 0)
               for (auto [m, cv, surface] : {std::tie(a2, cva, surface_a), std::tie(b2, cvb, surface_b)}) {
                 internal::smooth_remeshed_vertices<K>(m, cv, surface, snap_tol, 2);
                 internal::flip_to_improve_angles<K>(m, cv, surface, snap_tol, 2);

@@ -475,8 +475,8 @@ TEST_CASE("pair: remeshing next to the curves gives far fewer thin triangles, wi
     INFO("below 10 degrees: " << share_10_before << " before, " << share_10 << " after; below 20: " << share_20);
     CHECK(share_10_before > 0.1);
     CHECK(share_10 < 0.5 * share_10_before);
-    CHECK(share_10 < 0.06);
-    CHECK(share_20 < 0.2);
+    CHECK(share_10 < 0.02);  // 0, 0 and 0.7% at 2026-12-02
+    CHECK(share_20 < 0.05);  // the issue's target: at least 95% of new faces at 20 degrees or more
     // The remeshed surfaces stay within the snap tolerance of the inputs (sampled on the faces).
     CHECK(after.stats.remesh_max_deviation <= after.stats.snap_tol);
     // Both meshes share the coarser curve, every vertex and segment.

@@ -21,6 +21,7 @@
 #include <seam/internal/surface_point.h>
 
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 namespace seam::internal {
@@ -40,11 +41,18 @@ struct CurveCollapseReport {
 /// curves. They are the features (down to 1e-17 here) that exact constructions leave where a
 /// snapped vertex lies on the other surface; rounded to doubles on output, their faces would be
 /// flat or would cross the other mesh.
+/// Optional (`accept_face`): a test of each face as it would be after a merge (mesh 0 is A, 1 is
+/// B; its corners rounded to doubles); a merge is made only if every changed face passes it in
+/// both meshes (the pair's remeshing uses it to keep faces within the tolerance of the inputs,
+/// and then allows segments longer than the tolerance).
+using MergedFaceTest = std::function<bool(int mesh, const Filtered::Point_3&, const Filtered::Point_3&,
+                                          const Filtered::Point_3&)>;
 template <class K>
 CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::vector<Polyline<K>>& curves,
                                                   std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_a,
                                                   std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_b,
                                                   double max_length, double tiny_length,
-                                                  std::size_t input_vertices_a, std::size_t input_vertices_b);
+                                                  std::size_t input_vertices_a, std::size_t input_vertices_b,
+                                                  const MergedFaceTest& accept_face = {});
 
 }  // namespace seam::internal
