@@ -760,23 +760,26 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
             internal::flip_to_improve_angles<K>(a2, cva, surface_a, snap_tol, 2);
             internal::flip_to_improve_angles<K>(b2, cvb, surface_b, snap_tol, 2);
           }
-          // Needles left (a short edge, often from the splits at a sharp bend): merge the ends of
-          // their shortest edge, then smooth and flip once more around them.
+          // Thin faces left (a needle's short edge, often from the splits at a sharp bend; a cap
+          // no flip removes): merge the ends of one of their edges, then smooth and flip once
+          // more around them.
           const double thin = options.embed.min_angle_deg;
-          if (internal::collapse_short_edges_of_thin_faces<K>(a2, cva, surface_a, snap_tol, thin, 3) > 0) {
-            internal::smooth_remeshed_vertices<K>(a2, cva, surface_a, snap_tol, 2);
-            internal::flip_to_improve_angles<K>(a2, cva, surface_a, snap_tol, 2);
-          }
-          if (internal::collapse_short_edges_of_thin_faces<K>(b2, cvb, surface_b, snap_tol, thin, 3) > 0) {
-            internal::smooth_remeshed_vertices<K>(b2, cvb, surface_b, snap_tol, 2);
-            internal::flip_to_improve_angles<K>(b2, cvb, surface_b, snap_tol, 2);
-          }
+          auto merge_thin_faces = [&](Mesh<K>& m, std::vector<std::vector<typename Mesh<K>::Vertex_index>>& cv,
+                                      const internal::SurfaceDistance& surface) {
+            if (internal::collapse_short_edges_of_thin_faces<K>(m, cv, surface, snap_tol, thin, 3) > 0) {
+              internal::smooth_remeshed_vertices<K>(m, cv, surface, snap_tol, 2);
+              internal::flip_to_improve_angles<K>(m, cv, surface, snap_tol, 2);
+            }
+          };
+          merge_thin_faces(a2, cva, surface_a);
+          merge_thin_faces(b2, cvb, surface_b);
           // Curve segments still short (kept by the coarsening, or frozen): collapsed in both
           // meshes where that raises the angles and crosses nothing, as after the embedding
           // (internal/collapse.h), any curve vertex this time. Segments shorter than half the
           // spacing (the coarsening's own lower bound) are tried, and each changed face must stay
           // within the tolerance of its input surface (corners, edge middles and centroid,
-          // doubles): the chords of the coarser curve then lie within it too.
+          // doubles): the chords of the coarser curve then lie within it too. The thin faces
+          // around them are merged again.
           const internal::MergedFaceTest near_inputs = [&](int m, const Filtered::Point_3& p,
                                                            const Filtered::Point_3& q, const Filtered::Point_3& r) {
             const auto& surface = m == 0 ? surface_a : surface_b;
@@ -792,11 +795,10 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
               for (auto v : vs) coarse.back().push_back(a2.point(v));
             }
             if (internal::collapse_short_curve_segments<K>(a2, b2, coarse, cva, cvb, 0.5 * spacing, 0.0, 0, 0,
-                                                          near_inputs).collapsed > 0)
-              for (auto [m, cv, surface] : {std::tie(a2, cva, surface_a), std::tie(b2, cvb, surface_b)}) {
-                internal::smooth_remeshed_vertices<K>(m, cv, surface, snap_tol, 2);
-                internal::flip_to_improve_angles<K>(m, cv, surface, snap_tol, 2);
-              }
+                                                          near_inputs).collapsed > 0) {
+              merge_thin_faces(a2, cva, surface_a);
+              merge_thin_faces(b2, cvb, surface_b);
+            }
           }
         }
       } catch (const CGAL::Failure_exception&) {
