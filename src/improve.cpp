@@ -584,10 +584,13 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
     const auto vw = mesh.halfedge(v, w);
     if (vw == M::null_halfedge() || !CGAL::Euler::does_satisfy_link_condition(mesh.edge(vw), mesh)) return -1.0;
     const FP W = point(w);
+    // Over an edge no longer than the tolerance any face may change, as snapping would change it
+    // (v moves onto w); otherwise only new faces do.
+    const bool tiny = CGAL::squared_distance(point(v), W) <= CGAL::square(tol);
     double after = 180;
     for (auto h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh)) {
       const F g = mesh.face(h);
-      if (source[g] != remeshed_face && !is_new[g]) return -1.0;  // only new faces change
+      if (!tiny && source[g] != remeshed_face && !is_new[g]) return -1.0;  // only new faces change
       const V a = mesh.source(h), c = mesh.target(mesh.next(h));  // g is (a, v, c)
       if (a == w || c == w) continue;                              // removed by the merge
       // Exact: the merged face is not flat.
@@ -639,7 +642,7 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
         }
       }
       for (F g : CGAL::faces_around_target(mesh.halfedge(kept), mesh)) {
-        source[g] = remeshed_face;
+        if (source[g] == remeshed_face || is_new[g]) source[g] = remeshed_face;  // (others: as if snapped)
         is_new[g] = true;
       }
       ++merged;

@@ -101,9 +101,11 @@ std::size_t smooth_remeshed_vertices(Mesh<K>& mesh, const std::vector<std::vecto
 /// the other, which keeps its exact point (no vertex moves). Of the six merges (three edges, two
 /// directions) the one that raises the smallest angle of the faces around the removed vertex
 /// most, by more than a degree, is made, if the removed end is not a curve vertex nor on a border,
-/// all its faces are new, and the merge keeps the mesh a 2-manifold (link condition), leaves no
-/// face flat (exact), turns no face by 30 degrees or more and keeps each changed face's centroid
-/// and new edges' middles within `tol` of `surface` (doubles). Changed faces are marked remeshed.
+/// all its faces are new (or the edge is no longer than `tol`: the merge is then a snap), and the
+/// merge keeps the mesh a 2-manifold (link condition), leaves no face flat (exact), turns no face
+/// by 30 degrees or more and keeps each changed face's centroid and new edges' middles within
+/// `tol` of `surface` (doubles). Changed new faces are marked remeshed; a face of the input that
+/// a snap-like merge changed keeps its source and is marked new.
 /// Up to `rounds` passes. The mesh is compacted afterwards; `curve_vertices` follow. Returns the
 /// number of merges.
 template <class K>
