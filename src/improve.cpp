@@ -604,6 +604,79 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
     }
     return after;
   };
+  // A cap (p, q, x) whose long edge (p, q) no merge or flip removes (it lies along a sharp bend,
+  // say): its apex x moves onto that edge. The edge is split at the point m closest to x (its
+  // parameter rounded to a multiple of 2^-16, so that m is exactly on the edge under the exact
+  // kernel), and x is merged into m; the face across the edge is split in two, in its own plane.
+  // The same tests as for a merge, and the smallest angle of the faces around x and across must
+  // rise by more than a degree.
+  auto move_cap_apex_onto_long_edge = [&](F f) {
+    auto h = mesh.halfedge(f);  // the long edge: opposite the largest angle, at target(next(h))
+    double largest = -1;
+    for (auto g : CGAL::halfedges_around_face(mesh.halfedge(f), mesh)) {
+      const FP A = point(mesh.source(g)), B = point(mesh.target(g)), X = point(mesh.target(mesh.next(g)));
+      const double cosine = (A - X) * (B - X) / std::sqrt((A - X).squared_length() * (B - X).squared_length());
+      const double angle = std::acos(std::max(-1.0, std::min(1.0, cosine))) * 180 / M_PI;
+      if (angle > largest) largest = angle, h = g;
+    }
+    if (!(largest >= 120)) return false;
+    const V p = mesh.source(h), q = mesh.target(h), x = mesh.target(mesh.next(h));
+    const auto o = mesh.opposite(h);
+    if (mesh.is_border(o) || curve_edges.count({std::min(p, q), std::max(p, q)})) return false;
+    if (on_curve.count(x) || mesh.is_border(x)) return false;
+    const V t = mesh.target(mesh.next(o));
+    if (t == x || mesh.halfedge(x, t) != M::null_halfedge()) return false;  // else no 2-manifold after
+    const FP P = point(p), Q = point(q), X = point(x), T = point(t);
+    double s = (X - P) * (Q - P) / (Q - P).squared_length();
+    if (!(s > 0.1 && s < 0.9)) return false;  // near an end a merge does better
+    s = std::round(s * 65536) / 65536;
+    const typename K::Point_3 m = mesh.point(p) + (mesh.point(q) - mesh.point(p)) * typename K::FT(s);
+    const FP Mp = to_filtered(m);
+    const bool snap_like = CGAL::squared_distance(X, Mp) <= CGAL::square(tol);
+    double before = std::min(face_angle(f), face_angle(mesh.face(o)));
+    // Across: (q, p, t) becomes (q, m, t) and (m, p, t), in its plane (exactly under Epeck).
+    if (CGAL::collinear(mesh.point(q), m, mesh.point(t)) || CGAL::collinear(m, mesh.point(p), mesh.point(t)))
+      return false;
+    double after = std::min(min_angle_deg(Q, Mp, T), min_angle_deg(Mp, P, T));
+    // Around x: (a, x, c) becomes (a, m, c), f excepted (it goes).
+    for (auto g : CGAL::halfedges_around_target(mesh.halfedge(x), mesh)) {
+      const F face = mesh.face(g);
+      if (face == f) continue;
+      if (!snap_like && source[face] != remeshed_face && !is_new[face]) return false;
+      const V a = mesh.source(g), c = mesh.target(mesh.next(g));
+      if (CGAL::collinear(mesh.point(a), m, mesh.point(c))) return false;
+      const FP A = point(a), C = point(c);
+      if (!turns_less_than_30_degrees(CGAL::cross_product(X - A, C - A), CGAL::cross_product(Mp - A, C - A)) ||
+          surface.distance(CGAL::centroid(A, Mp, C)) > tol || surface.distance(CGAL::midpoint(A, Mp)) > tol ||
+          surface.distance(CGAL::midpoint(Mp, C)) > tol)
+        return false;
+      before = std::min(before, face_angle(face));
+      after = std::min(after, min_angle_deg(A, Mp, C));
+    }
+    if (!(after > before + 1.0)) return false;
+    // Split (p, q) at m: hn (p -> m) is followed by h (m -> q); connect m to x and to t.
+    const auto hn = CGAL::Euler::split_edge(h, mesh);
+    const V mv = mesh.target(hn);
+    mesh.point(mv) = m;
+    const auto across_source = source[mesh.face(o)];
+    const bool across_changed = source[mesh.face(o)] == remeshed_face || is_new[mesh.face(o)];
+    CGAL::Euler::split_face(hn, mesh.next(h), mesh);
+    const auto hs = CGAL::Euler::split_face(o, mesh.next(mesh.opposite(hn)), mesh);
+    const std::array<F, 2> across = {mesh.face(hs), mesh.face(mesh.opposite(hs))};
+    for (F g : across) {
+      source[g] = across_changed ? remeshed_face : across_source;  // in the same plane
+      is_new[g] = true;
+    }
+    // Merge x into m (m keeps its point; CGAL may keep x's index for it).
+    const V kept = CGAL::Euler::collapse_edge(mesh.edge(mesh.halfedge(x, mv)), mesh);
+    mesh.point(kept) = m;
+    for (F g : CGAL::faces_around_target(mesh.halfedge(kept), mesh)) {
+      if (g == across[0] || g == across[1]) continue;
+      if (source[g] == remeshed_face || is_new[g]) source[g] = remeshed_face;  // (others: as if snapped)
+      is_new[g] = true;
+    }
+    return true;
+  };
   std::size_t collapses = 0;
   for (int round = 0; round < rounds; ++round) {
     std::vector<F> thin;
@@ -614,8 +687,8 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
       if (mesh.is_removed(f) || face_angle(f) >= thin_deg) continue;
       // Merge one end of an edge of the face (not a curve edge) into the other: the merge that
       // raises the smallest angle of the faces around the removed vertex most, by more than a
-      // degree. (A needle loses its short edge; a cap, whose
-      // long edge no flip could remove, the vertex at its large angle.)
+      // degree. (A needle loses its short edge; a cap, whose long edge no flip could remove, the
+      // vertex at its large angle, or else that vertex moves onto the long edge.)
       V v = M::null_vertex(), w = M::null_vertex();
       double best_gain = 1.0;
       for (auto h : CGAL::halfedges_around_face(mesh.halfedge(f), mesh)) {
@@ -629,7 +702,10 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
           if (after - before > best_gain) best_gain = after - before, v = from, w = into;
         }
       }
-      if (v == M::null_vertex()) continue;
+      if (v == M::null_vertex()) {
+        if (move_cap_apex_onto_long_edge(f)) ++merged;
+        continue;
+      }
       // No vertex moves: w keeps its point, exactly. CGAL keeps the target of the edge's own
       // halfedge, which may hold v's index: it then gets w's point, and w's curve positions.
       const auto w_point = mesh.point(w);

@@ -114,3 +114,79 @@ TEST_CASE("improve: the needles of a remeshed band are merged away, no vertex mo
     CHECK(mesh.halfedge(curve[0][i], curve[0][i + 1]) != M::null_halfedge());
   CHECK(area() == area_before);
 }
+
+TEST_CASE("improve: the apex of a cap moves onto its long edge, exactly on it, the surface unchanged",
+          "[pair][remesh]") {
+  using K = seam::Exact;
+  using M = seam::Mesh<K>;
+  using V = M::Vertex_index;
+  using F = M::Face_index;
+  // A flat 8 x 8 grid of input faces; the curve is the row y = 6. Vertex (5, 2) is pulled to
+  // (5.5, 2.99), just below the edge from (5, 3) to (6, 3): the face (x, (6, 3), (5, 3)) is a cap,
+  // the only new face. Its apex cannot merge into a neighbour (its other faces are input faces,
+  // and the neighbours are farther than the tolerance 0.05), but it is within the tolerance of
+  // the long edge.
+  M mesh;
+  std::vector<V> grid;
+  auto at = [&](int i, int j) { return grid[std::size_t(j * 9 + i)]; };
+  for (int j = 0; j <= 8; ++j)
+    for (int i = 0; i <= 8; ++i) grid.push_back(mesh.add_vertex(K::Point_3(i, j, 0)));
+  for (int j = 0; j < 8; ++j)
+    for (int i = 0; i < 8; ++i) {
+      mesh.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+      mesh.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+  const seam::internal::SurfaceDistance surface(seam::internal::triangles_of<K>(mesh));
+  mesh.point(at(5, 2)) = K::Point_3(5.5, 2.99, 0);
+  auto source = mesh.add_property_map<F, std::uint32_t>(seam::source_face_property, 7).first;
+  auto is_new = mesh.add_property_map<F, bool>(seam::new_face_property, false).first;
+  const F cap = mesh.face(mesh.halfedge(at(6, 3), at(5, 3)));
+  REQUIRE(cap != M::null_face());
+  source[cap] = std::numeric_limits<std::uint32_t>::max();
+  is_new[cap] = true;
+  std::vector<std::vector<V>> curve(1);
+  for (int i = 0; i <= 8; ++i) curve[0].push_back(at(i, 6));
+  auto twice_area = [&]() {
+    K::FT sum = 0;
+    for (F f : mesh.faces()) {
+      const auto h = mesh.halfedge(f);
+      const auto &p = mesh.point(mesh.source(h)), &q = mesh.point(mesh.target(h)),
+                 &r = mesh.point(mesh.target(mesh.next(h)));
+      sum += CGAL::cross_product(q - p, r - p).z();
+    }
+    return sum;
+  };
+  auto smallest_angle = [&]() {
+    double worst = 180;
+    for (F f : mesh.faces()) {
+      const auto h = mesh.halfedge(f);
+      worst = std::min(worst, seam::min_angle_deg(mesh.point(mesh.source(h)), mesh.point(mesh.target(h)),
+                                                  mesh.point(mesh.target(mesh.next(h)))));
+    }
+    return worst;
+  };
+  const K::FT area_before = twice_area();
+  REQUIRE(smallest_angle() < 2);
+  // One pass: the cap alone (the faces it leaves are treated in later passes).
+  CHECK(seam::internal::collapse_short_edges_of_thin_faces<K>(mesh, curve, surface, 0.05, 20, 1) == 1);
+  REQUIRE(CGAL::is_valid_polygon_mesh(mesh));
+  CHECK(smallest_angle() > 10);
+  CHECK(twice_area() == area_before);  // the same square, covered once (exact)
+  // Every face kept its input face: the one across the edge was split in its plane, the apex's
+  // other faces moved by 0.01 (as snapping would move them); the cap went.
+  std::size_t changed = 0;
+  for (F f : mesh.faces()) {
+    CHECK(source[f] == 7);
+    changed += is_new[f] ? 1 : 0;
+  }
+  CHECK(changed == 7);  // two halves across, five around the apex
+  // The apex went onto the edge: a vertex strictly inside it, exactly on the line y = 3.
+  std::size_t on_edge = 0;
+  for (V v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    if (p.y() == 3 && p.x() > 5 && p.x() < 6) ++on_edge;
+    CHECK(p != K::Point_3(5.5, 2.99, 0));
+  }
+  CHECK(on_edge == 1);
+  for (std::size_t i = 0; i < curve[0].size(); ++i) CHECK(mesh.point(curve[0][i]) == K::Point_3(double(i), 6, 0));
+}

@@ -105,7 +105,11 @@ std::size_t smooth_remeshed_vertices(Mesh<K>& mesh, const std::vector<std::vecto
 /// merge keeps the mesh a 2-manifold (link condition), leaves no face flat (exact), turns no face
 /// by 30 degrees or more and keeps each changed face's centroid and new edges' middles within
 /// `tol` of `surface` (doubles). Changed new faces are marked remeshed; a face of the input that
-/// a snap-like merge changed keeps its source and is marked new.
+/// a snap-like merge changed keeps its source and is marked new. A cap (largest angle 120 degrees
+/// or more) that no merge helps has its apex moved onto its long edge (not a curve edge): the edge
+/// is split at the apex's closest point (exactly on it under the exact kernel), the face across
+/// is split in its plane (keeping its source), and the apex is merged into the new vertex, under
+/// the same tests.
 /// Up to `rounds` passes. The mesh is compacted afterwards; `curve_vertices` follow. Returns the
 /// number of merges.
 template <class K>
