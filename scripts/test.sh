@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Builds seam (scripts/build.sh) and runs the test suite with ctest.
+# Builds seam (scripts/build.sh, or scripts/fuzz.sh's sanitized build) and runs the test suite
+# with ctest.
 #   scripts/test.sh              Release build in build/
 #   scripts/test.sh --sanitize   AddressSanitizer + UBSan build in build-fuzz/ (clang, CGAL's
 #                                assertions on; the build the fuzz targets use, see scripts/fuzz.sh)
@@ -27,7 +28,7 @@ if [[ $sanitize -eq 1 ]]; then
   # assertions on (no NDEBUG), so that a CGAL precondition the suite reaches fails it too.
   build_dir=build-fuzz
   bash scripts/fuzz.sh --configure
-  cmake --build "$build_dir" -j2
+  cmake --build "$build_dir" -j"${SEAM_JOBS:-2}"
   export ASAN_OPTIONS="${ASAN_OPTIONS:-abort_on_error=0:detect_stack_use_after_return=1}"
   export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 else

@@ -156,8 +156,9 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
     }
 
   // 3. Remesh the band on double coordinates; points not moved keep their exact coordinates.
-  using DK = CGAL::Exact_predicates_inexact_constructions_kernel;
-  CGAL::Surface_mesh<DK::Point_3> dmesh;
+  using DK = BandKernel;
+  BandMesh dmesh;
+  auto to_band = [](const Filtered::Point_3& p) { return DK::Point_3(p.x(), p.y(), p.z()); };
   work.collect_garbage();
   // after garbage collection the properties moved with their vertices and faces
   auto vfixed2 = work.template property_map<V, bool>("v:seam_fixed").first;
@@ -184,7 +185,7 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
       in_band_face[std::size_t(f)] = is_near && !is_frozen;
     }
   }
-  for (V v : work.vertices()) dmesh.add_vertex(to_filtered(work.point(v)));
+  for (V v : work.vertices()) dmesh.add_vertex(to_band(to_filtered(work.point(v))));
   for (F f : work.faces()) {
     std::vector<typename CGAL::Surface_mesh<DK::Point_3>::Vertex_index> vs;
     for (V v : CGAL::vertices_around_face(work.halfedge(f), work)) vs.emplace_back(std::uint32_t(std::size_t(v)));
@@ -246,7 +247,7 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
   for (DV dv : dmesh.vertices()) {
     const std::int64_t o = d_orig2[dv];
     typename K::Point_3 p(dmesh.point(dv).x(), dmesh.point(dv).y(), dmesh.point(dv).z());
-    if (o >= 0 && to_filtered(work.point(V(std::uint32_t(o)))) == dmesh.point(dv)) {
+    if (o >= 0 && to_band(to_filtered(work.point(V(std::uint32_t(o))))) == dmesh.point(dv)) {
       p = work.point(V(std::uint32_t(o)));
       moved[std::size_t(dv)] = 0;
     }
@@ -465,8 +466,6 @@ std::size_t flip_to_improve_angles(Mesh<K>& mesh, const std::vector<std::vector<
       const auto h = mesh.halfedge(e), o = mesh.opposite(h);
       const F fh = mesh.face(h), fo = mesh.face(o);
       if (!(source[fh] == remeshed_face || is_new[fh]) || !(source[fo] == remeshed_face || is_new[fo])) continue;
-      // Two new faces of one input face stay in it (a flip inside a plane); otherwise remeshed.
-      const std::uint32_t flipped_source = source[fh] == source[fo] ? source[fh] : remeshed_face;
       const V p = mesh.source(h), q = mesh.target(h), r = mesh.target(mesh.next(h)), t = mesh.target(mesh.next(o));
       if (curve_edges.count({std::min(p, q), std::max(p, q)})) continue;  // shared: left as it is
       if (r == t || mesh.halfedge(r, t) != M::null_halfedge()) continue;  // the other diagonal exists
@@ -479,6 +478,12 @@ std::size_t flip_to_improve_angles(Mesh<K>& mesh, const std::vector<std::vector<
           !close_normals(Q, P, T, R, P, T))
         continue;
       if (surface.distance(CGAL::midpoint(R, T)) > tol) continue;
+      // Two new faces of one input face, in one plane, stay in it (exact coplanarity: merges and
+      // collapses can tilt faces that keep their source); otherwise remeshed.
+      const std::uint32_t flipped_source =
+          source[fh] == source[fo] && CGAL::coplanar(mesh.point(p), mesh.point(q), mesh.point(r), mesh.point(t))
+              ? source[fh]
+              : remeshed_face;
       CGAL::Euler::flip_edge(h, mesh);
       for (F g : {mesh.face(h), mesh.face(o)}) {
         source[g] = flipped_source;
@@ -593,8 +598,12 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
       if (!tiny && source[g] != remeshed_face && !is_new[g]) return -1.0;  // only new faces change
       const V a = mesh.source(h), c = mesh.target(mesh.next(h));  // g is (a, v, c)
       if (a == w || c == w) continue;                              // removed by the merge
-      // Exact: the merged face is not flat.
-      if (CGAL::collinear(mesh.point(a), mesh.point(w), mesh.point(c))) return -1.0;
+      // Exact: the merged face is not flat and keeps its orientation (its normal's sign).
+      const auto &a_point = mesh.point(a), &c_point = mesh.point(c);
+      if (CGAL::collinear(a_point, mesh.point(w), c_point) ||
+          CGAL::sign(CGAL::cross_product(mesh.point(v) - a_point, c_point - a_point) *
+                     CGAL::cross_product(mesh.point(w) - a_point, c_point - a_point)) != CGAL::POSITIVE)
+        return -1.0;
       const FP A = point(a), C = point(c), Vp = point(v);
       if (!turns_less_than_30_degrees(CGAL::cross_product(Vp - A, C - A), CGAL::cross_product(W - A, C - A)) ||
           surface.distance(CGAL::centroid(A, W, C)) > tol || surface.distance(CGAL::midpoint(A, W)) > tol ||
@@ -644,7 +653,11 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
       if (face == f) continue;
       if (!snap_like && source[face] != remeshed_face && !is_new[face]) return false;
       const V a = mesh.source(g), c = mesh.target(mesh.next(g));
-      if (CGAL::collinear(mesh.point(a), m, mesh.point(c))) return false;
+      const auto &a_point = mesh.point(a), &c_point = mesh.point(c);
+      if (CGAL::collinear(a_point, m, c_point) ||
+          CGAL::sign(CGAL::cross_product(mesh.point(x) - a_point, c_point - a_point) *
+                     CGAL::cross_product(m - a_point, c_point - a_point)) != CGAL::POSITIVE)
+        return false;
       const FP A = point(a), C = point(c);
       if (!turns_less_than_30_degrees(CGAL::cross_product(X - A, C - A), CGAL::cross_product(Mp - A, C - A)) ||
           surface.distance(CGAL::centroid(A, Mp, C)) > tol || surface.distance(CGAL::midpoint(A, Mp)) > tol ||
@@ -659,19 +672,20 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
     const V mv = mesh.target(hn);
     mesh.point(mv) = m;
     const auto across_source = source[mesh.face(o)];
-    const bool across_changed = source[mesh.face(o)] == remeshed_face || is_new[mesh.face(o)];
+    std::vector<F> changed;  // x's faces but f: they get m for x
+    for (auto g : CGAL::halfedges_around_target(mesh.halfedge(x), mesh))
+      if (mesh.face(g) != f) changed.push_back(mesh.face(g));
     CGAL::Euler::split_face(hn, mesh.next(h), mesh);
     const auto hs = CGAL::Euler::split_face(o, mesh.next(mesh.opposite(hn)), mesh);
     const std::array<F, 2> across = {mesh.face(hs), mesh.face(mesh.opposite(hs))};
     for (F g : across) {
-      source[g] = across_changed ? remeshed_face : across_source;  // in the same plane
+      source[g] = across_source;  // in its plane (to within rounding under the rounded kernels)
       is_new[g] = true;
     }
     // Merge x into m (m keeps its point; CGAL may keep x's index for it).
     const V kept = CGAL::Euler::collapse_edge(mesh.edge(mesh.halfedge(x, mv)), mesh);
     mesh.point(kept) = m;
-    for (F g : CGAL::faces_around_target(mesh.halfedge(kept), mesh)) {
-      if (g == across[0] || g == across[1]) continue;
+    for (F g : changed) {
       if (source[g] == remeshed_face || is_new[g]) source[g] = remeshed_face;  // (others: as if snapped)
       is_new[g] = true;
     }
@@ -708,6 +722,10 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
       }
       // No vertex moves: w keeps its point, exactly. CGAL keeps the target of the edge's own
       // halfedge, which may hold v's index: it then gets w's point, and w's curve positions.
+      // The faces that change: v's, but the two on the edge (they go); w's keep their shape.
+      std::vector<F> changed;
+      for (auto g : CGAL::halfedges_around_target(mesh.halfedge(v), mesh))
+        if (mesh.source(g) != w && mesh.target(mesh.next(g)) != w) changed.push_back(mesh.face(g));
       const auto w_point = mesh.point(w);
       const V kept = CGAL::Euler::collapse_edge(mesh.edge(mesh.halfedge(v, w)), mesh);
       if (kept != w) {
@@ -717,7 +735,7 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
           index_curves();
         }
       }
-      for (F g : CGAL::faces_around_target(mesh.halfedge(kept), mesh)) {
+      for (F g : changed) {
         if (source[g] == remeshed_face || is_new[g]) source[g] = remeshed_face;  // (others: as if snapped)
         is_new[g] = true;
       }

@@ -804,6 +804,9 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
       } catch (const CGAL::Failure_exception&) {
         add_note("remeshing next to the curves failed (a CGAL assertion); the embedded meshes are kept");
         break;
+      } catch (const std::exception& e) {  // InternalError from a step: the embedded meshes stay
+        add_note(std::string("remeshing next to the curves failed (") + e.what() + "); the embedded meshes are kept");
+        break;
       }
       if (!coarsened) {
         if (std::all_of(refused.begin(), refused.end(), [](const auto& r) { return r.empty(); })) {

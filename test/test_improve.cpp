@@ -80,9 +80,18 @@ TEST_CASE("improve: the needles of a remeshed band are merged away, no vertex mo
       const auto h = mesh.halfedge(f);
       const auto &p = mesh.point(mesh.source(h)), &q = mesh.point(mesh.target(h)),
                  &r = mesh.point(mesh.target(mesh.next(h)));
-      sum += CGAL::cross_product(q - p, r - p).z();  // twice the signed area: folds would subtract
+      sum += CGAL::cross_product(q - p, r - p).z();  // twice the signed area
     }
     return sum;
+  };
+  auto all_faces_up = [&]() {  // every face keeps its orientation: nothing folded (exact)
+    for (F f : mesh.faces()) {
+      const auto h = mesh.halfedge(f);
+      const auto &p = mesh.point(mesh.source(h)), &q = mesh.point(mesh.target(h)),
+                 &r = mesh.point(mesh.target(mesh.next(h)));
+      if (!(CGAL::cross_product(q - p, r - p).z() > 0)) return false;
+    }
+    return true;
   };
   std::set<K::Point_3> points_before;
   for (V v : mesh.vertices()) points_before.insert(mesh.point(v));
@@ -96,7 +105,8 @@ TEST_CASE("improve: the needles of a remeshed band are merged away, no vertex mo
   CHECK(mesh.number_of_removed_vertices() == 0);  // compacted
   REQUIRE(CGAL::is_valid_polygon_mesh(mesh));
   CHECK(smallest_angle() > 20);
-  CHECK(area() == area_before);  // the same square, covered once: nothing folded (exact)
+  CHECK(area() == area_before);  // the same square
+  CHECK(all_faces_up());
   for (V v : mesh.vertices()) CHECK(points_before.count(mesh.point(v)) == 1);  // no vertex moved
   // The curve: the same points, consecutive ones joined by edges.
   REQUIRE(curve[0].size() == 9);
@@ -104,7 +114,8 @@ TEST_CASE("improve: the needles of a remeshed band are merged away, no vertex mo
   for (std::size_t i = 0; i + 1 < curve[0].size(); ++i)
     CHECK(mesh.halfedge(curve[0][i], curve[0][i + 1]) != M::null_halfedge());
 
-  // A needle along the curve itself is left: curve edges are shared with the other mesh.
+  // A needle along the curve itself is left: curve edges are shared with the other mesh, so the
+  // short curve edge stays, and the faces on it stay thin.
   mesh.point(curve[0][3]) = K::Point_3(3.99, 4, 0);
   seam::internal::collapse_short_edges_of_thin_faces<K>(mesh, curve, surface, 0.01, 20, 3);
   REQUIRE(curve[0].size() == 9);
@@ -112,7 +123,14 @@ TEST_CASE("improve: the needles of a remeshed band are merged away, no vertex mo
   CHECK(mesh.point(curve[0][4]) == K::Point_3(4, 4, 0));
   for (std::size_t i = 0; i + 1 < curve[0].size(); ++i)
     CHECK(mesh.halfedge(curve[0][i], curve[0][i + 1]) != M::null_halfedge());
+  const auto short_edge = mesh.halfedge(curve[0][3], curve[0][4]);
+  for (auto h : {short_edge, mesh.opposite(short_edge)}) {
+    REQUIRE_FALSE(mesh.is_border(h));
+    CHECK(seam::min_angle_deg(mesh.point(mesh.source(h)), mesh.point(mesh.target(h)),
+                              mesh.point(mesh.target(mesh.next(h)))) < 2);
+  }
   CHECK(area() == area_before);
+  CHECK(all_faces_up());
 }
 
 TEST_CASE("improve: the apex of a cap moves onto its long edge, exactly on it, the surface unchanged",
@@ -171,7 +189,13 @@ TEST_CASE("improve: the apex of a cap moves onto its long edge, exactly on it, t
   CHECK(seam::internal::collapse_short_edges_of_thin_faces<K>(mesh, curve, surface, 0.05, 20, 1) == 1);
   REQUIRE(CGAL::is_valid_polygon_mesh(mesh));
   CHECK(smallest_angle() > 10);
-  CHECK(twice_area() == area_before);  // the same square, covered once (exact)
+  CHECK(twice_area() == area_before);  // the same square
+  for (F f : mesh.faces()) {  // covered once: every face keeps its orientation (exact)
+    const auto h = mesh.halfedge(f);
+    const auto &p = mesh.point(mesh.source(h)), &q = mesh.point(mesh.target(h)),
+               &r = mesh.point(mesh.target(mesh.next(h)));
+    CHECK(CGAL::cross_product(q - p, r - p).z() > 0);
+  }
   // Every face kept its input face: the one across the edge was split in its plane, the apex's
   // other faces moved by 0.01 (as snapping would move them); the cap went.
   std::size_t changed = 0;

@@ -4,14 +4,19 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Filtered_kernel.h>
+#include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
 
 #include <vector>
 
 namespace seam::internal {
 
-using BandMesh = CGAL::Surface_mesh<CGAL::Exact_predicates_inexact_constructions_kernel::Point_3>;
+/// Double coordinates, exact (filtered) predicates: the same numbers as Epick, but a kernel type
+/// of its own, so that no mesh code compiled in remesh_band.cpp (where CGAL's preconditions are
+/// off) is shared with the rest of the library (where they are on in the fuzz build).
+using BandKernel = CGAL::Filtered_kernel<CGAL::Simple_cartesian<double>>;
+using BandMesh = CGAL::Surface_mesh<BandKernel::Point_3>;
 
 /// Remeshes `band_faces` of `mesh` with CGAL's isotropic remeshing (3 iterations, target
 /// `target_edge_length`). Vertices marked in the bool property "v:fixed" do not move; edges marked
