@@ -225,8 +225,10 @@ void curve_marks(const Mesh<K>& m, const VertexLists<K>& lists, std::vector<char
     }
 }
 
-/// Removes garbage and maps the vertex lists to the new indices.
-template <class K> void compact(Mesh<K>& m, VertexLists<K>& lists) {
+}  // namespace
+
+template <class K>
+void compact_keeping_curve_vertices(Mesh<K>& m, std::vector<std::vector<typename MeshTypes<K>::V>>& lists) {
   using V = typename MeshTypes<K>::V;
   auto [old_index, created] = m.template add_property_map<V, std::uint32_t>("v:seam_collapse_old_index", 0);
   for (auto v : m.vertices()) old_index[v] = std::uint32_t(v);
@@ -238,13 +240,12 @@ template <class K> void compact(Mesh<K>& m, VertexLists<K>& lists) {
     for (auto& v : vs) {
       const auto it = std::lower_bound(pairs.begin(), pairs.end(), std::uint32_t(v),
                                        [](const std::pair<std::uint32_t, V>& x, std::uint32_t y) { return x.first < y; });
-      if (it == pairs.end() || it->first != std::uint32_t(v)) throw InternalError("collapse: a curve vertex was lost");
+      if (it == pairs.end() || it->first != std::uint32_t(v)) throw InternalError("compact: a curve vertex was lost");
       v = it->second;
     }
   m.remove_property_map(old_index);
 }
 
-}  // namespace
 
 template <class K>
 CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::vector<Polyline<K>>& curves,
@@ -456,8 +457,8 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
       if (chosen.empty()) break;
     }
     if (chosen.empty()) continue;
-    compact<K>(a, cva);
-    compact<K>(b, cvb);
+    compact_keeping_curve_vertices<K>(a, cva);
+    compact_keeping_curve_vertices<K>(b, cvb);
     excluded.clear();  // indices moved: the next round evaluates every candidate again
   }
   for (const auto& c : curves)  // what is left
@@ -469,7 +470,8 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
 #define SEAM_INSTANTIATE(K)                                                                                     \
   template CurveCollapseReport collapse_short_curve_segments<K>(                                                 \
       Mesh<K>&, Mesh<K>&, std::vector<Polyline<K>>&, VertexLists<K>&, VertexLists<K>&, double, double,     \
-      std::size_t, std::size_t, const MergedFaceTest&);
+      std::size_t, std::size_t, const MergedFaceTest&);                                                                              \
+  template void compact_keeping_curve_vertices<K>(Mesh<K>&, VertexLists<K>&);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)
 SEAM_INSTANTIATE(Float)

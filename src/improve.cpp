@@ -1,5 +1,6 @@
 // seam: better triangles next to the shared curves of a pair. See seam/internal/improve.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/internal/collapse.h>
 #include <seam/internal/improve.h>
 #include <seam/internal/remesh_band.h>
 #include <seam/quality.h>
@@ -344,6 +345,14 @@ Filtered::Point_3 SurfaceDistance::closest_point(const Filtered::Point_3& p) con
   return tree_->triangles.empty() ? p : tree_->tree.closest_point(p);
 }
 
+double SurfaceDistance::sampled_distance(const Filtered::Point_3& p, const Filtered::Point_3& q,
+                                         const Filtered::Point_3& r) const {
+  double worst = 0;
+  for (const auto& x : {p, q, r, CGAL::midpoint(p, q), CGAL::midpoint(q, r), CGAL::midpoint(r, p), CGAL::centroid(p, q, r)})
+    worst = std::max(worst, distance(x));
+  return worst;
+}
+
 namespace {
 constexpr std::uint32_t remeshed_face = std::numeric_limits<std::uint32_t>::max();
 
@@ -376,9 +385,7 @@ std::vector<std::size_t> remeshed_faces_off_surface(const Mesh<K>& mesh, const S
     const auto h = mesh.halfedge(f);
     const auto p = to_filtered(mesh.point(mesh.source(h))), q = to_filtered(mesh.point(mesh.target(h))),
                r = to_filtered(mesh.point(mesh.target(mesh.next(h))));
-    double worst = 0;
-    for (const auto& x : {p, q, r, CGAL::midpoint(p, q), CGAL::midpoint(q, r), CGAL::midpoint(r, p), CGAL::centroid(p, q, r)})
-      worst = std::max(worst, surface.distance(x));
+    const double worst = surface.sampled_distance(p, q, r);
     max_distance = std::max(max_distance, worst);
     if (worst > tol) result.push_back(std::size_t(f));
   }
@@ -582,6 +589,22 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
     const auto h = mesh.halfedge(f);
     return min_angle_deg(point(mesh.source(h)), point(mesh.target(h)), point(mesh.target(mesh.next(h))));
   };
+  // The smallest angle of the face (a, from, c) once its corner `from` is at `to`, or a negative
+  // value when that is not allowed: the face goes flat or turns over (exact), turns by 30 degrees
+  // or more, or its centroid or the middle of a moved edge is farther than tol from the surface.
+  auto angle_with_corner_moved = [&](V a, V c, const typename K::Point_3& from, const typename K::Point_3& to) {
+    const auto &a_point = mesh.point(a), &c_point = mesh.point(c);
+    if (CGAL::collinear(a_point, to, c_point) ||
+        CGAL::sign(CGAL::cross_product(from - a_point, c_point - a_point) *
+                   CGAL::cross_product(to - a_point, c_point - a_point)) != CGAL::POSITIVE)
+      return -1.0;
+    const FP A = point(a), C = point(c), From = to_filtered(from), To = to_filtered(to);
+    if (!turns_less_than_30_degrees(CGAL::cross_product(From - A, C - A), CGAL::cross_product(To - A, C - A)) ||
+        surface.distance(CGAL::centroid(A, To, C)) > tol || surface.distance(CGAL::midpoint(A, To)) > tol ||
+        surface.distance(CGAL::midpoint(To, C)) > tol)
+      return -1.0;
+    return min_angle_deg(A, To, C);
+  };
   // The smallest angle of the faces around v after merging v into w (its neighbour), or a
   // negative value when the merge is not allowed.
   auto angle_after_merge = [&](V v, V w) {
@@ -598,18 +621,9 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
       if (!tiny && source[g] != remeshed_face && !is_new[g]) return -1.0;  // only new faces change
       const V a = mesh.source(h), c = mesh.target(mesh.next(h));  // g is (a, v, c)
       if (a == w || c == w) continue;                              // removed by the merge
-      // Exact: the merged face is not flat and keeps its orientation (its normal's sign).
-      const auto &a_point = mesh.point(a), &c_point = mesh.point(c);
-      if (CGAL::collinear(a_point, mesh.point(w), c_point) ||
-          CGAL::sign(CGAL::cross_product(mesh.point(v) - a_point, c_point - a_point) *
-                     CGAL::cross_product(mesh.point(w) - a_point, c_point - a_point)) != CGAL::POSITIVE)
-        return -1.0;
-      const FP A = point(a), C = point(c), Vp = point(v);
-      if (!turns_less_than_30_degrees(CGAL::cross_product(Vp - A, C - A), CGAL::cross_product(W - A, C - A)) ||
-          surface.distance(CGAL::centroid(A, W, C)) > tol || surface.distance(CGAL::midpoint(A, W)) > tol ||
-          surface.distance(CGAL::midpoint(W, C)) > tol)
-        return -1.0;
-      after = std::min(after, min_angle_deg(A, W, C));
+      const double angle = angle_with_corner_moved(a, c, mesh.point(v), mesh.point(w));
+      if (angle < 0) return -1.0;
+      after = std::min(after, angle);
     }
     return after;
   };
@@ -652,19 +666,10 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
       const F face = mesh.face(g);
       if (face == f) continue;
       if (!snap_like && source[face] != remeshed_face && !is_new[face]) return false;
-      const V a = mesh.source(g), c = mesh.target(mesh.next(g));
-      const auto &a_point = mesh.point(a), &c_point = mesh.point(c);
-      if (CGAL::collinear(a_point, m, c_point) ||
-          CGAL::sign(CGAL::cross_product(mesh.point(x) - a_point, c_point - a_point) *
-                     CGAL::cross_product(m - a_point, c_point - a_point)) != CGAL::POSITIVE)
-        return false;
-      const FP A = point(a), C = point(c);
-      if (!turns_less_than_30_degrees(CGAL::cross_product(X - A, C - A), CGAL::cross_product(Mp - A, C - A)) ||
-          surface.distance(CGAL::centroid(A, Mp, C)) > tol || surface.distance(CGAL::midpoint(A, Mp)) > tol ||
-          surface.distance(CGAL::midpoint(Mp, C)) > tol)
-        return false;
+      const double angle = angle_with_corner_moved(mesh.source(g), mesh.target(mesh.next(g)), mesh.point(x), m);
+      if (angle < 0) return false;
       before = std::min(before, face_angle(face));
-      after = std::min(after, min_angle_deg(A, Mp, C));
+      after = std::min(after, angle);
     }
     if (!(after > before + 1.0)) return false;
     // Split (p, q) at m: hn (p -> m) is followed by h (m -> q); connect m to x and to t.
@@ -744,17 +749,7 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
     collapses += merged;
     if (merged == 0) break;
   }
-  if (collapses > 0) {
-    // Compact the mesh; the curve vertices follow their vertices.
-    auto old_index = mesh.template add_property_map<V, std::uint32_t>("v:seam_old_index", 0).first;
-    for (V v : mesh.vertices()) old_index[v] = std::uint32_t(std::size_t(v));
-    mesh.collect_garbage();
-    std::map<std::uint32_t, V> now;
-    for (V v : mesh.vertices()) now[old_index[v]] = v;
-    for (auto& vs : curve_vertices)
-      for (auto& v : vs) v = now.at(std::uint32_t(std::size_t(v)));
-    mesh.remove_property_map(old_index);
-  }
+  if (collapses > 0) compact_keeping_curve_vertices<K>(mesh, curve_vertices);
   return collapses;
 }
 

@@ -726,6 +726,15 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
         }
       return count;
     };
+    // The curves as points of a mesh, from its curve vertices.
+    auto curves_of = [](const Mesh<K>& m, const std::vector<std::vector<typename Mesh<K>::Vertex_index>>& cv) {
+      std::vector<Polyline<K>> curves;
+      for (const auto& vs : cv) {
+        curves.emplace_back();
+        for (auto v : vs) curves.back().push_back(m.point(v));
+      }
+      return curves;
+    };
     constexpr int max_attempts = 12;
     for (int attempt = 0; attempt < max_attempts; ++attempt) {
       auto kept = chosen;
@@ -782,18 +791,10 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
           // around them are merged again.
           const internal::MergedFaceTest near_inputs = [&](int m, const Filtered::Point_3& p,
                                                            const Filtered::Point_3& q, const Filtered::Point_3& r) {
-            const auto& surface = m == 0 ? surface_a : surface_b;
-            for (const auto& x : {p, q, r, CGAL::midpoint(p, q), CGAL::midpoint(q, r), CGAL::midpoint(r, p),
-                                  CGAL::centroid(p, q, r)})
-              if (surface.distance(x) > snap_tol) return false;
-            return true;
+            return (m == 0 ? surface_a : surface_b).sampled_distance(p, q, r) <= snap_tol;
           };
           if (options.collapse_short_segments) {
-            std::vector<Polyline<K>> coarse;
-            for (const auto& vs : cva) {
-              coarse.emplace_back();
-              for (auto v : vs) coarse.back().push_back(a2.point(v));
-            }
+            std::vector<Polyline<K>> coarse = curves_of(a2, cva);
             if (internal::collapse_short_curve_segments<K>(a2, b2, coarse, cva, cvb, 0.5 * spacing, 0.0, 0, 0,
                                                           near_inputs).collapsed > 0) {
               merge_thin_faces(a2, cva, surface_a);
@@ -816,15 +817,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
         keep_refused_too();
         continue;
       }
-      std::vector<Polyline<K>> ca, cb;
-      for (const auto& vs : cva) {
-        ca.emplace_back();
-        for (auto v : vs) ca.back().push_back(a2.point(v));
-      }
-      for (const auto& vs : cvb) {
-        cb.emplace_back();
-        for (auto v : vs) cb.back().push_back(b2.point(v));
-      }
+      const std::vector<Polyline<K>> ca = curves_of(a2, cva), cb = curves_of(b2, cvb);
       if (!(ca == cb)) {
         add_note("remeshing next to the curves failed (the two curves differ); the embedded meshes are kept");
         break;

@@ -7,6 +7,7 @@
 #include <CGAL/boost/graph/helpers.h>
 
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <set>
 
@@ -38,65 +39,76 @@ TEST_CASE("improve: a point where two curves cross is kept for both, however clo
   CHECK(apart[1].size() == 2);
 }
 
-TEST_CASE("improve: the needles of a remeshed band are merged away, no vertex moves, the curve stays",
-          "[pair][remesh]") {
-  using K = seam::Exact;
-  using M = seam::Mesh<K>;
-  using V = M::Vertex_index;
-  using F = M::Face_index;
-  // A flat 8 x 8 grid of unit squares, two triangles each, all of it "remeshed"; the curve is the
-  // row y = 4. Vertices (2, 2) and (5, 6) are pulled to 0.02 from a neighbour: needles.
+namespace {
+using K = seam::Exact;
+using M = seam::Mesh<K>;
+using V = M::Vertex_index;
+using F = M::Face_index;
+
+/// A flat 8 x 8 grid of unit squares in z = 0, two triangles each (diagonal from (i, j) to
+/// (i + 1, j + 1)), and the exact figures the tests check on it.
+struct FlatGrid {
   M mesh;
   std::vector<V> grid;
-  auto at = [&](int i, int j) { return grid[std::size_t(j * 9 + i)]; };
-  for (int j = 0; j <= 8; ++j)
-    for (int i = 0; i <= 8; ++i) grid.push_back(mesh.add_vertex(K::Point_3(i, j, 0)));
-  for (int j = 0; j < 8; ++j)
-    for (int i = 0; i < 8; ++i) {
-      mesh.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
-      mesh.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+  FlatGrid() {
+    for (int j = 0; j <= 8; ++j)
+      for (int i = 0; i <= 8; ++i) grid.push_back(mesh.add_vertex(K::Point_3(i, j, 0)));
+    for (int j = 0; j < 8; ++j)
+      for (int i = 0; i < 8; ++i) {
+        mesh.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+        mesh.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+      }
+  }
+  V at(int i, int j) const { return grid[std::size_t(j * 9 + i)]; }
+  std::array<K::Point_3, 3> corners(F f) const {
+    const auto h = mesh.halfedge(f);
+    return {mesh.point(mesh.source(h)), mesh.point(mesh.target(h)), mesh.point(mesh.target(mesh.next(h)))};
+  }
+  double smallest_angle() const {
+    double worst = 180;
+    for (F f : mesh.faces()) {
+      const auto [p, q, r] = corners(f);
+      worst = std::min(worst, seam::min_angle_deg(p, q, r));
     }
+    return worst;
+  }
+  K::FT twice_area() const {  // signed
+    K::FT sum = 0;
+    for (F f : mesh.faces()) {
+      const auto [p, q, r] = corners(f);
+      sum += CGAL::cross_product(q - p, r - p).z();
+    }
+    return sum;
+  }
+  bool all_faces_up() const {  // every face keeps its orientation: nothing folded (exact)
+    for (F f : mesh.faces()) {
+      const auto [p, q, r] = corners(f);
+      if (!(CGAL::cross_product(q - p, r - p).z() > 0)) return false;
+    }
+    return true;
+  }
+};
+}  // namespace
+
+TEST_CASE("improve: the needles of a remeshed band are merged away, no vertex moves, the curve stays",
+          "[pair][remesh]") {
+  // A flat 8 x 8 grid, all of it "remeshed"; the curve is the row y = 4. Vertices (2, 2) and
+  // (5, 6) are pulled to 0.02 from a neighbour: needles.
+  FlatGrid g;
+  M& mesh = g.mesh;
   const auto flat = seam::internal::triangles_of<K>(mesh);  // the input surface: the plane
-  mesh.point(at(2, 2)) = K::Point_3(2.98, 2, 0);
-  mesh.point(at(5, 6)) = K::Point_3(5, 5.02, 0);
+  mesh.point(g.at(2, 2)) = K::Point_3(2.98, 2, 0);
+  mesh.point(g.at(5, 6)) = K::Point_3(5, 5.02, 0);
   auto source = mesh.add_property_map<F, std::uint32_t>(seam::source_face_property, 0).first;
   mesh.add_property_map<F, bool>(seam::new_face_property, false);
   for (F f : mesh.faces()) source[f] = std::numeric_limits<std::uint32_t>::max();
   std::vector<std::vector<V>> curve(1);
-  for (int i = 0; i <= 8; ++i) curve[0].push_back(at(i, 4));
+  for (int i = 0; i <= 8; ++i) curve[0].push_back(g.at(i, 4));
 
-  auto smallest_angle = [&]() {
-    double worst = 180;
-    for (F f : mesh.faces()) {
-      const auto h = mesh.halfedge(f);
-      worst = std::min(worst, seam::min_angle_deg(mesh.point(mesh.source(h)), mesh.point(mesh.target(h)),
-                                                  mesh.point(mesh.target(mesh.next(h)))));
-    }
-    return worst;
-  };
-  auto area = [&]() {
-    K::FT sum = 0;
-    for (F f : mesh.faces()) {
-      const auto h = mesh.halfedge(f);
-      const auto &p = mesh.point(mesh.source(h)), &q = mesh.point(mesh.target(h)),
-                 &r = mesh.point(mesh.target(mesh.next(h)));
-      sum += CGAL::cross_product(q - p, r - p).z();  // twice the signed area
-    }
-    return sum;
-  };
-  auto all_faces_up = [&]() {  // every face keeps its orientation: nothing folded (exact)
-    for (F f : mesh.faces()) {
-      const auto h = mesh.halfedge(f);
-      const auto &p = mesh.point(mesh.source(h)), &q = mesh.point(mesh.target(h)),
-                 &r = mesh.point(mesh.target(mesh.next(h)));
-      if (!(CGAL::cross_product(q - p, r - p).z() > 0)) return false;
-    }
-    return true;
-  };
   std::set<K::Point_3> points_before;
   for (V v : mesh.vertices()) points_before.insert(mesh.point(v));
-  const K::FT area_before = area();
-  const double worst_before = smallest_angle();
+  const K::FT area_before = g.twice_area();
+  const double worst_before = g.smallest_angle();
   REQUIRE(worst_before < 2);
 
   const seam::internal::SurfaceDistance surface(flat);
@@ -104,9 +116,9 @@ TEST_CASE("improve: the needles of a remeshed band are merged away, no vertex mo
   CHECK(merges >= 2);  // the two needles, and what they leave thin around them
   CHECK(mesh.number_of_removed_vertices() == 0);  // compacted
   REQUIRE(CGAL::is_valid_polygon_mesh(mesh));
-  CHECK(smallest_angle() > 20);
-  CHECK(area() == area_before);  // the same square
-  CHECK(all_faces_up());
+  CHECK(g.smallest_angle() > 20);
+  CHECK(g.twice_area() == area_before);  // the same square
+  CHECK(g.all_faces_up());
   for (V v : mesh.vertices()) CHECK(points_before.count(mesh.point(v)) == 1);  // no vertex moved
   // The curve: the same points, consecutive ones joined by edges.
   REQUIRE(curve[0].size() == 9);
@@ -129,31 +141,20 @@ TEST_CASE("improve: the needles of a remeshed band are merged away, no vertex mo
     CHECK(seam::min_angle_deg(mesh.point(mesh.source(h)), mesh.point(mesh.target(h)),
                               mesh.point(mesh.target(mesh.next(h)))) < 2);
   }
-  CHECK(area() == area_before);
-  CHECK(all_faces_up());
+  CHECK(g.twice_area() == area_before);
+  CHECK(g.all_faces_up());
 }
 
 TEST_CASE("improve: the apex of a cap moves onto its long edge, exactly on it, the surface unchanged",
           "[pair][remesh]") {
-  using K = seam::Exact;
-  using M = seam::Mesh<K>;
-  using V = M::Vertex_index;
-  using F = M::Face_index;
   // A flat 8 x 8 grid of input faces; the curve is the row y = 6. Vertex (5, 2) is pulled to
   // (5.5, 2.99), just below the edge from (5, 3) to (6, 3): the face (x, (6, 3), (5, 3)) is a cap,
   // the only new face. Its apex cannot merge into a neighbour (its other faces are input faces,
   // and the neighbours are farther than the tolerance 0.05), but it is within the tolerance of
   // the long edge.
-  M mesh;
-  std::vector<V> grid;
-  auto at = [&](int i, int j) { return grid[std::size_t(j * 9 + i)]; };
-  for (int j = 0; j <= 8; ++j)
-    for (int i = 0; i <= 8; ++i) grid.push_back(mesh.add_vertex(K::Point_3(i, j, 0)));
-  for (int j = 0; j < 8; ++j)
-    for (int i = 0; i < 8; ++i) {
-      mesh.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
-      mesh.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
-    }
+  FlatGrid g;
+  M& mesh = g.mesh;
+  auto at = [&](int i, int j) { return g.at(i, j); };
   const seam::internal::SurfaceDistance surface(seam::internal::triangles_of<K>(mesh));
   mesh.point(at(5, 2)) = K::Point_3(5.5, 2.99, 0);
   auto source = mesh.add_property_map<F, std::uint32_t>(seam::source_face_property, 7).first;
@@ -164,38 +165,14 @@ TEST_CASE("improve: the apex of a cap moves onto its long edge, exactly on it, t
   is_new[cap] = true;
   std::vector<std::vector<V>> curve(1);
   for (int i = 0; i <= 8; ++i) curve[0].push_back(at(i, 6));
-  auto twice_area = [&]() {
-    K::FT sum = 0;
-    for (F f : mesh.faces()) {
-      const auto h = mesh.halfedge(f);
-      const auto &p = mesh.point(mesh.source(h)), &q = mesh.point(mesh.target(h)),
-                 &r = mesh.point(mesh.target(mesh.next(h)));
-      sum += CGAL::cross_product(q - p, r - p).z();
-    }
-    return sum;
-  };
-  auto smallest_angle = [&]() {
-    double worst = 180;
-    for (F f : mesh.faces()) {
-      const auto h = mesh.halfedge(f);
-      worst = std::min(worst, seam::min_angle_deg(mesh.point(mesh.source(h)), mesh.point(mesh.target(h)),
-                                                  mesh.point(mesh.target(mesh.next(h)))));
-    }
-    return worst;
-  };
-  const K::FT area_before = twice_area();
-  REQUIRE(smallest_angle() < 2);
+  const K::FT area_before = g.twice_area();
+  REQUIRE(g.smallest_angle() < 2);
   // One pass: the cap alone (the faces it leaves are treated in later passes).
   CHECK(seam::internal::collapse_short_edges_of_thin_faces<K>(mesh, curve, surface, 0.05, 20, 1) == 1);
   REQUIRE(CGAL::is_valid_polygon_mesh(mesh));
-  CHECK(smallest_angle() > 10);
-  CHECK(twice_area() == area_before);  // the same square
-  for (F f : mesh.faces()) {  // covered once: every face keeps its orientation (exact)
-    const auto h = mesh.halfedge(f);
-    const auto &p = mesh.point(mesh.source(h)), &q = mesh.point(mesh.target(h)),
-               &r = mesh.point(mesh.target(mesh.next(h)));
-    CHECK(CGAL::cross_product(q - p, r - p).z() > 0);
-  }
+  CHECK(g.smallest_angle() > 10);
+  CHECK(g.twice_area() == area_before);  // the same square
+  CHECK(g.all_faces_up());                // covered once
   // Every face kept its input face: the one across the edge was split in its plane, the apex's
   // other faces moved by 0.01 (as snapping would move them); the cap went.
   std::size_t changed = 0;

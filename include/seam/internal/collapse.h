@@ -55,4 +55,9 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
                                                   std::size_t input_vertices_a, std::size_t input_vertices_b,
                                                   const MergedFaceTest& accept_face = {});
 
+/// Removes `m`'s garbage (removed elements) and maps the vertex lists to the vertices' new
+/// indices; throws InternalError if a listed vertex was removed.
+template <class K>
+void compact_keeping_curve_vertices(Mesh<K>& m, std::vector<std::vector<typename MeshTypes<K>::V>>& lists);
+
 }  // namespace seam::internal

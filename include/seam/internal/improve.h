@@ -50,6 +50,9 @@ class SurfaceDistance {
   SurfaceDistance& operator=(const SurfaceDistance&) = delete;
   double distance(const Filtered::Point_3& p) const;
   Filtered::Point_3 closest_point(const Filtered::Point_3& p) const;
+  /// The largest distance of the triangle's corners, edge middles and centroid (a sampled bound,
+  /// not a Hausdorff distance).
+  double sampled_distance(const Filtered::Point_3& p, const Filtered::Point_3& q, const Filtered::Point_3& r) const;
 
  private:
   struct Tree;
