@@ -370,6 +370,29 @@ bool turns_less_than_30_degrees(const Filtered::Vector_3& before, const Filtered
   const double norms = std::sqrt(before.squared_length() * after.squared_length());
   return norms > 0 && before * after > 0.866 * norms;
 }
+
+/// The smallest angle of the face (a, from, c) of `mesh` once its corner `from` is at `to`, or a
+/// negative value when that is not allowed: the face goes flat or turns over (exact), turns by
+/// 30 degrees or more, or its centroid or the middle of a moved edge is farther than `tol` from
+/// `surface` (doubles).
+template <class K>
+double angle_with_corner_moved_to(const seam::Mesh<K>& mesh, const seam::internal::SurfaceDistance& surface, double tol,
+                                  typename seam::Mesh<K>::Vertex_index a, typename seam::Mesh<K>::Vertex_index c,
+                                  const typename K::Point_3& from, const typename K::Point_3& to) {
+  using FP = seam::Filtered::Point_3;
+  const auto &a_point = mesh.point(a), &c_point = mesh.point(c);
+  if (CGAL::collinear(a_point, to, c_point) ||
+      CGAL::sign(CGAL::cross_product(from - a_point, c_point - a_point) *
+                 CGAL::cross_product(to - a_point, c_point - a_point)) != CGAL::POSITIVE)
+    return -1.0;
+  const FP A = seam::to_filtered(a_point), C = seam::to_filtered(c_point), From = seam::to_filtered(from),
+           To = seam::to_filtered(to);
+  if (!turns_less_than_30_degrees(CGAL::cross_product(From - A, C - A), CGAL::cross_product(To - A, C - A)) ||
+      surface.distance(CGAL::centroid(A, To, C)) > tol || surface.distance(CGAL::midpoint(A, To)) > tol ||
+      surface.distance(CGAL::midpoint(To, C)) > tol)
+    return -1.0;
+  return seam::min_angle_deg(A, To, C);
+}
 }
 
 template <class K>
@@ -589,21 +612,8 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
     const auto h = mesh.halfedge(f);
     return min_angle_deg(point(mesh.source(h)), point(mesh.target(h)), point(mesh.target(mesh.next(h))));
   };
-  // The smallest angle of the face (a, from, c) once its corner `from` is at `to`, or a negative
-  // value when that is not allowed: the face goes flat or turns over (exact), turns by 30 degrees
-  // or more, or its centroid or the middle of a moved edge is farther than tol from the surface.
   auto angle_with_corner_moved = [&](V a, V c, const typename K::Point_3& from, const typename K::Point_3& to) {
-    const auto &a_point = mesh.point(a), &c_point = mesh.point(c);
-    if (CGAL::collinear(a_point, to, c_point) ||
-        CGAL::sign(CGAL::cross_product(from - a_point, c_point - a_point) *
-                   CGAL::cross_product(to - a_point, c_point - a_point)) != CGAL::POSITIVE)
-      return -1.0;
-    const FP A = point(a), C = point(c), From = to_filtered(from), To = to_filtered(to);
-    if (!turns_less_than_30_degrees(CGAL::cross_product(From - A, C - A), CGAL::cross_product(To - A, C - A)) ||
-        surface.distance(CGAL::centroid(A, To, C)) > tol || surface.distance(CGAL::midpoint(A, To)) > tol ||
-        surface.distance(CGAL::midpoint(To, C)) > tol)
-      return -1.0;
-    return min_angle_deg(A, To, C);
+    return angle_with_corner_moved_to<K>(mesh, surface, tol, a, c, from, to);
   };
   // The smallest angle of the faces around v after merging v into w (its neighbour), or a
   // negative value when the merge is not allowed.
@@ -753,6 +763,120 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
   return collapses;
 }
 
+template <class K>
+std::size_t relocate_vertices_of_thin_faces(Mesh<K>& mesh,
+                                            const std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
+                                            const SurfaceDistance& surface, double tol, double thin_deg, int rounds) {
+  using M = Mesh<K>;
+  using V = typename M::Vertex_index;
+  using F = typename M::Face_index;
+  using FP = Filtered::Point_3;
+  using FV = Filtered::Vector_3;
+  auto source = mesh.template property_map<F, std::uint32_t>(source_face_property).first;
+  auto is_new = mesh.template property_map<F, bool>(new_face_property).first;
+  std::set<V> on_curve;
+  for (const auto& vs : curve_vertices) on_curve.insert(vs.begin(), vs.end());
+  auto point = [&](V v) { return to_filtered(mesh.point(v)); };
+  auto face_angle = [&](F f) {
+    const auto h = mesh.halfedge(f);
+    return min_angle_deg(point(mesh.source(h)), point(mesh.target(h)), point(mesh.target(mesh.next(h))));
+  };
+  // Where each moved vertex started: a vertex of a face of the input moves no farther than tol
+  // from there in all (as snapping would move it).
+  std::map<V, FP> start;
+  std::size_t moves = 0;
+  for (int round = 0; round < rounds; ++round) {
+    std::set<V> candidates;
+    for (F f : mesh.faces())
+      if ((source[f] == remeshed_face || is_new[f]) && face_angle(f) < thin_deg)
+        for (V v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
+          if (!on_curve.count(v) && !mesh.is_border(v)) candidates.insert(v);
+    std::size_t moved = 0;
+    for (V x : candidates) {
+      // The star of x: faces (a, x, c) in halfedge order.
+      std::vector<std::pair<V, V>> star;
+      bool all_new = true;
+      FV normal(0, 0, 0);
+      const FP here = point(x);
+      for (auto h : CGAL::halfedges_around_target(mesh.halfedge(x), mesh)) {
+        const V a = mesh.source(h), c = mesh.target(mesh.next(h));
+        star.emplace_back(a, c);
+        const F g = mesh.face(h);
+        if (source[g] != remeshed_face && !is_new[g]) all_new = false;
+        normal = normal + CGAL::cross_product(here - point(a), point(c) - point(a));
+      }
+      const double normal_length = std::sqrt(normal.squared_length());
+      if (!(normal_length > 0) || star.size() < 3) continue;
+      normal = normal / normal_length;
+      // The smallest angle of the star with x at p (doubles, no tests), and with all the tests.
+      auto star_angle = [&](const FP& p) {
+        double worst = 180;
+        for (const auto& [a, c] : star) worst = std::min(worst, min_angle_deg(point(a), p, point(c)));
+        return worst;
+      };
+      const auto from = mesh.point(x);
+      const FP origin = start.count(x) ? start.at(x) : here;
+      auto tested_angle = [&](const FP& p) {
+        if (!all_new && CGAL::squared_distance(origin, p) > CGAL::square(tol)) return -1.0;
+        const typename K::Point_3 to(p.x(), p.y(), p.z());
+        double worst = 180;
+        for (const auto& [a, c] : star) {
+          const double angle = angle_with_corner_moved_to<K>(mesh, surface, tol, a, c, from, to);
+          if (angle < 0) return -1.0;
+          worst = std::min(worst, angle);
+        }
+        return worst;
+      };
+      const double before = star_angle(here);
+      // A pattern search in the tangent plane at x (16 directions, the step halved when no
+      // direction helps), from half the shortest spoke; then the point found goes onto the
+      // surface (closest point) and must pass the tests.
+      FV u = CGAL::cross_product(normal, std::abs(normal.x()) < 0.9 ? FV(1, 0, 0) : FV(0, 1, 0));
+      u = u / std::sqrt(u.squared_length());
+      const FV w = CGAL::cross_product(normal, u);
+      double shortest = std::numeric_limits<double>::infinity();
+      for (const auto& [a, c] : star) shortest = std::min(shortest, std::sqrt(CGAL::squared_distance(here, point(a))));
+      FP best = here;
+      double best_angle = before;
+      double step = 0.5 * shortest;
+      for (int iteration = 0; iteration < 24 && step > shortest / 64; ++iteration) {
+        FP next = best;
+        double next_angle = best_angle;
+        for (int k = 0; k < 16; ++k) {
+          const double theta = k * M_PI / 8;
+          const FP p = best + step * (std::cos(theta) * u + std::sin(theta) * w);
+          const double angle = star_angle(p);
+          if (angle > next_angle) next = p, next_angle = angle;
+        }
+        if (next == best) step *= 0.5;
+        else best = next, best_angle = next_angle;
+      }
+      if (!(best_angle > before + 1.0)) continue;
+      // Back along the way if the point on the surface fails a test.
+      bool done = false;
+      for (double t = 1.0; t > 0.1 && !done; t *= 0.5) {
+        const FP target = surface.closest_point(here + t * (best - here));
+        const double after = tested_angle(target);
+        if (!(after > before + 1.0)) continue;
+        if (!start.count(x)) start.emplace(x, here);
+        mesh.point(x) = typename K::Point_3(target.x(), target.y(), target.z());
+        // Within tol of where x started, its faces keep their input faces, as after snapping.
+        const bool snap_like = CGAL::squared_distance(origin, target) <= CGAL::square(tol);
+        for (auto h : CGAL::halfedges_around_target(mesh.halfedge(x), mesh)) {
+          const F g = mesh.face(h);
+          if (!snap_like) source[g] = remeshed_face;
+          is_new[g] = true;
+        }
+        done = true;
+      }
+      if (done) ++moved;
+    }
+    moves += moved;
+    if (moved == 0) break;
+  }
+  return moves;
+}
+
 #define SEAM_INSTANTIATE(K)                                                                                          \
   template std::vector<std::vector<std::size_t>> choose_curve_points<K>(const std::vector<Polyline<K>>&, double, double);   \
   template bool coarsen_and_remesh_near_curves<K>(Mesh<K>&, std::vector<std::vector<typename MeshTypes<K>::V>>&,   \
@@ -769,7 +893,9 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
   template std::size_t smooth_remeshed_vertices<K>(Mesh<K>&, const std::vector<std::vector<typename MeshTypes<K>::V>>&, \
                                                    const SurfaceDistance&, double, int);                            \
   template std::size_t collapse_short_edges_of_thin_faces<K>(Mesh<K>&, std::vector<std::vector<typename MeshTypes<K>::V>>&, \
-                                                             const SurfaceDistance&, double, double, int);
+                                                             const SurfaceDistance&, double, double, int);   \
+  template std::size_t relocate_vertices_of_thin_faces<K>(Mesh<K>&, const std::vector<std::vector<typename MeshTypes<K>::V>>&, \
+                                                          const SurfaceDistance&, double, double, int);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)
 SEAM_INSTANTIATE(Float)

@@ -770,12 +770,15 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
             internal::flip_to_improve_angles<K>(b2, cvb, surface_b, snap_tol, 2);
           }
           // Thin faces left (a needle's short edge, often from the splits at a sharp bend; a cap
-          // no flip removes): merge the ends of one of their edges, then smooth and flip once
-          // more around them.
+          // no flip removes; a vertex close to the curve): merge the ends of one of their edges,
+          // then move their vertices where their faces are better (a search on the surface), then
+          // smooth and flip once more around them.
           const double thin = options.embed.min_angle_deg;
           auto merge_thin_faces = [&](Mesh<K>& m, std::vector<std::vector<typename Mesh<K>::Vertex_index>>& cv,
                                       const internal::SurfaceDistance& surface) {
-            if (internal::collapse_short_edges_of_thin_faces<K>(m, cv, surface, snap_tol, thin, 3) > 0) {
+            const bool merged = internal::collapse_short_edges_of_thin_faces<K>(m, cv, surface, snap_tol, thin, 3) > 0;
+            const bool moved = internal::relocate_vertices_of_thin_faces<K>(m, cv, surface, snap_tol, thin, 2) > 0;
+            if (merged || moved) {
               internal::smooth_remeshed_vertices<K>(m, cv, surface, snap_tol, 2);
               internal::flip_to_improve_angles<K>(m, cv, surface, snap_tol, 2);
             }

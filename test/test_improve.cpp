@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <map>
 #include <set>
 
 TEST_CASE("improve: a point where two curves cross is kept for both, however close the spacing asks",
@@ -190,4 +191,84 @@ TEST_CASE("improve: the apex of a cap moves onto its long edge, exactly on it, t
   }
   CHECK(on_edge == 1);
   for (std::size_t i = 0; i < curve[0].size(); ++i) CHECK(mesh.point(curve[0][i]) == K::Point_3(double(i), 6, 0));
+}
+
+TEST_CASE("improve: a vertex next to the curve moves away from it, on the surface, the curve stays",
+          "[pair][remesh]") {
+  // A flat 8 x 8 grid, all of it "remeshed"; the curve is the row y = 4. Vertex (3, 3) is pulled
+  // to (3.05, 3.95), next to the curve vertex (3, 4): its faces are thin, and no merge is allowed
+  // (its neighbours are farther than the tolerance, and curve vertices never move).
+  FlatGrid g;
+  M& mesh = g.mesh;
+  const seam::internal::SurfaceDistance surface(seam::internal::triangles_of<K>(mesh));
+  const V x = g.at(3, 3);
+  mesh.point(x) = K::Point_3(3.05, 3.95, 0);
+  auto source = mesh.add_property_map<F, std::uint32_t>(seam::source_face_property, 0).first;
+  auto is_new = mesh.add_property_map<F, bool>(seam::new_face_property, false).first;
+  for (F f : mesh.faces()) source[f] = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::vector<V>> curve(1);
+  for (int i = 0; i <= 8; ++i) curve[0].push_back(g.at(i, 4));
+  const K::FT area_before = g.twice_area();
+  REQUIRE(g.smallest_angle() < 5);
+  const std::size_t vertices_before = mesh.number_of_vertices();
+
+  CHECK(seam::internal::relocate_vertices_of_thin_faces<K>(mesh, curve, surface, 0.01, 20, 2) >= 1);
+  REQUIRE(CGAL::is_valid_polygon_mesh(mesh));
+  CHECK(mesh.number_of_vertices() == vertices_before);
+  CHECK(g.smallest_angle() > 20);  // thin no more (the search stops once its faces reach 20 degrees)
+  CHECK(mesh.point(x).z() == 0);   // on the surface (the plane z = 0)
+  CHECK(g.twice_area() == area_before);  // the same square, covered once
+  CHECK(g.all_faces_up());
+  for (int i = 0; i <= 8; ++i) CHECK(mesh.point(curve[0][std::size_t(i)]) == K::Point_3(i, 4, 0));
+  for (std::size_t i = 0; i + 1 < curve[0].size(); ++i)
+    CHECK(mesh.halfedge(curve[0][i], curve[0][i + 1]) != M::null_halfedge());
+  for (F f : mesh.faces()) CHECK(source[f] == std::numeric_limits<std::uint32_t>::max());  // remeshed stays
+
+  // A vertex of faces of the input moves no farther than the tolerance (as snapping would), and
+  // those faces keep their input face.
+  const V y = g.at(6, 1);
+  const K::Point_3 start(6.47, 1.96, 0);
+  mesh.point(y) = start;
+  auto star_angle = [&]() {
+    double worst = 180;
+    for (F f : CGAL::faces_around_target(mesh.halfedge(y), mesh)) {
+      const auto [p, q, r] = g.corners(f);
+      worst = std::min(worst, seam::min_angle_deg(p, q, r));
+    }
+    return worst;
+  };
+  // All faces are faces of the input; the thinnest of y's is new (of the embedding).
+  F thinnest = M::null_face();
+  double thinnest_angle = 180;
+  for (F f : mesh.faces()) {
+    source[f] = 7;
+    is_new[f] = false;
+  }
+  for (F f : CGAL::faces_around_target(mesh.halfedge(y), mesh)) {
+    const auto [p, q, r] = g.corners(f);
+    if (seam::min_angle_deg(p, q, r) < thinnest_angle) thinnest_angle = seam::min_angle_deg(p, q, r), thinnest = f;
+  }
+  is_new[thinnest] = true;
+  const double before = star_angle();
+  REQUIRE(before < 10);
+  std::map<F, std::array<K::Point_3, 3>> corners_before;
+  std::map<F, bool> new_before;
+  for (F f : mesh.faces()) corners_before[f] = g.corners(f), new_before[f] = is_new[f];
+  // One pass (in a second, faces made new by the first could be reshaped further, as new faces).
+  CHECK(seam::internal::relocate_vertices_of_thin_faces<K>(mesh, curve, surface, 0.05, 20, 1) >= 1);
+  REQUIRE(CGAL::is_valid_polygon_mesh(mesh));
+  CHECK(star_angle() > before + 1);
+  CHECK(std::sqrt(CGAL::to_double(CGAL::squared_distance(mesh.point(y), start))) <= 0.05 * (1 + 1e-12));
+  CHECK(g.twice_area() == area_before);
+  CHECK(g.all_faces_up());
+  // Moves change no connectivity. A changed face is new, and keeps its input face: its vertices
+  // moved no farther than the tolerance, as snapping would move them.
+  std::size_t changed = 0;
+  for (F f : mesh.faces()) {
+    const bool moved = g.corners(f) != corners_before.at(f);
+    changed += moved ? 1 : 0;
+    CHECK(is_new[f] == (moved || new_before.at(f)));
+    CHECK(source[f] == 7);
+  }
+  CHECK(changed >= 4);
 }

@@ -120,4 +120,18 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
                                                std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
                                                const SurfaceDistance& surface, double tol, double thin_deg, int rounds);
 
+/// Moves the vertices of thin new faces (smallest angle below `thin_deg`; not curve vertices, not
+/// on a border) to raise the smallest angle of their faces by more than a degree: a pattern search
+/// in the tangent plane (16 directions, halving steps, doubles), the point found moved onto
+/// `surface` (closest point) and, should it fail the tests, brought back towards the start. The
+/// tests are the merges' (no face flat or turned over, exact; none turned by 30 degrees or more;
+/// centroids and spokes' middles within `tol` of `surface`). A vertex with a face of the input
+/// moves no farther than `tol` from where it started (as snapping would); that face keeps its
+/// source and is marked new, the others are marked remeshed. Up to `rounds` passes. Returns the
+/// number of moves.
+template <class K>
+std::size_t relocate_vertices_of_thin_faces(Mesh<K>& mesh,
+                                            const std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
+                                            const SurfaceDistance& surface, double tol, double thin_deg, int rounds);
+
 }  // namespace seam::internal
