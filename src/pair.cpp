@@ -777,7 +777,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
           auto merge_thin_faces = [&](Mesh<K>& m, std::vector<std::vector<typename Mesh<K>::Vertex_index>>& cv,
                                       const internal::SurfaceDistance& surface) {
             const bool merged = internal::collapse_short_edges_of_thin_faces<K>(m, cv, surface, snap_tol, thin, 3) > 0;
-            const bool moved = internal::relocate_vertices_of_thin_faces<K>(m, cv, surface, snap_tol, thin, 2) > 0;
+            const bool moved = internal::relocate_vertices_of_thin_faces<K>(m, cv, surface, snap_tol, thin, 4) > 0;
             if (merged || moved) {
               internal::smooth_remeshed_vertices<K>(m, cv, surface, snap_tol, 2);
               internal::flip_to_improve_angles<K>(m, cv, surface, snap_tol, 2);
