@@ -475,8 +475,10 @@ TEST_CASE("pair: remeshing next to the curves gives far fewer thin triangles, wi
     INFO("below 10 degrees: " << share_10_before << " before, " << share_10 << " after; below 20: " << share_20);
     CHECK(share_10_before > 0.1);
     CHECK(share_10 < 0.5 * share_10_before);
-    CHECK(share_10 < 0.02);  // 0, 0 and 0.7% at 2026-12-02
-    CHECK(share_20 < 0.05);  // the issue's target: at least 95% of new faces at 20 degrees or more
+    // The issue's targets: no new face below 10 degrees, at least 95% at 20 degrees or more (on
+    // these three: 0, 0 and 0; 0.2%, 0% and 0% below 20 degrees at 2026-12-02).
+    CHECK(q_after.below_10_a + q_after.below_10_b == 0);
+    CHECK(share_20 < 0.05);
     // The remeshed surfaces stay within the snap tolerance of the inputs (sampled on the faces).
     CHECK(after.stats.remesh_max_deviation <= after.stats.snap_tol);
     // Both meshes share the coarser curve, every vertex and segment.
@@ -502,5 +504,5 @@ TEST_CASE("pair: when collapsing short curve segments makes a surface meet itsel
   CHECK(r.stats.remeshed);
   const double share_10 =
       double(report.below_10_a + report.below_10_b) / double(report.new_faces_a + report.new_faces_b);
-  CHECK(share_10 < 0.1);
+  CHECK(share_10 < 0.01);  // 1 of 282 (0.35%) at 2026-12-02
 }
