@@ -372,9 +372,9 @@ bool turns_less_than_30_degrees(const Filtered::Vector_3& before, const Filtered
 }
 
 /// The smallest angle of the face (a, from, c) of `mesh` once its corner `from` is at `to`, or a
-/// negative value when that is not allowed: the face goes flat or turns over (exact), turns by
-/// 30 degrees or more, or its centroid or the middle of a moved edge is farther than `tol` from
-/// `surface` (doubles).
+/// negative value when that is not allowed: the face goes flat or turns over (exact under the
+/// exact kernel), turns by 30 degrees or more, or its centroid or the middle of a moved edge is
+/// farther than `tol` from `surface` (doubles).
 template <class K>
 double angle_with_corner_moved_to(const seam::Mesh<K>& mesh, const seam::internal::SurfaceDistance& surface, double tol,
                                   typename seam::Mesh<K>::Vertex_index a, typename seam::Mesh<K>::Vertex_index c,
@@ -781,9 +781,6 @@ std::size_t relocate_vertices_of_thin_faces(Mesh<K>& mesh,
     const auto h = mesh.halfedge(f);
     return min_angle_deg(point(mesh.source(h)), point(mesh.target(h)), point(mesh.target(mesh.next(h))));
   };
-  // Where each moved vertex started: a vertex of a face of the input moves no farther than tol
-  // from there in all (as snapping would move it).
-  std::map<V, FP> start;
   std::size_t moves = 0;
   for (int round = 0; round < rounds; ++round) {
     std::set<V> candidates;
@@ -793,44 +790,33 @@ std::size_t relocate_vertices_of_thin_faces(Mesh<K>& mesh,
           if (!on_curve.count(v) && !mesh.is_border(v)) candidates.insert(v);
     std::size_t moved = 0;
     for (V x : candidates) {
-      // The star of x: faces (a, x, c) in halfedge order.
+      // The star of x: faces (a, x, c) in halfedge order. A face of the input (unchanged so far)
+      // may change only as snapping would change it: x then moves by tol at most.
       std::vector<std::pair<V, V>> star;
-      bool all_new = true;
+      bool touches_input = false;
       FV normal(0, 0, 0);
       const FP here = point(x);
       for (auto h : CGAL::halfedges_around_target(mesh.halfedge(x), mesh)) {
         const V a = mesh.source(h), c = mesh.target(mesh.next(h));
         star.emplace_back(a, c);
         const F g = mesh.face(h);
-        if (source[g] != remeshed_face && !is_new[g]) all_new = false;
+        if (source[g] != remeshed_face && !is_new[g]) touches_input = true;
         normal = normal + CGAL::cross_product(here - point(a), point(c) - point(a));
       }
       const double normal_length = std::sqrt(normal.squared_length());
       if (!(normal_length > 0) || star.size() < 3) continue;
       normal = normal / normal_length;
-      // The smallest angle of the star with x at p (doubles, no tests), and with all the tests.
+      // The smallest angle of the star with x at p (doubles).
       auto star_angle = [&](const FP& p) {
         double worst = 180;
         for (const auto& [a, c] : star) worst = std::min(worst, min_angle_deg(point(a), p, point(c)));
         return worst;
       };
-      const auto from = mesh.point(x);
-      const FP origin = start.count(x) ? start.at(x) : here;
-      auto tested_angle = [&](const FP& p) {
-        if (!all_new && CGAL::squared_distance(origin, p) > CGAL::square(tol)) return -1.0;
-        const typename K::Point_3 to(p.x(), p.y(), p.z());
-        double worst = 180;
-        for (const auto& [a, c] : star) {
-          const double angle = angle_with_corner_moved_to<K>(mesh, surface, tol, a, c, from, to);
-          if (angle < 0) return -1.0;
-          worst = std::min(worst, angle);
-        }
-        return worst;
-      };
       const double before = star_angle(here);
       // A pattern search in the tangent plane at x (16 directions, the step halved when no
-      // direction helps), from half the shortest spoke; then the point found goes onto the
-      // surface (closest point) and must pass the tests.
+      // direction helps, from half the shortest spoke). (Searching only within tol of x when it
+      // touches the input, or cutting the way found down to tol, left more faces below 10
+      // degrees on the crossovers: the way is shortened below instead.)
       FV u = CGAL::cross_product(normal, std::abs(normal.x()) < 0.9 ? FV(1, 0, 0) : FV(0, 1, 0));
       u = u / std::sqrt(u.squared_length());
       const FV w = CGAL::cross_product(normal, u);
@@ -838,8 +824,9 @@ std::size_t relocate_vertices_of_thin_faces(Mesh<K>& mesh,
       for (const auto& [a, c] : star) shortest = std::min(shortest, std::sqrt(CGAL::squared_distance(here, point(a))));
       FP best = here;
       double best_angle = before;
-      double step = 0.5 * shortest;
-      for (int iteration = 0; iteration < 24 && step > shortest / 64; ++iteration) {
+      const double first_step = 0.5 * shortest;
+      double step = first_step;
+      for (int iteration = 0; iteration < 24 && step > first_step / 32; ++iteration) {
         FP next = best;
         double next_angle = best_angle;
         for (int k = 0; k < 16; ++k) {
@@ -852,24 +839,36 @@ std::size_t relocate_vertices_of_thin_faces(Mesh<K>& mesh,
         else best = next, best_angle = next_angle;
       }
       if (!(best_angle > before + 1.0)) continue;
-      // Back along the way if the point on the surface fails a test.
-      bool done = false;
-      for (double t = 1.0; t > 0.1 && !done; t *= 0.5) {
+      // The point found goes onto the surface (closest point) and must pass the tests of a merge
+      // for every face of the star and raise its smallest angle by more than a degree; else back
+      // along the way, down to an eighth. (Other faces of the star may fall to just above the old
+      // smallest angle: keeping them at thin_deg or more made more faces below 10 degrees.)
+      const auto from = mesh.point(x);
+      auto acceptable = [&](const FP& p) {
+        if (touches_input && CGAL::squared_distance(here, p) > CGAL::square(tol)) return false;
+        const typename K::Point_3 to(p.x(), p.y(), p.z());
+        double worst = 180;
+        for (const auto& [a, c] : star) {
+          const double angle = angle_with_corner_moved_to<K>(mesh, surface, tol, a, c, from, to);
+          if (angle < 0) return false;
+          worst = std::min(worst, angle);
+        }
+        return worst > before + 1.0;
+      };
+      for (double t = 1.0; t > 0.1; t *= 0.5) {
         const FP target = surface.closest_point(here + t * (best - here));
-        const double after = tested_angle(target);
-        if (!(after > before + 1.0)) continue;
-        if (!start.count(x)) start.emplace(x, here);
+        if (!acceptable(target)) continue;
         mesh.point(x) = typename K::Point_3(target.x(), target.y(), target.z());
-        // Within tol of where x started, its faces keep their input faces, as after snapping.
-        const bool snap_like = CGAL::squared_distance(origin, target) <= CGAL::square(tol);
+        // As after snapping, a face of the input keeps its input face (x moved by tol at most);
+        // any other face it reshapes is marked remeshed, as after a merge.
         for (auto h : CGAL::halfedges_around_target(mesh.halfedge(x), mesh)) {
           const F g = mesh.face(h);
-          if (!snap_like) source[g] = remeshed_face;
+          if (source[g] == remeshed_face || is_new[g]) source[g] = remeshed_face;
           is_new[g] = true;
         }
-        done = true;
+        ++moved;
+        break;
       }
-      if (done) ++moved;
     }
     moves += moved;
     if (moved == 0) break;

@@ -105,9 +105,9 @@ std::size_t smooth_remeshed_vertices(Mesh<K>& mesh, const std::vector<std::vecto
 /// directions) the one that raises the smallest angle of the faces around the removed vertex
 /// most, by more than a degree, is made, if the removed end is not a curve vertex nor on a border,
 /// all its faces are new (or the edge is no longer than `tol`: the merge is then a snap), and the
-/// merge keeps the mesh a 2-manifold (link condition), leaves no face flat (exact), turns no face
-/// by 30 degrees or more and keeps each changed face's centroid and new edges' middles within
-/// `tol` of `surface` (doubles). Changed new faces are marked remeshed; a face of the input that
+/// merge keeps the mesh a 2-manifold (link condition), leaves no face flat or turned over (exact
+/// under the exact kernel), turns no face by 30 degrees or more and keeps each changed face's
+/// centroid and new edges' middles within `tol` of `surface` (doubles). Changed new faces are marked remeshed; a face of the input that
 /// a snap-like merge changed keeps its source and is marked new. A cap (largest angle 120 degrees
 /// or more) that no merge helps has its apex moved onto its long edge (not a curve edge): the edge
 /// is split at the apex's closest point (exactly on it under the exact kernel), the face across
@@ -124,11 +124,12 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
 /// on a border) to raise the smallest angle of their faces by more than a degree: a pattern search
 /// in the tangent plane (16 directions, halving steps, doubles), the point found moved onto
 /// `surface` (closest point) and, should it fail the tests, brought back towards the start. The
-/// tests are the merges' (no face flat or turned over, exact; none turned by 30 degrees or more;
-/// centroids and spokes' middles within `tol` of `surface`). A vertex with a face of the input
-/// moves no farther than `tol` from where it started (as snapping would); that face keeps its
-/// source and is marked new, the others are marked remeshed. Up to `rounds` passes. Returns the
-/// number of moves.
+/// tests are the merges' (no face flat or turned over, an exact test under the exact kernel; none
+/// turned by 30 degrees or more; centroids and spokes' middles within `tol` of `surface`). A
+/// vertex of a face of the input that no step changed yet moves by `tol` at most, as snapping
+/// would move it: that face keeps its input face and is marked new (a later move of one of its
+/// vertices reshapes it as a new face). Every other face a move reshapes is marked remeshed.
+/// Up to `rounds` passes. Returns the number of moves.
 template <class K>
 std::size_t relocate_vertices_of_thin_faces(Mesh<K>& mesh,
                                             const std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
