@@ -60,6 +60,13 @@ template <class K> double face_min_angle(const Mesh<K>& m, typename MeshTypes<K>
   return min_angle_deg(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h))));
 }
 
+/// Is v a corner of a face whose smallest angle is below `degrees`?
+template <class K> bool has_face_below(const Mesh<K>& m, typename MeshTypes<K>::V v, double degrees) {
+  for (auto f : CGAL::faces_around_target(m.halfedge(v), m))
+    if (f != MeshTypes<K>::M::null_face() && face_min_angle<K>(m, f) < degrees) return true;
+  return false;
+}
+
 /// Can P merge into Q in `m`? Fills the smallest angle of the faces around P and Q before and
 /// after. Exact tests for degeneracy and orientation under the exact kernel.
 template <class K>
@@ -251,7 +258,8 @@ template <class K>
 CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::vector<Polyline<K>>& curves,
                                                   VertexLists<K>& cva, VertexLists<K>& cvb, double max_length,
                                                   double tiny_length, std::size_t input_vertices_a,
-                                                  std::size_t input_vertices_b, const MergedFaceTest& accept_face) {
+                                                  std::size_t input_vertices_b, const MergedFaceTest& accept_face,
+                                                  double only_next_to_faces_below) {
   using V = typename MeshTypes<K>::V;
   using F = typename MeshTypes<K>::F;
   constexpr std::size_t no_curve = std::numeric_limits<std::size_t>::max();
@@ -299,6 +307,10 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
         for (int dir : {-1, 1}) {
           const std::size_t j = (i + n + std::size_t(dir)) % n;
           const double len = rounded_distance(curves[c][i], curves[c][j]);
+          if (only_next_to_faces_below > 0 && len > tiny_length &&
+              !has_face_below<K>(a, cva[c][i], only_next_to_faces_below) &&
+              !has_face_below<K>(b, cvb[c][i], only_next_to_faces_below))
+            continue;
           if (len <= std::max(max_length, tiny_length))
             ops.push_back({3, {cva[c][i], cvb[c][i]}, {cva[c][j], cvb[c][j]}, c, i, j, len, len <= tiny_length});
         }
@@ -470,7 +482,7 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
 #define SEAM_INSTANTIATE(K)                                                                                     \
   template CurveCollapseReport collapse_short_curve_segments<K>(                                                 \
       Mesh<K>&, Mesh<K>&, std::vector<Polyline<K>>&, VertexLists<K>&, VertexLists<K>&, double, double,     \
-      std::size_t, std::size_t, const MergedFaceTest&);                                                                              \
+      std::size_t, std::size_t, const MergedFaceTest&, double);                                                                              \
   template void compact_keeping_curve_vertices<K>(Mesh<K>&, VertexLists<K>&);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)

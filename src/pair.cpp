@@ -803,6 +803,15 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
               merge_thin_faces(a2, cva, surface_a);
               merge_thin_faces(b2, cvb, surface_b);
             }
+            // A curve vertex still at a corner of a face below 10 degrees (a cap of three curve
+            // vertices at a bend of the curve, say): a segment of it up to twice the spacing long
+            // is collapsed too, under the same tests.
+            coarse = curves_of(a2, cva);
+            if (internal::collapse_short_curve_segments<K>(a2, b2, coarse, cva, cvb, 2 * spacing, 0.0, 0, 0,
+                                                          near_inputs, 10.0).collapsed > 0) {
+              merge_thin_faces(a2, cva, surface_a);
+              merge_thin_faces(b2, cvb, surface_b);
+            }
           }
         }
       } catch (const CGAL::Failure_exception&) {

@@ -45,6 +45,8 @@ struct CurveCollapseReport {
 /// B; its corners rounded to doubles); a merge is made only if every changed face passes it in
 /// both meshes (the pair's remeshing uses it to keep faces within the tolerance of the inputs,
 /// and then allows segments longer than the tolerance).
+/// Optional (`only_next_to_faces_below`, degrees): only segments whose merged end is a corner of a
+/// face with a smaller angle, in either mesh, are tried (and tiny ones).
 using MergedFaceTest = std::function<bool(int mesh, const Filtered::Point_3&, const Filtered::Point_3&,
                                           const Filtered::Point_3&)>;
 template <class K>
@@ -53,7 +55,8 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
                                                   std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_b,
                                                   double max_length, double tiny_length,
                                                   std::size_t input_vertices_a, std::size_t input_vertices_b,
-                                                  const MergedFaceTest& accept_face = {});
+                                                  const MergedFaceTest& accept_face = {},
+                                                  double only_next_to_faces_below = 0);
 
 /// Removes `m`'s garbage (removed elements) and maps the vertex lists to the vertices' new
 /// indices; throws InternalError if a listed vertex was removed.
