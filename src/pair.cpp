@@ -431,6 +431,64 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
   return curves_and_sites<K>(a, b, touching_points, nullptr, nullptr);
 }
 
+/// intersection_curves of `a` and `b` after a change within `tol` of `old_curves` (snapping):
+/// computed on the faces of both near the old curves only. A point of the new curves lies on a
+/// face that did not change (so on the old curves) or on a changed face, which has a vertex
+/// within `tol` of them and is no longer than twice its longest edge at that vertex: every such
+/// point is within `tol` + twice the longest edge near the curves, and the faces through it
+/// overlap the old curves' boxes grown by that much. Both faces of an edge through a curve point
+/// are then taken, as the classification of the pieces needs. The same curves as on the whole
+/// meshes, without CGAL's work on all of their faces.
+template <class K>
+std::vector<Polyline<K>> intersection_curves_near(const Mesh<K>& a, const Mesh<K>& b,
+                                                  const std::vector<Polyline<K>>& old_curves, double tol,
+                                                  std::size_t* touching_points) {
+  using M = Mesh<K>;
+  std::vector<CGAL::Bbox_3> boxes;
+  for (const auto& c : old_curves) {
+    CGAL::Bbox_3 box;
+    for (const auto& p : c) box += p.bbox();
+    boxes.push_back(box);
+  }
+  auto grown = [](const CGAL::Bbox_3& box, double by) {
+    return CGAL::Bbox_3(box.xmin() - by, box.ymin() - by, box.zmin() - by, box.xmax() + by, box.ymax() + by,
+                        box.zmax() + by);
+  };
+  auto overlaps = [](const std::vector<CGAL::Bbox_3>& in, const CGAL::Bbox_3& box) {
+    return std::any_of(in.begin(), in.end(), [&](const CGAL::Bbox_3& b) { return CGAL::do_overlap(b, box); });
+  };
+  // The longest edge with an end within tol of the curves' boxes (rounded up a little).
+  std::vector<CGAL::Bbox_3> near;
+  for (const auto& box : boxes) near.push_back(grown(box, tol));
+  double longest = 0;
+  for (const M* m : {&a, &b})
+    for (auto e : m->edges()) {
+      const auto &p = m->point(m->vertex(e, 0)), &q = m->point(m->vertex(e, 1));
+      if (overlaps(near, p.bbox()) || overlaps(near, q.bbox()))
+        longest = std::max(longest, std::sqrt(CGAL::squared_distance(to_filtered(p), to_filtered(q))));
+    }
+  std::vector<CGAL::Bbox_3> reach;
+  for (const auto& box : boxes) reach.push_back(grown(box, 1.01 * (tol + 2 * longest) + 1e-12));
+  auto faces_near = [&](const M& m) {
+    M part;
+    std::vector<typename M::Vertex_index> copy(m.number_of_vertices() + m.number_of_removed_vertices());
+    for (auto f : m.faces()) {
+      if (!overlaps(reach, CGAL::Polygon_mesh_processing::face_bbox(f, m))) continue;
+      std::array<typename M::Vertex_index, 3> corners;
+      std::size_t k = 0;
+      for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) {
+        auto& c = copy[std::size_t(v)];
+        if (c == M::null_vertex()) c = part.add_vertex(m.point(v));
+        corners[k++ % 3] = c;
+      }
+      if (k != 3 || part.add_face(corners[0], corners[1], corners[2]) == M::null_face())
+        throw InternalError("intersection_curves_near: a face could not be copied");
+    }
+    return part;
+  };
+  return intersection_curves<K>(faces_near(a), faces_near(b), touching_points);
+}
+
 template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions& options) {
   validate_options(options.embed);
   PairResult<K> result;
@@ -503,7 +561,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
       sites_a.sites.clear();  // the meshes changed
       sites_b.sites.clear();
       t = Clock::now();
-      curves = intersection_curves<K>(a, b, &touching);
+      curves = intersection_curves_near<K>(a, b, curves, snap_tol, &touching);
       st.stage_seconds["intersect"] += seconds_since(t);
     }
     // Then curve points next to an edge of either mesh get a vertex of their own (see
@@ -531,7 +589,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
         sites_a.sites.clear();  // a mesh changed
         sites_b.sites.clear();
         t = Clock::now();
-        curves = intersection_curves<K>(a, b, &touching);
+        curves = intersection_curves_near<K>(a, b, curves, snap_tol, &touching);
         st.stage_seconds["intersect"] += seconds_since(t);
       }
     }
