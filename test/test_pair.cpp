@@ -506,6 +506,27 @@ TEST_CASE("pair: a curve vertex left at the corner of a face below 10 degrees lo
   CHECK(r.stats.remesh_max_deviation <= r.stats.snap_tol);
 }
 
+TEST_CASE("pair: when the snapped surfaces receive a curve differently, the unsnapped ones are embedded",
+          "[pair][collapse]") {
+  using K = seam::Exact;
+  // Resolution 16, lenticular warp, overlap 0.3, snapping at 1.25 times the default tolerance:
+  // at the warp's sharp edge the snapped warp received one curve point more than the weft, and
+  // pair failed with an internal error. Now snapping is undone there, as when a snapped curve
+  // cannot be embedded, and the result conforms.
+  const auto c = crossover(16, seam::Section::lenticular, 0.3);
+  const auto a = mesh_of<K>(c.weft), b = mesh_of<K>(c.warp);
+  auto a1 = a, b1 = b;
+  const double default_tol = seam::pair<K>(a1, b1).stats.snap_tol;
+  seam::PairOptions options;
+  options.embed.snap_tol = 1.25 * default_tol;
+  auto a2 = a, b2 = b;
+  seam::PairResult<K> r;
+  REQUIRE_NOTHROW(r = seam::pair<K>(a2, b2, options));
+  CHECK(r.stats.note.find("embedded differently") != std::string::npos);
+  const auto report = seam::check_pair<K>(a, b, a2, b2, r.curves, options.embed.snap_tol * (1 + 1e-9));
+  require_check<K>(report);
+}
+
 TEST_CASE("pair: when collapsing short curve segments makes a surface meet itself, they are kept, snapping is not undone",
           "[pair][collapse]") {
   using K = seam::Exact;
