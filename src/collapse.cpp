@@ -307,12 +307,12 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
         for (int dir : {-1, 1}) {
           const std::size_t j = (i + n + std::size_t(dir)) % n;
           const double len = rounded_distance(curves[c][i], curves[c][j]);
+          if (!(len <= std::max(max_length, tiny_length))) continue;
           if (only_next_to_faces_below > 0 && len > tiny_length &&
               !has_face_below<K>(a, cva[c][i], only_next_to_faces_below) &&
               !has_face_below<K>(b, cvb[c][i], only_next_to_faces_below))
             continue;
-          if (len <= std::max(max_length, tiny_length))
-            ops.push_back({3, {cva[c][i], cvb[c][i]}, {cva[c][j], cvb[c][j]}, c, i, j, len, len <= tiny_length});
+          ops.push_back({3, {cva[c][i], cvb[c][i]}, {cva[c][j], cvb[c][j]}, c, i, j, len, len <= tiny_length});
         }
     }
     // Tiny edges off the curves (one end off the curves and new): merged in their mesh alone.

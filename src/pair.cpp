@@ -438,7 +438,8 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
 /// point is within `tol` + twice the longest edge near the curves, and the faces through it
 /// overlap the old curves' boxes grown by that much. Both faces of an edge through a curve point
 /// are then taken, as the classification of the pieces needs. The same curves as on the whole
-/// meshes, without CGAL's work on all of their faces.
+/// meshes, without CGAL's work on all of their faces; where the parts meet in a contact
+/// (touching points, or a curve point outside the grown boxes) the whole meshes are used.
 template <class K>
 std::vector<Polyline<K>> intersection_curves_near(const Mesh<K>& a, const Mesh<K>& b,
                                                   const std::vector<Polyline<K>>& old_curves, double tol,
@@ -469,9 +470,12 @@ std::vector<Polyline<K>> intersection_curves_near(const Mesh<K>& a, const Mesh<K
     }
   std::vector<CGAL::Bbox_3> reach;
   for (const auto& box : boxes) reach.push_back(grown(box, 1.01 * (tol + 2 * longest) + 1e-12));
-  auto faces_near = [&](const M& m) {
+  // The faces near the curves as a mesh of their own; none when Surface_mesh cannot hold them
+  // (a vertex where two fans of the selection meet only there): then the whole mesh is used.
+  auto faces_near = [&](const M& m) -> std::optional<M> {
     M part;
-    std::vector<typename M::Vertex_index> copy(m.number_of_vertices() + m.number_of_removed_vertices());
+    std::vector<typename M::Vertex_index> copy(m.number_of_vertices() + m.number_of_removed_vertices(),
+                                               M::null_vertex());
     for (auto f : m.faces()) {
       if (!overlaps(reach, CGAL::Polygon_mesh_processing::face_bbox(f, m))) continue;
       std::array<typename M::Vertex_index, 3> corners;
@@ -481,12 +485,24 @@ std::vector<Polyline<K>> intersection_curves_near(const Mesh<K>& a, const Mesh<K
         if (c == M::null_vertex()) c = part.add_vertex(m.point(v));
         corners[k++ % 3] = c;
       }
-      if (k != 3 || part.add_face(corners[0], corners[1], corners[2]) == M::null_face())
-        throw InternalError("intersection_curves_near: a face could not be copied");
+      if (k != 3 || part.add_face(corners[0], corners[1], corners[2]) == M::null_face()) return std::nullopt;
     }
     return part;
   };
-  return intersection_curves<K>(faces_near(a), faces_near(b), touching_points);
+  const auto part_a = faces_near(a), part_b = faces_near(b);
+  if (!part_a || !part_b) return intersection_curves<K>(a, b, touching_points);
+  std::size_t touching = 0;
+  auto curves = intersection_curves<K>(*part_a, *part_b, &touching);
+  // Contacts (touching, or flat) are not local: one near the curves may run on past the parts'
+  // borders, where a piece of it would be taken for a crossing (a point outside every grown
+  // box), and the count of touching points must be that of the whole meshes. Then the whole
+  // meshes decide.
+  const bool all_inside = std::all_of(curves.begin(), curves.end(), [&](const Polyline<K>& c) {
+    return std::all_of(c.begin(), c.end(), [&](const typename K::Point_3& p) { return overlaps(reach, p.bbox()); });
+  });
+  if (touching > 0 || !all_inside) return intersection_curves<K>(a, b, touching_points);
+  if (touching_points) *touching_points = 0;
+  return curves;
 }
 
 template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions& options) {
@@ -599,12 +615,16 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
       unsnapped.reset();  // nothing moved
   }
 
-  st.curves = curves.size();
-  for (const auto& c : curves) {
-    const bool closed = is_closed(c);
-    st.closed_curves += closed ? 1 : 0;
-    st.curve_vertices += closed ? c.size() - 1 : c.size();
-  }
+  auto count_curves = [&]() {
+    st.curves = curves.size();
+    st.closed_curves = st.curve_vertices = 0;
+    for (const auto& c : curves) {
+      const bool closed = is_closed(c);
+      st.closed_curves += closed ? 1 : 0;
+      st.curve_vertices += closed ? c.size() - 1 : c.size();
+    }
+  };
+  count_curves();
   if (curves.empty()) {
     st.touching_only = touching > 0;
     st.note = touching > 0 ? "the meshes touch without crossing: nothing to embed"
@@ -653,6 +673,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     embed_both();
   }
   unsnapped.reset();
+  count_curves();  // those of the unsnapped meshes if snapping was undone
   st.stage_seconds["embed_a"] = seconds_a;
   st.stage_seconds["embed_b"] = seconds_b;
   result.a.stats.vertices_snapped = st.vertices_snapped_a + st.edges_snapped_a;
@@ -875,9 +896,10 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
             // A curve vertex still at a corner of a face below 10 degrees (a cap of three curve
             // vertices at a bend of the curve, say): a segment of it up to twice the spacing long
             // is collapsed too, under the same tests.
+            constexpr double target_min_angle = 10;  // issue #3: no new face below 10 degrees
             coarse = curves_of(a2, cva);
             if (internal::collapse_short_curve_segments<K>(a2, b2, coarse, cva, cvb, 2 * spacing, 0.0, 0, 0,
-                                                          near_inputs, 10.0).collapsed > 0) {
+                                                          near_inputs, target_min_angle).collapsed > 0) {
               merge_thin_faces(a2, cva, surface_a);
               merge_thin_faces(b2, cvb, surface_b);
             }

@@ -507,7 +507,7 @@ TEST_CASE("pair: a curve vertex left at the corner of a face below 10 degrees lo
 }
 
 TEST_CASE("pair: when the snapped surfaces receive a curve differently, the unsnapped ones are embedded",
-          "[pair][collapse]") {
+          "[pair][snap]") {
   using K = seam::Exact;
   // Resolution 16, lenticular warp, overlap 0.3, snapping at 1.25 times the default tolerance:
   // at the warp's sharp edge the snapped warp received one curve point more than the weft, and
