@@ -393,6 +393,33 @@ double angle_with_corner_moved_to(const seam::Mesh<K>& mesh, const seam::interna
     return -1.0;
   return seam::min_angle_deg(A, To, C);
 }
+
+/// The smallest angle of face f (doubles).
+template <class K> double face_angle(const seam::Mesh<K>& mesh, typename seam::Mesh<K>::Face_index f) {
+  const auto h = mesh.halfedge(f);
+  return seam::min_angle_deg(seam::to_filtered(mesh.point(mesh.source(h))), seam::to_filtered(mesh.point(mesh.target(h))),
+                             seam::to_filtered(mesh.point(mesh.target(mesh.next(h)))));
+}
+
+/// The provenance of the faces as the steps on thin faces read and write it.
+template <class K> struct FaceMarks {
+  using F = typename seam::Mesh<K>::Face_index;
+  typename seam::Mesh<K>::template Property_map<F, std::uint32_t> source;
+  typename seam::Mesh<K>::template Property_map<F, bool> is_new;
+  explicit FaceMarks(seam::Mesh<K>& mesh)
+      : source(mesh.template property_map<F, std::uint32_t>(seam::source_face_property).first),
+        is_new(mesh.template property_map<F, bool>(seam::new_face_property).first) {}
+  /// A face of the input that no step changed.
+  bool untouched_input(F f) const { return source[f] != remeshed_face && !is_new[f]; }
+  /// A face the steps may reshape: remeshed, or new (of the embedding, or changed already).
+  bool changeable(F f) const { return !untouched_input(f); }
+  /// f's shape changed: a face of the input keeps its input face, as after snapping (the step
+  /// moved its corner by the tolerance at most); any other face is remeshed.
+  void reshaped(F f) {
+    if (!untouched_input(f)) source[f] = remeshed_face;
+    is_new[f] = true;
+  }
+};
 }
 
 template <class K>
@@ -479,8 +506,8 @@ std::size_t flip_to_improve_angles(Mesh<K>& mesh, const std::vector<std::vector<
   using V = typename M::Vertex_index;
   using F = typename M::Face_index;
   using FP = Filtered::Point_3;
-  auto source = mesh.template property_map<F, std::uint32_t>(source_face_property).first;
-  auto is_new = mesh.template property_map<F, bool>(new_face_property).first;
+  FaceMarks<K> marks(mesh);
+  auto &source = marks.source, &is_new = marks.is_new;
   const auto curve_edges = curve_edge_set(curve_vertices);
   auto point = [&](V v) { return to_filtered(mesh.point(v)); };
   // The new faces turn by less than 30 degrees from the ones they replace. (Cross products, not
@@ -495,7 +522,7 @@ std::size_t flip_to_improve_angles(Mesh<K>& mesh, const std::vector<std::vector<
       if (mesh.is_border(e)) continue;
       const auto h = mesh.halfedge(e), o = mesh.opposite(h);
       const F fh = mesh.face(h), fo = mesh.face(o);
-      if (!(source[fh] == remeshed_face || is_new[fh]) || !(source[fo] == remeshed_face || is_new[fo])) continue;
+      if (!marks.changeable(fh) || !marks.changeable(fo)) continue;
       const V p = mesh.source(h), q = mesh.target(h), r = mesh.target(mesh.next(h)), t = mesh.target(mesh.next(o));
       if (curve_edges.count({std::min(p, q), std::max(p, q)})) continue;  // shared: left as it is
       if (r == t || mesh.halfedge(r, t) != M::null_halfedge()) continue;  // the other diagonal exists
@@ -597,8 +624,8 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
   using V = typename M::Vertex_index;
   using F = typename M::Face_index;
   using FP = Filtered::Point_3;
-  auto source = mesh.template property_map<F, std::uint32_t>(source_face_property).first;
-  auto is_new = mesh.template property_map<F, bool>(new_face_property).first;
+  FaceMarks<K> marks(mesh);
+  auto &source = marks.source, &is_new = marks.is_new;
   std::set<V> on_curve;
   std::set<std::pair<V, V>> curve_edges;
   auto index_curves = [&]() {
@@ -608,10 +635,7 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
   };
   index_curves();
   auto point = [&](V v) { return to_filtered(mesh.point(v)); };
-  auto face_angle = [&](F f) {
-    const auto h = mesh.halfedge(f);
-    return min_angle_deg(point(mesh.source(h)), point(mesh.target(h)), point(mesh.target(mesh.next(h))));
-  };
+  auto face_angle = [&](F f) { return ::seam::internal::face_angle<K>(mesh, f); };
   auto angle_with_corner_moved = [&](V a, V c, const typename K::Point_3& from, const typename K::Point_3& to) {
     return angle_with_corner_moved_to<K>(mesh, surface, tol, a, c, from, to);
   };
@@ -628,7 +652,7 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
     double after = 180;
     for (auto h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh)) {
       const F g = mesh.face(h);
-      if (!tiny && source[g] != remeshed_face && !is_new[g]) return -1.0;  // only new faces change
+      if (!tiny && marks.untouched_input(g)) return -1.0;  // only new faces change
       const V a = mesh.source(h), c = mesh.target(mesh.next(h));  // g is (a, v, c)
       if (a == w || c == w) continue;                              // removed by the merge
       const double angle = angle_with_corner_moved(a, c, mesh.point(v), mesh.point(w));
@@ -675,7 +699,7 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
     for (auto g : CGAL::halfedges_around_target(mesh.halfedge(x), mesh)) {
       const F face = mesh.face(g);
       if (face == f) continue;
-      if (!snap_like && source[face] != remeshed_face && !is_new[face]) return false;
+      if (!snap_like && marks.untouched_input(face)) return false;
       const double angle = angle_with_corner_moved(mesh.source(g), mesh.target(mesh.next(g)), mesh.point(x), m);
       if (angle < 0) return false;
       before = std::min(before, face_angle(face));
@@ -700,17 +724,14 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
     // Merge x into m (m keeps its point; CGAL may keep x's index for it).
     const V kept = CGAL::Euler::collapse_edge(mesh.edge(mesh.halfedge(x, mv)), mesh);
     mesh.point(kept) = m;
-    for (F g : changed) {
-      if (source[g] == remeshed_face || is_new[g]) source[g] = remeshed_face;  // (others: as if snapped)
-      is_new[g] = true;
-    }
+    for (F g : changed) marks.reshaped(g);
     return true;
   };
   std::size_t collapses = 0;
   for (int round = 0; round < rounds; ++round) {
     std::vector<F> thin;
     for (F f : mesh.faces())
-      if ((source[f] == remeshed_face || is_new[f]) && face_angle(f) < thin_deg) thin.push_back(f);
+      if (marks.changeable(f) && face_angle(f) < thin_deg) thin.push_back(f);
     std::size_t merged = 0;
     for (F f : thin) {
       if (mesh.is_removed(f) || face_angle(f) >= thin_deg) continue;
@@ -750,10 +771,7 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
           index_curves();
         }
       }
-      for (F g : changed) {
-        if (source[g] == remeshed_face || is_new[g]) source[g] = remeshed_face;  // (others: as if snapped)
-        is_new[g] = true;
-      }
+      for (F g : changed) marks.reshaped(g);
       ++merged;
     }
     collapses += merged;
@@ -772,20 +790,15 @@ std::size_t relocate_vertices_of_thin_faces(Mesh<K>& mesh,
   using F = typename M::Face_index;
   using FP = Filtered::Point_3;
   using FV = Filtered::Vector_3;
-  auto source = mesh.template property_map<F, std::uint32_t>(source_face_property).first;
-  auto is_new = mesh.template property_map<F, bool>(new_face_property).first;
+  FaceMarks<K> marks(mesh);
   std::set<V> on_curve;
   for (const auto& vs : curve_vertices) on_curve.insert(vs.begin(), vs.end());
   auto point = [&](V v) { return to_filtered(mesh.point(v)); };
-  auto face_angle = [&](F f) {
-    const auto h = mesh.halfedge(f);
-    return min_angle_deg(point(mesh.source(h)), point(mesh.target(h)), point(mesh.target(mesh.next(h))));
-  };
   std::size_t moves = 0;
   for (int round = 0; round < rounds; ++round) {
     std::set<V> candidates;
     for (F f : mesh.faces())
-      if ((source[f] == remeshed_face || is_new[f]) && face_angle(f) < thin_deg)
+      if (marks.changeable(f) && face_angle<K>(mesh, f) < thin_deg)
         for (V v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
           if (!on_curve.count(v) && !mesh.is_border(v)) candidates.insert(v);
     std::size_t moved = 0;
@@ -800,7 +813,7 @@ std::size_t relocate_vertices_of_thin_faces(Mesh<K>& mesh,
         const V a = mesh.source(h), c = mesh.target(mesh.next(h));
         star.emplace_back(a, c);
         const F g = mesh.face(h);
-        if (source[g] != remeshed_face && !is_new[g]) touches_input = true;
+        if (marks.untouched_input(g)) touches_input = true;
         normal = normal + CGAL::cross_product(here - point(a), point(c) - point(a));
       }
       const double normal_length = std::sqrt(normal.squared_length());
@@ -861,11 +874,7 @@ std::size_t relocate_vertices_of_thin_faces(Mesh<K>& mesh,
         mesh.point(x) = typename K::Point_3(target.x(), target.y(), target.z());
         // As after snapping, a face of the input keeps its input face (x moved by tol at most);
         // any other face it reshapes is marked remeshed, as after a merge.
-        for (auto h : CGAL::halfedges_around_target(mesh.halfedge(x), mesh)) {
-          const F g = mesh.face(h);
-          if (source[g] == remeshed_face || is_new[g]) source[g] = remeshed_face;
-          is_new[g] = true;
-        }
+        for (F g : CGAL::faces_around_target(mesh.halfedge(x), mesh)) marks.reshaped(g);
         ++moved;
         break;
       }

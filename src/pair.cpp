@@ -654,16 +654,24 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
           seconds_b = seconds_since(tb);
         });
   };
-  auto embedded_alike = [&]() {
-    return result.a.curves.size() == result.b.curves.size() &&
-           std::equal(result.a.curves.begin(), result.a.curves.end(), result.b.curves.begin());
+  // Both meshes must receive the identical curves: what differs, or nothing.
+  auto embedding_mismatch = [&]() -> std::string {
+    if (result.a.curves.size() != result.b.curves.size()) return "the two meshes received different numbers of curves";
+    for (std::size_t i = 0; i < result.a.curves.size(); ++i)
+      if (result.a.curves[i] != result.b.curves[i]) {
+        std::ostringstream msg;
+        msg << "curve " << i << " was embedded differently in the two meshes (" << result.a.curves[i].size() << " and "
+            << result.b.curves[i].size() << " points)";
+        return msg.str();
+      }
+    return {};
   };
   try {
     embed_both();
     // The snapped surfaces can also receive a curve differently (one of them finding a crossing
     // the other does not; seen with a snapping tolerance 1.25 and 2 times the default at the
     // sharp edge of a lenticular tow): then, too, the unsnapped meshes are embedded.
-    if (unsnapped && !embedded_alike()) {
+    if (unsnapped && !embedding_mismatch().empty()) {
       undo_snapping("the curves of the snapped surfaces were embedded differently in the two meshes");
       embed_both();
     }
@@ -679,16 +687,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   result.a.stats.vertices_snapped = st.vertices_snapped_a + st.edges_snapped_a;
   result.b.stats.vertices_snapped = st.vertices_snapped_b + st.edges_snapped_b;
 
-  // Both meshes must have received the identical curve.
-  if (result.a.curves.size() != result.b.curves.size())
-    throw InternalError("pair: the two meshes received different numbers of curves");
-  for (std::size_t i = 0; i < result.a.curves.size(); ++i)
-    if (result.a.curves[i] != result.b.curves[i]) {
-      std::ostringstream msg;
-      msg << "pair: curve " << i << " was embedded differently in the two meshes (" << result.a.curves[i].size()
-          << " and " << result.b.curves[i].size() << " points)";
-      throw InternalError(msg.str());
-    }
+  if (const std::string mismatch = embedding_mismatch(); !mismatch.empty()) throw InternalError("pair: " + mismatch);
   result.curves = result.a.curves;
 
   // With a snapping tolerance, curve segments shorter than it are collapsed in both meshes at
@@ -886,23 +885,21 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
                                                            const Filtered::Point_3& q, const Filtered::Point_3& r) {
             return (m == 0 ? surface_a : surface_b).sampled_distance(p, q, r) <= snap_tol;
           };
-          if (options.collapse_short_segments) {
+          auto collapse_then_merge = [&](double max_length, double only_next_to_faces_below) {
             std::vector<Polyline<K>> coarse = curves_of(a2, cva);
-            if (internal::collapse_short_curve_segments<K>(a2, b2, coarse, cva, cvb, 0.5 * spacing, 0.0, 0, 0,
-                                                          near_inputs).collapsed > 0) {
+            if (internal::collapse_short_curve_segments<K>(a2, b2, coarse, cva, cvb, max_length, 0.0, 0, 0, near_inputs,
+                                                          only_next_to_faces_below).collapsed > 0) {
               merge_thin_faces(a2, cva, surface_a);
               merge_thin_faces(b2, cvb, surface_b);
             }
+          };
+          if (options.collapse_short_segments) {
+            collapse_then_merge(0.5 * spacing, 0);
             // A curve vertex still at a corner of a face below 10 degrees (a cap of three curve
             // vertices at a bend of the curve, say): a segment of it up to twice the spacing long
             // is collapsed too, under the same tests.
             constexpr double target_min_angle = 10;  // issue #3: no new face below 10 degrees
-            coarse = curves_of(a2, cva);
-            if (internal::collapse_short_curve_segments<K>(a2, b2, coarse, cva, cvb, 2 * spacing, 0.0, 0, 0,
-                                                          near_inputs, target_min_angle).collapsed > 0) {
-              merge_thin_faces(a2, cva, surface_a);
-              merge_thin_faces(b2, cvb, surface_b);
-            }
+            collapse_then_merge(2 * spacing, target_min_angle);
           }
         }
       } catch (const CGAL::Failure_exception&) {

@@ -61,6 +61,18 @@ struct FlatGrid {
       }
   }
   V at(int i, int j) const { return grid[std::size_t(j * 9 + i)]; }
+  /// The grid's row y = j, as the one curve.
+  std::vector<std::vector<V>> row(int j) const {
+    std::vector<std::vector<V>> curve(1);
+    for (int i = 0; i <= 8; ++i) curve[0].push_back(at(i, j));
+    return curve;
+  }
+  /// The provenance maps, every face of input face `source` (remeshed when none is given), not new.
+  std::pair<M::Property_map<F, std::uint32_t>, M::Property_map<F, bool>> mark_faces(
+      std::uint32_t source = std::numeric_limits<std::uint32_t>::max()) {
+    return {mesh.add_property_map<F, std::uint32_t>(seam::source_face_property, source).first,
+            mesh.add_property_map<F, bool>(seam::new_face_property, false).first};
+  }
   std::array<K::Point_3, 3> corners(F f) const {
     const auto h = mesh.halfedge(f);
     return {mesh.point(mesh.source(h)), mesh.point(mesh.target(h)), mesh.point(mesh.target(mesh.next(h)))};
@@ -100,11 +112,8 @@ TEST_CASE("improve: the needles of a remeshed band are merged away, no vertex mo
   const auto flat = seam::internal::triangles_of<K>(mesh);  // the input surface: the plane
   mesh.point(g.at(2, 2)) = K::Point_3(2.98, 2, 0);
   mesh.point(g.at(5, 6)) = K::Point_3(5, 5.02, 0);
-  auto source = mesh.add_property_map<F, std::uint32_t>(seam::source_face_property, 0).first;
-  mesh.add_property_map<F, bool>(seam::new_face_property, false);
-  for (F f : mesh.faces()) source[f] = std::numeric_limits<std::uint32_t>::max();
-  std::vector<std::vector<V>> curve(1);
-  for (int i = 0; i <= 8; ++i) curve[0].push_back(g.at(i, 4));
+  g.mark_faces();
+  auto curve = g.row(4);
 
   std::set<K::Point_3> points_before;
   for (V v : mesh.vertices()) points_before.insert(mesh.point(v));
@@ -158,14 +167,14 @@ TEST_CASE("improve: the apex of a cap moves onto its long edge, exactly on it, t
   auto at = [&](int i, int j) { return g.at(i, j); };
   const seam::internal::SurfaceDistance surface(seam::internal::triangles_of<K>(mesh));
   mesh.point(at(5, 2)) = K::Point_3(5.5, 2.99, 0);
-  auto source = mesh.add_property_map<F, std::uint32_t>(seam::source_face_property, 7).first;
-  auto is_new = mesh.add_property_map<F, bool>(seam::new_face_property, false).first;
+  auto marks = g.mark_faces(7);
+  auto& source = marks.first;
+  auto& is_new = marks.second;
   const F cap = mesh.face(mesh.halfedge(at(6, 3), at(5, 3)));
   REQUIRE(cap != M::null_face());
   source[cap] = std::numeric_limits<std::uint32_t>::max();
   is_new[cap] = true;
-  std::vector<std::vector<V>> curve(1);
-  for (int i = 0; i <= 8; ++i) curve[0].push_back(at(i, 6));
+  auto curve = g.row(6);
   const K::FT area_before = g.twice_area();
   REQUIRE(g.smallest_angle() < 2);
   // One pass: the cap alone (the faces it leaves are treated in later passes).
@@ -206,11 +215,8 @@ TEST_CASE("improve: a vertex next to the curve moves away from it, onto the surf
   const seam::internal::SurfaceDistance surface(seam::internal::triangles_of<K>(mesh));
   const V x = g.at(3, 3);
   mesh.point(x) = K::Point_3(3.05, 3.95, 0.019);  // on the face ((3, 3), (4, 4), (3, 4))
-  auto source = mesh.add_property_map<F, std::uint32_t>(seam::source_face_property, 0).first;
-  mesh.add_property_map<F, bool>(seam::new_face_property, false);
-  for (F f : mesh.faces()) source[f] = std::numeric_limits<std::uint32_t>::max();
-  std::vector<std::vector<V>> curve(1);
-  for (int i = 0; i <= 8; ++i) curve[0].push_back(g.at(i, 4));
+  const auto source = g.mark_faces().first;
+  auto curve = g.row(4);
   std::vector<K::Point_3> curve_points;
   for (V v : curve[0]) curve_points.push_back(mesh.point(v));
   REQUIRE(g.smallest_angle() < 5);
@@ -244,10 +250,10 @@ TEST_CASE("improve: a vertex of faces of the input moves as snapping would, by t
   const seam::internal::SurfaceDistance surface(seam::internal::triangles_of<K>(mesh));
   const V y = g.at(6, 1);
   mesh.point(y) = K::Point_3(6.47, 1.96, 0);
-  auto source = mesh.add_property_map<F, std::uint32_t>(seam::source_face_property, 7).first;
-  auto is_new = mesh.add_property_map<F, bool>(seam::new_face_property, false).first;
-  std::vector<std::vector<V>> curve(1);
-  for (int i = 0; i <= 8; ++i) curve[0].push_back(g.at(i, 6));
+  auto marks = g.mark_faces(7);
+  auto& source = marks.first;
+  auto& is_new = marks.second;
+  auto curve = g.row(6);
   auto star_angle = [&]() {
     double worst = 180;
     for (F f : CGAL::faces_around_target(mesh.halfedge(y), mesh)) {

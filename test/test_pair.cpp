@@ -89,6 +89,24 @@ template <class K> void require_check(const seam::PairCheckReport& report) {
   REQUIRE(report.ok());
 }
 
+/// A crossover paired under the exact kernel, its outputs checked as seam check does (at the
+/// snapping tolerance), and required to pass.
+struct CheckedPair {
+  seam::Mesh<seam::Exact> a, b, a2, b2;
+  seam::PairResult<seam::Exact> result;
+  seam::PairCheckReport report;
+};
+CheckedPair pair_and_check(const Crossover& c, const seam::PairOptions& options = {}) {
+  using K = seam::Exact;
+  CheckedPair p;
+  p.a = p.a2 = mesh_of<K>(c.weft);
+  p.b = p.b2 = mesh_of<K>(c.warp);
+  p.result = seam::pair<K>(p.a2, p.b2, options);
+  p.report = seam::check_pair<K>(p.a, p.b, p.a2, p.b2, p.result.curves, p.result.stats.snap_tol * (1 + 1e-9));
+  require_check<K>(p.report);
+  return p;
+}
+
 }  // namespace
 
 TEMPLATE_TEST_CASE("pair: crossing tows come out conforming along their intersection curves", "[pair]",
@@ -490,20 +508,14 @@ TEST_CASE("pair: remeshing next to the curves gives far fewer thin triangles, wi
 
 TEST_CASE("pair: a curve vertex left at the corner of a face below 10 degrees loses a segment, in both meshes",
           "[pair][remesh][collapse]") {
-  using K = seam::Exact;
   // Resolution 24, lenticular warp, overlap 0.3: after the remeshing and the steps on thin faces,
   // one new face below 10 degrees was left, at a curve vertex whose segments are longer than the
   // collapses after the remeshing try (half the spacing). Such a vertex's segments are tried up
   // to twice the spacing, under the same tests (within the tolerance, nothing crossed).
-  const auto c = crossover(24, seam::Section::lenticular, 0.3);
-  const auto a = mesh_of<K>(c.weft), b = mesh_of<K>(c.warp);
-  auto a2 = a, b2 = b;
-  const auto r = seam::pair<K>(a2, b2);
-  REQUIRE(r.stats.remeshed);
-  const auto report = seam::check_pair<K>(a, b, a2, b2, r.curves, r.stats.snap_tol * (1 + 1e-9));
-  require_check<K>(report);
-  CHECK(report.below_10_a + report.below_10_b == 0);  // the issue's target on this crossover
-  CHECK(r.stats.remesh_max_deviation <= r.stats.snap_tol);
+  const auto p = pair_and_check(crossover(24, seam::Section::lenticular, 0.3));
+  REQUIRE(p.result.stats.remeshed);
+  CHECK(p.report.below_10_a + p.report.below_10_b == 0);  // the issue's target on this crossover
+  CHECK(p.result.stats.remesh_max_deviation <= p.result.stats.snap_tol);
 }
 
 TEST_CASE("pair: when the snapped surfaces receive a curve differently, the unsnapped ones are embedded",
@@ -514,34 +526,26 @@ TEST_CASE("pair: when the snapped surfaces receive a curve differently, the unsn
   // pair failed with an internal error. Now snapping is undone there, as when a snapped curve
   // cannot be embedded, and the result conforms.
   const auto c = crossover(16, seam::Section::lenticular, 0.3);
-  const auto a = mesh_of<K>(c.weft), b = mesh_of<K>(c.warp);
-  auto a1 = a, b1 = b;
+  auto a1 = mesh_of<K>(c.weft), b1 = mesh_of<K>(c.warp);
   const double default_tol = seam::pair<K>(a1, b1).stats.snap_tol;
   seam::PairOptions options;
   options.embed.snap_tol = 1.25 * default_tol;
-  auto a2 = a, b2 = b;
-  seam::PairResult<K> r;
-  REQUIRE_NOTHROW(r = seam::pair<K>(a2, b2, options));
-  CHECK(r.stats.note.find("embedded differently") != std::string::npos);
-  const auto report = seam::check_pair<K>(a, b, a2, b2, r.curves, options.embed.snap_tol * (1 + 1e-9));
-  require_check<K>(report);
+  CheckedPair p;
+  REQUIRE_NOTHROW(p = pair_and_check(c, options));
+  CHECK(p.result.stats.snap_tol == options.embed.snap_tol);  // checked at the tolerance asked for
+  CHECK(p.result.stats.note.find("embedded differently") != std::string::npos);
 }
 
 TEST_CASE("pair: when collapsing short curve segments makes a surface meet itself, they are kept, snapping is not undone",
           "[pair][collapse]") {
-  using K = seam::Exact;
   // Resolution 5, lenticular warp, overlap 0.15: a collapse tilted faces of B into each other
   // (the collapses are tested against the other mesh only); the whole result used to be redone
   // without snapping (a third of its new faces below 10 degrees).
-  const auto c = crossover(5, seam::Section::lenticular, 0.15);
-  const auto a = mesh_of<K>(c.weft), b = mesh_of<K>(c.warp);
-  auto a2 = a, b2 = b;
-  const auto r = seam::pair<K>(a2, b2);
-  const auto report = seam::check_pair<K>(a, b, a2, b2, r.curves, r.stats.snap_tol * (1 + 1e-9));
-  require_check<K>(report);
+  const auto p = pair_and_check(crossover(5, seam::Section::lenticular, 0.15));
+  const auto& r = p.result;
   CHECK(r.stats.vertices_snapped_a + r.stats.vertices_snapped_b > 0);  // still snapped
   CHECK(r.stats.remeshed);
-  const double share_10 =
-      double(report.below_10_a + report.below_10_b) / double(report.new_faces_a + report.new_faces_b);
+  const double share_10 = double(p.report.below_10_a + p.report.below_10_b) /
+                          double(p.report.new_faces_a + p.report.new_faces_b);
   CHECK(share_10 < 0.01);  // 1 of 282 (0.35%) at 2026-12-02
 }
