@@ -507,7 +507,8 @@ std::size_t flip_to_improve_angles(Mesh<K>& mesh, const std::vector<std::vector<
   using F = typename M::Face_index;
   using FP = Filtered::Point_3;
   FaceMarks<K> marks(mesh);
-  auto &source = marks.source, &is_new = marks.is_new;
+  auto& source = marks.source;
+  auto& is_new = marks.is_new;
   const auto curve_edges = curve_edge_set(curve_vertices);
   auto point = [&](V v) { return to_filtered(mesh.point(v)); };
   // The new faces turn by less than 30 degrees from the ones they replace. (Cross products, not
@@ -625,7 +626,8 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
   using F = typename M::Face_index;
   using FP = Filtered::Point_3;
   FaceMarks<K> marks(mesh);
-  auto &source = marks.source, &is_new = marks.is_new;
+  auto& source = marks.source;
+  auto& is_new = marks.is_new;
   std::set<V> on_curve;
   std::set<std::pair<V, V>> curve_edges;
   auto index_curves = [&]() {
