@@ -11,6 +11,7 @@
 #include <CGAL/boost/graph/Euler_operations.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -371,6 +372,18 @@ bool turns_less_than_30_degrees(const Filtered::Vector_3& before, const Filtered
   return norms > 0 && before * after > 0.866 * norms;
 }
 
+/// A triangle whose largest angle is within a degree of 180 (doubles): nearly a segment, its
+/// normal says nothing about the surface.
+bool is_flat_cap(const Filtered::Point_3& a, const Filtered::Point_3& b, const Filtered::Point_3& c) {
+  const std::array<Filtered::Vector_3, 3> sides = {b - a, c - b, a - c};
+  for (int i = 0; i < 3; ++i) {  // the angle between sides i and i + 1, at their common corner
+    const auto &u = sides[i], &v = sides[(i + 1) % 3];
+    const double norms = std::sqrt(u.squared_length() * v.squared_length());
+    if (norms > 0 && -(u * v) < std::cos(179.0 * M_PI / 180) * norms) return true;
+  }
+  return false;
+}
+
 /// The smallest angle of the face (a, from, c) of `mesh` once its corner `from` is at `to`, or a
 /// negative value when that is not allowed: the face goes flat or turns over (exact under the
 /// exact kernel), turns by 30 degrees or more, or its centroid or the middle of a moved edge is
@@ -532,8 +545,12 @@ std::size_t flip_to_improve_angles(Mesh<K>& mesh, const std::vector<std::vector<
       const double before = std::min(min_angle_deg(P, Q, R), min_angle_deg(Q, P, T));
       const double after = std::min(min_angle_deg(Q, R, T), min_angle_deg(R, P, T));
       if (!(after > before + 1.0)) continue;
-      if (!close_normals(P, Q, R, Q, R, T) || !close_normals(P, Q, R, R, P, T) || !close_normals(Q, P, T, Q, R, T) ||
-          !close_normals(Q, P, T, R, P, T))
+      // A flat cap (its largest angle within a degree of 180: CGAL's remeshing leaves some on
+      // straight lines of the input) has no meaningful normal: only the other face is compared.
+      const bool flat_pqr = is_flat_cap(P, Q, R), flat_qpt = is_flat_cap(Q, P, T);
+      if (flat_pqr && flat_qpt) continue;
+      if ((!flat_pqr && (!close_normals(P, Q, R, Q, R, T) || !close_normals(P, Q, R, R, P, T))) ||
+          (!flat_qpt && (!close_normals(Q, P, T, Q, R, T) || !close_normals(Q, P, T, R, P, T))))
         continue;
       if (surface.distance(CGAL::midpoint(R, T)) > tol) continue;
       // Two new faces of one input face, in one plane, stay in it (exact coplanarity: merges and

@@ -505,7 +505,11 @@ std::vector<Polyline<K>> intersection_curves_near(const Mesh<K>& a, const Mesh<K
   return curves;
 }
 
-template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions& options) {
+namespace {
+/// seam::pair; `collapse_after_embedding` false skips the collapses of short curve segments right
+/// after the embedding (not those after the remeshing, whose results are checked on their own).
+template <class K>
+PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options, bool collapse_after_embedding) {
   validate_options(options.embed);
   PairResult<K> result;
   // Edge snapping adds faces: each mesh face's input face, and whether its shape changed
@@ -703,7 +707,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
                                       CGAL::square(box.zmax() - box.zmin()));
     const auto cr = internal::collapse_short_curve_segments<K>(a, b, result.curves, result.a.curve_vertices,
                                                                result.b.curve_vertices,
-                                                               options.collapse_short_segments ? snap_tol : 0.0,
+                                                               options.collapse_short_segments && collapse_after_embedding ? snap_tol : 0.0,
                                                                1e-9 * diagonal,
                                                                input_vertices_a, input_vertices_b);
     st.curve_vertices_collapsed = cr.collapsed;
@@ -747,15 +751,15 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
       report.problems.push_back(e.what());
     }
     st.stage_seconds["verify"] = seconds_since(t);
-    if (!report.ok() && options.collapse_short_segments && st.curve_vertices_collapsed > 0) {
+    if (!report.ok() && st.curve_vertices_collapsed > 0) {
       // The collapses tilt faces by up to the snapping tolerance, which can make a surface meet
-      // itself (they are tested against the other mesh only): done again without them first.
+      // itself (they are tested against the other mesh only): done again without them first. The
+      // collapses after the remeshing stay: each remeshing attempt is checked as a whole.
       a = *input_a;
       b = *input_b;
-      PairOptions keep_segments = options;
-      keep_segments.collapse_short_segments = false;
-      PairResult<K> redone = pair<K>(a, b, keep_segments);
-      redone.stats.note = "short curve segments were kept: with them collapsed the result failed seam check's tests (" +
+      PairResult<K> redone = pair_collapsing<K>(a, b, options, false);
+      redone.stats.note = "short curve segments were kept after the embedding: with them collapsed the result failed "
+                          "seam check's tests (" +
                           report.problems.front() + ")" + (redone.stats.note.empty() ? "" : "; " + redone.stats.note);
       return redone;
     }
@@ -996,6 +1000,11 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     st.stage_seconds["remesh"] = seconds_since(t);
   }
   return result;
+}
+}  // namespace
+
+template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions& options) {
+  return pair_collapsing<K>(a, b, options, true);
 }
 
 #define SEAM_INSTANTIATE(K)                                                                       \

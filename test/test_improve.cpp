@@ -202,6 +202,33 @@ TEST_CASE("improve: the apex of a cap moves onto its long edge, exactly on it, t
   for (std::size_t i = 0; i < curve[0].size(); ++i) CHECK(mesh.point(curve[0][i]) == K::Point_3(double(i), 6, 0));
 }
 
+TEST_CASE("improve: a flat cap is flipped away, judged by the face across only", "[pair][remesh]") {
+  // A flat 8 x 8 grid, all of it "remeshed"; the curve is the row y = 6. Vertex (5, 2) is moved
+  // to the middle of the diagonal from (4, 2) to (5, 3), 1e-4 above the plane: the face (4, 2),
+  // x, (5, 3) is a flat cap standing on its edge (its normal lies in the plane), as CGAL's
+  // remeshing leaves some on straight lines of the input. Its normal says nothing about the
+  // surface: the flip of its long edge is judged against the face across, and makes two right
+  // isosceles triangles.
+  FlatGrid g;
+  M& mesh = g.mesh;
+  const seam::internal::SurfaceDistance surface(seam::internal::triangles_of<K>(mesh));
+  const V x = g.at(5, 2);
+  mesh.point(x) = K::Point_3(4.5, 2.5, 1e-4);
+  g.mark_faces();
+  const auto curve = g.row(6);
+  const K::FT area_before = g.twice_area();
+  REQUIRE(g.smallest_angle() < 0.1);
+  REQUIRE_FALSE(g.all_faces_up());  // the cap's normal has no z component
+  REQUIRE(mesh.halfedge(g.at(4, 2), g.at(5, 3)) != M::null_halfedge());
+  CHECK(seam::internal::flip_to_improve_angles<K>(mesh, curve, surface, 0.01, 2) >= 1);
+  REQUIRE(CGAL::is_valid_polygon_mesh(mesh));
+  CHECK(mesh.halfedge(g.at(4, 2), g.at(5, 3)) == M::null_halfedge());  // the long edge went
+  CHECK(mesh.halfedge(x, g.at(4, 3)) != M::null_halfedge());           // for the other diagonal
+  CHECK(g.smallest_angle() > 10);
+  CHECK(g.all_faces_up());
+  CHECK(g.twice_area() == area_before);  // the same square, covered once
+}
+
 TEST_CASE("improve: a vertex next to the curve moves away from it, onto the surface, the curve stays",
           "[pair][remesh]") {
   // An 8 x 8 grid bent into a trough (z = 0.02 (x - 4)^2), all of it "remeshed"; the curve is the

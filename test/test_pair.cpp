@@ -536,6 +536,24 @@ TEST_CASE("pair: when the snapped surfaces receive a curve differently, the unsn
   CHECK(p.result.stats.note.find("embedded differently") != std::string::npos);
 }
 
+TEST_CASE("pair: short curve segments kept after the embedding leave the collapses after the remeshing on",
+          "[pair][collapse]") {
+  using K = seam::Exact;
+  // Resolution 16, lenticular warp, overlap 0.3, snapping at 1.5 times the default tolerance: the
+  // collapses of short curve segments right after the embedding made the warp meet itself, and
+  // the pair was done again with all collapses off, those after the remeshing too (37 new faces
+  // below 10 degrees). Only the first are left out now: each remeshing attempt is checked whole.
+  const auto c = crossover(16, seam::Section::lenticular, 0.3);
+  auto a1 = mesh_of<K>(c.weft), b1 = mesh_of<K>(c.warp);
+  const double default_tol = seam::pair<K>(a1, b1).stats.snap_tol;
+  seam::PairOptions options;
+  options.embed.snap_tol = 1.5 * default_tol;
+  const auto p = pair_and_check(c, options);
+  CHECK(p.result.stats.note.find("kept after the embedding") != std::string::npos);
+  CHECK(p.result.stats.remeshed);
+  CHECK(p.report.below_10_a + p.report.below_10_b == 0);
+}
+
 TEST_CASE("pair: when collapsing short curve segments makes a surface meet itself, they are kept, snapping is not undone",
           "[pair][collapse]") {
   // Resolution 5, lenticular warp, overlap 0.15: a collapse tilted faces of B into each other

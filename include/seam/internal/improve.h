@@ -82,7 +82,9 @@ std::size_t split_edges_off_surface(Mesh<K>& mesh, const std::vector<std::vector
 
 /// Flips edges between two new faces (remeshed, or new faces of the embedding) where that raises
 /// the smaller of their smallest angles by more than a degree, the new faces turn by less than 30
-/// degrees from the old ones and the new edge's middle lies within `tol` of `surface` (doubles);
+/// degrees from the old ones (a flat cap, its largest angle within a degree of 180, is not
+/// compared: its normal is meaningless) and the new edge's middle lies within `tol` of `surface`
+/// (doubles);
 /// curve edges are never flipped. Two new faces of one input face keep it as their source (the
 /// flip stays in its plane); other flipped faces are marked remeshed.
 /// Up to `rounds` passes over the edges. Returns the number of flips.
