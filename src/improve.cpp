@@ -82,7 +82,8 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
   using E = typename M::Edge_index;
   using F = typename M::Face_index;
   M work = mesh;
-  auto curve_id = work.template add_property_map<V, std::int64_t>("v:seam_curve_point", -1).first;
+  // Each vertex's index before the garbage collection of step 3 (the curves refer to those).
+  auto index_before = work.template add_property_map<V, std::uint32_t>("v:seam_index_before").first;
   auto vfrozen = work.template add_property_map<V, bool>("v:seam_frozen", false).first;
   auto changed = work.template add_property_map<F, bool>("f:seam_changed", false).first;
 
@@ -149,7 +150,6 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
     for (std::size_t i = 0; i < coarse[c].size(); ++i) {
       const V v = coarse[c][i];
       vfixed[v] = true;
-      if (curve_id[v] < 0) curve_id[v] = std::int64_t((c << 32) | i);  // a closing repeat keeps the first id
       if (i + 1 < coarse[c].size()) {
         const auto h = work.halfedge(v, coarse[c][i + 1]);
         if (h == M::null_halfedge()) return false;  // the coarse curve is not made of edges
@@ -161,11 +161,13 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
   using DK = BandKernel;
   BandMesh dmesh;
   auto to_band = [](const Filtered::Point_3& p) { return DK::Point_3(p.x(), p.y(), p.z()); };
+  for (V v : work.vertices()) index_before[v] = std::uint32_t(std::size_t(v));
+  const std::size_t vertices_before = work.number_of_vertices() + work.number_of_removed_vertices();
   work.collect_garbage();
   // after garbage collection the properties moved with their vertices and faces
   auto vfixed2 = work.template property_map<V, bool>("v:seam_fixed").first;
   auto econs2 = work.template property_map<E, bool>("e:seam_constrained").first;
-  auto curve_id2 = work.template property_map<V, std::int64_t>("v:seam_curve_point").first;
+  auto index_before2 = work.template property_map<V, std::uint32_t>("v:seam_index_before").first;
   auto vfrozen2 = work.template property_map<V, bool>("v:seam_frozen").first;
   std::vector<char> in_band_face(work.number_of_faces(), 0);
   {
@@ -293,19 +295,20 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
       is_new[nf] = true;
     }
   }
-  // The curves, as vertices of the output.
-  std::map<std::int64_t, V> by_curve_id;
+  // The curves, as vertices of the output: coarse[c][i] (an index before the garbage collection)
+  // through the work mesh's vertex and the band mesh's to the output's. A vertex on two curves, or
+  // twice on one (curves that touch), is found for each. (The remesher keeps fixed vertices.)
+  std::vector<V> output_of_before(vertices_before, M::null_vertex());
   for (DV dv : dmesh.vertices()) {
     const std::int64_t o = d_orig2[dv];
-    if (o >= 0 && curve_id2[V(std::uint32_t(o))] >= 0) by_curve_id[curve_id2[V(std::uint32_t(o))]] = map[std::size_t(dv)];
+    if (o >= 0) output_of_before[index_before2[V(std::uint32_t(o))]] = map[std::size_t(dv)];
   }
   std::vector<std::vector<V>> result(coarse.size());
   for (std::size_t c = 0; c < coarse.size(); ++c)
-    for (std::size_t i = 0; i < coarse[c].size(); ++i) {
-      const bool closing = i + 1 == coarse[c].size() && i > 0 && coarse[c][i] == coarse[c].front();
-      auto it = by_curve_id.find(std::int64_t((c << 32) | (closing ? 0 : i)));
-      if (it == by_curve_id.end()) return false;
-      result[c].push_back(it->second);
+    for (V v : coarse[c]) {
+      const V o = std::size_t(v) < output_of_before.size() ? output_of_before[std::size_t(v)] : M::null_vertex();
+      if (o == M::null_vertex()) return false;
+      result[c].push_back(o);
     }
   mesh = std::move(out);
   curve_vertices = std::move(result);

@@ -999,6 +999,54 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     }
     st.stage_seconds["remesh"] = seconds_since(t);
   }
+
+  // The outputs are written in doubles. Snapped surfaces meet along nearly coplanar faces, and
+  // where the remeshing did not run (it failed, or the curve was frozen) the exact points of the
+  // embedding stay: rounded, a few can make a surface meet itself, or the other one off the
+  // curves. Under the exact kernel the faces with a corner that rounding moves are checked again
+  // on the rounded meshes (seam check's tests); a failure undoes snapping, as above.
+  if constexpr (kernel_traits<K>::exact_constructions) {
+    if (snapped && !result.curves.empty()) {
+      t = Clock::now();
+      auto round = [](const typename K::Point_3& p) {
+        return typename K::Point_3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+      };
+      CheckFocus moved;
+      bool any_moved = false;
+      Mesh<K> ra = a, rb = b;
+      for (auto [m, marks] : {std::make_pair(&ra, &moved.faces_a), std::make_pair(&rb, &moved.faces_b)}) {
+        marks->assign(m->number_of_faces() + m->number_of_removed_faces(), 0);
+        std::vector<char> vertex_moved(m->number_of_vertices() + m->number_of_removed_vertices(), 0);
+        for (auto v : m->vertices()) {
+          const auto r = round(m->point(v));
+          if (r == m->point(v)) continue;  // exact comparison: the point is a double already
+          m->point(v) = r;
+          vertex_moved[std::size_t(v)] = 1;
+        }
+        for (auto f : m->faces())
+          for (auto v : CGAL::vertices_around_face(m->halfedge(f), *m))
+            if (vertex_moved[std::size_t(v)]) (*marks)[std::size_t(f)] = 1, any_moved = true;
+      }
+      if (any_moved) {
+        std::vector<Polyline<K>> rounded_curves = result.curves;
+        for (auto& c : rounded_curves)
+          for (auto& p : c) p = round(p);
+        const PairCheckReport report = check_pair<K>(*input_a, *input_b, ra, rb, rounded_curves,
+                                                     std::numeric_limits<double>::infinity(), &moved);
+        if (!report.ok()) {
+          a = *input_a;
+          b = *input_b;
+          PairOptions unsnapped_options = options;
+          unsnapped_options.embed.snap_tol = 0;
+          PairResult<K> redone = pair<K>(a, b, unsnapped_options);
+          redone.stats.note = "snapping was undone: the snapped result, rounded to doubles, failed seam check's tests (" +
+                              report.problems.front() + ")" + (redone.stats.note.empty() ? "" : "; " + redone.stats.note);
+          return redone;
+        }
+      }
+      st.stage_seconds["verify_rounded"] = seconds_since(t);
+    }
+  }
   return result;
 }
 }  // namespace

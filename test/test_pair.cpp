@@ -554,6 +554,75 @@ TEST_CASE("pair: short curve segments kept after the embedding leave the collaps
   CHECK(p.report.below_10_a + p.report.below_10_b == 0);
 }
 
+namespace {
+/// A crossover at right angles whose curves touch at 1.5 times the default snapping tolerance:
+/// resolution 11, elliptical weft, lenticular warp (wider and thicker than the weft), overlap 0.17.
+Crossover touching_curves_crossover() {
+  Crossover c;
+  c.weft.segments_along = 56;
+  c.weft.segments_around = 25;
+  c.weft.translate = {-5, 0, 0};
+  c.warp = c.weft;
+  c.warp.section = seam::Section::lenticular;
+  c.warp.rotate_z = M_PI / 2;
+  c.warp.crimp_amplitude = -0.25;
+  c.warp.half_width = 0.8;
+  c.warp.half_height = 0.3;
+  c.warp.segments_along = 38;
+  c.warp.segments_around = 20;
+  c.warp.translate = {-5 * std::cos(M_PI / 2), -5, 0.65 - 0.17};
+  return c;
+}
+
+/// `p`'s outputs and curves rounded to doubles (as written to a file), checked as seam check does.
+seam::PairCheckReport check_rounded(const CheckedPair& p) {
+  using K = seam::Exact;
+  const auto a3 = seam::mesh_from_soup<K>(seam::soup_from_mesh<K>(p.a2), "a2");
+  const auto b3 = seam::mesh_from_soup<K>(seam::soup_from_mesh<K>(p.b2), "b2");
+  std::vector<seam::Polyline<K>> curves = p.result.curves;
+  for (auto& c : curves)
+    for (auto& q : c) q = K::Point_3(CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z()));
+  // (at least 1e-9: rounding moves points off the input surface by a few 1e-17 here)
+  return seam::check_pair<K>(p.a, p.b, a3, b3, curves, std::max(p.result.stats.snap_tol * (1 + 1e-9), 1e-9));
+}
+}  // namespace
+
+TEST_CASE("pair: curves that touch (a vertex on two of them) are remeshed next to", "[pair][remesh]") {
+  using K = seam::Exact;
+  // At 1.5 times the default tolerance the snapped curves of this crossover share vertices. The
+  // remeshing looked its curve vertices up by one curve position each, lost the second, and gave
+  // up (the embedded meshes were kept: 41 new faces below 10 degrees).
+  const auto c = touching_curves_crossover();
+  auto a1 = mesh_of<K>(c.weft), b1 = mesh_of<K>(c.warp);
+  seam::PairOptions options;
+  options.embed.snap_tol = 1.5 * seam::pair<K>(a1, b1).stats.snap_tol;
+  const auto p = pair_and_check(c, options);
+  INFO(p.result.stats.note);
+  CHECK(p.result.stats.remeshed);
+  CHECK(p.result.stats.note.empty());
+  CHECK(p.report.below_10_a + p.report.below_10_b == 0);
+  const auto rounded = check_rounded(p);
+  for (const auto& problem : rounded.problems) UNSCOPED_INFO(problem);
+  CHECK(rounded.ok());
+}
+
+TEST_CASE("pair: a snapped result that fails seam check once rounded to doubles is done again unsnapped",
+          "[pair][snap]") {
+  using K = seam::Exact;
+  // The crossover above, not remeshed: the exact points of the snapped embedding, rounded to
+  // doubles, made B2 meet itself, and pair wrote outputs that seam check rejects.
+  const auto c = touching_curves_crossover();
+  auto a1 = mesh_of<K>(c.weft), b1 = mesh_of<K>(c.warp);
+  seam::PairOptions options;
+  options.embed.snap_tol = 1.5 * seam::pair<K>(a1, b1).stats.snap_tol;
+  options.remesh_near_curves = false;
+  const auto p = pair_and_check(c, options);
+  CHECK(p.result.stats.note.find("rounded to doubles") != std::string::npos);
+  const auto rounded = check_rounded(p);
+  for (const auto& problem : rounded.problems) UNSCOPED_INFO(problem);
+  CHECK(rounded.ok());
+}
+
 TEST_CASE("pair: when collapsing short curve segments makes a surface meet itself, they are kept, snapping is not undone",
           "[pair][collapse]") {
   // Resolution 5, lenticular warp, overlap 0.15: a collapse tilted faces of B into each other
