@@ -751,7 +751,9 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
       report.problems.push_back(e.what());
     }
     st.stage_seconds["verify"] = seconds_since(t);
-    if (!report.ok() && st.curve_vertices_collapsed > 0) {
+    // (Once: the run done again has no collapses right after the embedding, so it cannot come
+    // back here; tiny segments are counted as collapses too, and are collapsed again there.)
+    if (!report.ok() && collapse_after_embedding && options.collapse_short_segments && st.curve_vertices_collapsed > 0) {
       // The collapses tilt faces by up to the snapping tolerance, which can make a surface meet
       // itself (they are tested against the other mesh only): done again without them first. The
       // collapses after the remeshing stay: each remeshing attempt is checked as a whole.
@@ -1008,7 +1010,11 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
   if constexpr (kernel_traits<K>::exact_constructions) {
     if (snapped && !result.curves.empty()) {
       t = Clock::now();
-      auto round = [](const typename K::Point_3& p) {
+      // Each point's exact value is computed first (the lazy representations are shared with
+      // a, b and the curves): CGAL::to_double then rounds it the same way here and when the
+      // outputs are written, whatever the approximation held before.
+      auto round = [](typename K::Point_3 p) {
+        make_exact(p);
         return typename K::Point_3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
       };
       CheckFocus moved;
@@ -1031,8 +1037,14 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
         std::vector<Polyline<K>> rounded_curves = result.curves;
         for (auto& c : rounded_curves)
           for (auto& p : c) p = round(p);
-        const PairCheckReport report = check_pair<K>(*input_a, *input_b, ra, rb, rounded_curves,
-                                                     std::numeric_limits<double>::infinity(), &moved);
+        PairCheckReport report;
+        try {
+          report = check_pair<K>(*input_a, *input_b, ra, rb, rounded_curves, std::numeric_limits<double>::infinity(),
+                                 &moved);
+        } catch (const InternalError& e) {  // the check could not be done: a failure
+          report.problems.push_back(e.what());
+        }
+        st.stage_seconds["verify_rounded"] = seconds_since(t);
         if (!report.ok()) {
           a = *input_a;
           b = *input_b;
@@ -1044,7 +1056,6 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
           return redone;
         }
       }
-      st.stage_seconds["verify_rounded"] = seconds_since(t);
     }
   }
   return result;

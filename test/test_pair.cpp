@@ -598,6 +598,11 @@ TEST_CASE("pair: curves that touch (a vertex on two of them) are remeshed next t
   options.embed.snap_tol = 1.5 * seam::pair<K>(a1, b1).stats.snap_tol;
   const auto p = pair_and_check(c, options);
   INFO(p.result.stats.note);
+  // The curves touch: a point on two of them, or twice on one (a closed curve's repeat aside).
+  std::map<K::Point_3, int> seen;
+  for (const auto& curve : p.result.curves)
+    for (std::size_t i = 0; i + (seam::is_closed(curve) ? 1 : 0) < curve.size(); ++i) ++seen[curve[i]];
+  REQUIRE(std::any_of(seen.begin(), seen.end(), [](const auto& entry) { return entry.second > 1; }));
   CHECK(p.result.stats.remeshed);
   CHECK(p.result.stats.note.empty());
   CHECK(p.report.below_10_a + p.report.below_10_b == 0);

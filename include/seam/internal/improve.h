@@ -105,16 +105,17 @@ std::size_t smooth_remeshed_vertices(Mesh<K>& mesh, const std::vector<std::vecto
 /// `thin_deg`) by collapsing one of their edges that is not a curve edge: one end is merged into
 /// the other, which keeps its exact point (no vertex moves). Of the six merges (three edges, two
 /// directions) the one that raises the smallest angle of the faces around the removed vertex
-/// most, by more than a degree, is made, if the removed end is not a curve vertex nor on a border,
-/// all its faces are new (or the edge is no longer than `tol`: the merge is then a snap), and the
-/// merge keeps the mesh a 2-manifold (link condition), leaves no face flat or turned over (exact
-/// under the exact kernel), turns no face by 30 degrees or more and keeps each changed face's
-/// centroid and new edges' middles within `tol` of `surface` (doubles). Changed new faces are marked remeshed; a face of the input that
-/// a snap-like merge changed keeps its source and is marked new. A cap (largest angle 120 degrees
-/// or more) that no merge helps has its apex moved onto its long edge (not a curve edge): the edge
-/// is split at the apex's closest point (exactly on it under the exact kernel), the face across
-/// is split in its plane (keeping its source), and the apex is merged into the new vertex, under
-/// the same tests.
+/// most, by more than a degree, is made, if the removed end is not a curve vertex nor on a border
+/// and the merge keeps the mesh a 2-manifold (link condition), leaves no face flat or turned over
+/// (exact under the exact kernel), turns no face by 30 degrees or more and keeps each changed
+/// face's centroid and new edges' middles within `tol` of `surface` (doubles). Faces of the input
+/// may change too. Changed faces are marked new and remeshed, but for a merge over an edge no
+/// longer than `tol` (a snap), after which a face of the input keeps its source. A cap (largest
+/// angle 120 degrees or more) that no merge helps has its apex moved onto its long edge (not a
+/// curve edge): the edge is split at the apex's closest point (exactly on it under the exact
+/// kernel), the face across is split in its plane (keeping its source), and the apex is merged
+/// into the new vertex, under the same geometric tests; faces of the input change only if the
+/// apex moves by `tol` at most (they keep their source).
 /// Up to `rounds` passes. The mesh is compacted afterwards; `curve_vertices` follow. Returns the
 /// number of merges.
 template <class K>
