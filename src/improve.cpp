@@ -429,10 +429,10 @@ template <class K> struct FaceMarks {
   bool untouched_input(F f) const { return source[f] != remeshed_face && !is_new[f]; }
   /// A face the steps may reshape: remeshed, or new (of the embedding, or changed already).
   bool changeable(F f) const { return !untouched_input(f); }
-  /// f's shape changed: a face of the input keeps its input face, as after snapping (the step
-  /// moved its corner by the tolerance at most); any other face is remeshed.
-  void reshaped(F f) {
-    if (!untouched_input(f)) source[f] = remeshed_face;
+  /// f's shape changed: a face of the input whose corner moved by the tolerance at most keeps its
+  /// input face, as after snapping; any other face is remeshed.
+  void reshaped(F f, bool moved_within_tolerance) {
+    if (!moved_within_tolerance || !untouched_input(f)) source[f] = remeshed_face;
     is_new[f] = true;
   }
 };
@@ -672,7 +672,7 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
     // to change left 26 new faces below 10 degrees on 72 held-out crossovers instead of 10.
     double after = 180;
     for (auto h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh)) {
-      const V a = mesh.source(h), c = mesh.target(mesh.next(h));  // g is (a, v, c)
+      const V a = mesh.source(h), c = mesh.target(mesh.next(h));  // the face (a, v, c)
       if (a == w || c == w) continue;                              // removed by the merge
       const double angle = angle_with_corner_moved(a, c, mesh.point(v), mesh.point(w));
       if (angle < 0) return -1.0;
@@ -744,7 +744,7 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
     // Merge x into m (m keeps its point; CGAL may keep x's index for it).
     const V kept = CGAL::Euler::collapse_edge(mesh.edge(mesh.halfedge(x, mv)), mesh);
     mesh.point(kept) = m;
-    for (F g : changed) marks.reshaped(g);
+    for (F g : changed) marks.reshaped(g, snap_like);  // (no face of the input unless snap_like)
     return true;
   };
   std::size_t collapses = 0;
@@ -794,10 +794,7 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
           index_curves();
         }
       }
-      for (F g : changed) {
-        if (!snap_like) source[g] = remeshed_face;
-        marks.reshaped(g);
-      }
+      for (F g : changed) marks.reshaped(g, snap_like);
       ++merged;
     }
     collapses += merged;
@@ -900,7 +897,8 @@ std::size_t relocate_vertices_of_thin_faces(Mesh<K>& mesh,
         mesh.point(x) = typename K::Point_3(target.x(), target.y(), target.z());
         // As after snapping, a face of the input keeps its input face (x moved by tol at most);
         // any other face it reshapes is marked remeshed, as after a merge.
-        for (F g : CGAL::faces_around_target(mesh.halfedge(x), mesh)) marks.reshaped(g);
+        const bool within_tolerance = CGAL::squared_distance(here, target) <= CGAL::square(tol);
+        for (F g : CGAL::faces_around_target(mesh.halfedge(x), mesh)) marks.reshaped(g, within_tolerance);
         ++moved;
         break;
       }

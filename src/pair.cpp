@@ -739,6 +739,17 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
   // seam check's own tests (on the whole meshes, once) and, if it fails, done again without
   // the collapses of short curve segments (if any), and failing that without snapping.
   const bool snapped = st.vertices_snapped_a + st.vertices_snapped_b + st.edges_snapped_a + st.edges_snapped_b > 0;
+  // The run done again from the inputs (snapped results that fail a check), `why` first in its note.
+  auto redo_from_inputs = [&](const PairOptions& redo_options, bool redo_collapse_after_embedding,
+                              const std::string& why) {
+    a = *input_a;
+    b = *input_b;
+    PairResult<K> redone = pair_collapsing<K>(a, b, redo_options, redo_collapse_after_embedding);
+    redone.stats.note = why + (redone.stats.note.empty() ? "" : "; " + redone.stats.note);
+    return redone;
+  };
+  PairOptions unsnapped_options = options;
+  unsnapped_options.embed.snap_tol = 0;
   if (snapped && !result.curves.empty()) {
     t = Clock::now();
     // (Check 4, the distances from the inputs, and the figures are not needed: an empty focus.)
@@ -757,24 +768,15 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
       // The collapses tilt faces by up to the snapping tolerance, which can make a surface meet
       // itself (they are tested against the other mesh only): done again without them first. The
       // collapses after the remeshing stay: each remeshing attempt is checked as a whole.
-      a = *input_a;
-      b = *input_b;
-      PairResult<K> redone = pair_collapsing<K>(a, b, options, false);
-      redone.stats.note = "short curve segments were kept after the embedding: with them collapsed the result failed "
-                          "seam check's tests (" +
-                          report.problems.front() + ")" + (redone.stats.note.empty() ? "" : "; " + redone.stats.note);
-      return redone;
+      return redo_from_inputs(options, false,
+                              "short curve segments were kept after the embedding: with them collapsed the result "
+                              "failed seam check's tests (" +
+                                  report.problems.front() + ")");
     }
-    if (!report.ok()) {
-      a = *input_a;
-      b = *input_b;
-      PairOptions unsnapped_options = options;
-      unsnapped_options.embed.snap_tol = 0;
-      PairResult<K> redone = pair<K>(a, b, unsnapped_options);
-      redone.stats.note = "snapping was undone: the snapped result failed seam check's tests (" +
-                          report.problems.front() + ")" + (redone.stats.note.empty() ? "" : "; " + redone.stats.note);
-      return redone;
-    }
+    if (!report.ok())
+      return redo_from_inputs(unsnapped_options, true,
+                              "snapping was undone: the snapped result failed seam check's tests (" +
+                                  report.problems.front() + ")");
   }
 
   if (remesh && !result.curves.empty()) {
@@ -1045,16 +1047,11 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
           report.problems.push_back(e.what());
         }
         st.stage_seconds["verify_rounded"] = seconds_since(t);
-        if (!report.ok()) {
-          a = *input_a;
-          b = *input_b;
-          PairOptions unsnapped_options = options;
-          unsnapped_options.embed.snap_tol = 0;
-          PairResult<K> redone = pair<K>(a, b, unsnapped_options);
-          redone.stats.note = "snapping was undone: the snapped result, rounded to doubles, failed seam check's tests (" +
-                              report.problems.front() + ")" + (redone.stats.note.empty() ? "" : "; " + redone.stats.note);
-          return redone;
-        }
+        if (!report.ok())
+          return redo_from_inputs(unsnapped_options, true,
+                                  "snapping was undone: the snapped result, rounded to doubles, failed seam check's "
+                                  "tests (" +
+                                      report.problems.front() + ")");
       }
     }
   }
