@@ -87,6 +87,24 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
   auto vfrozen = work.template add_property_map<V, bool>("v:seam_frozen", false).first;
   auto changed = work.template add_property_map<F, bool>("f:seam_changed", false).first;
 
+  // Sharp edges (faces on either side more than 60 degrees apart, doubles: the crest of a
+  // lenticular tow, say): the remeshing keeps them (step 2), so that no remeshed face cuts across
+  // a crease of the surface. Found before step 1, whose collapses may fold the surface: a fold is
+  // not a crease, the remeshing removes it.
+  auto sharp = work.template add_property_map<E, bool>("e:seam_sharp", false).first;
+  for (E e : work.edges()) {
+    if (work.is_border(e)) continue;
+    const auto h = work.halfedge(e);
+    const auto normal = [&](typename M::Halfedge_index g) {
+      const auto p = to_filtered(work.point(work.source(g))), q = to_filtered(work.point(work.target(g))),
+                 r = to_filtered(work.point(work.target(work.next(g))));
+      return CGAL::cross_product(q - p, r - p);
+    };
+    const auto n1 = normal(h), n2 = normal(work.opposite(h));
+    const double norms = std::sqrt(n1.squared_length() * n2.squared_length());
+    sharp[e] = norms > 0 && n1 * n2 < std::cos(60.0 * M_PI / 180) * norms;
+  }
+
   // 1. Collapse the dropped curve vertices onto the kept ones, along the curve.
   std::vector<std::vector<V>> coarse(curve_vertices.size());
   refused.assign(curve_vertices.size(), {});
@@ -155,6 +173,14 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
         if (h == M::null_halfedge()) return false;  // the coarse curve is not made of edges
         econs[work.edge(h)] = true;
       }
+    }
+
+  // Sharp edges of the surface, as step 1 found them, are constrained too where step 1 left their
+  // faces alone: the remeshing neither splits, collapses nor flips them, nor moves their ends.
+  for (E e : work.edges())
+    if (sharp[e] && !work.is_removed(e)) {
+      const auto h = work.halfedge(e);
+      if (!changed[work.face(h)] && !changed[work.face(work.opposite(h))]) econs[e] = true;
     }
 
   // 3. Remesh the band on double coordinates; points not moved keep their exact coordinates.
@@ -375,14 +401,14 @@ bool turns_less_than_30_degrees(const Filtered::Vector_3& before, const Filtered
   return norms > 0 && before * after > 0.866 * norms;
 }
 
-/// A triangle whose largest angle is within a degree of 180 (doubles): nearly a segment, its
-/// normal says nothing about the surface.
-bool is_flat_cap(const Filtered::Point_3& a, const Filtered::Point_3& b, const Filtered::Point_3& c) {
+/// A triangle whose largest angle is 150 degrees or more (doubles): a wide cap, whose normal says
+/// little about the surface (within a degree of 180 it says nothing).
+bool is_wide_cap(const Filtered::Point_3& a, const Filtered::Point_3& b, const Filtered::Point_3& c) {
   const std::array<Filtered::Vector_3, 3> sides = {b - a, c - b, a - c};
   for (int i = 0; i < 3; ++i) {  // the angle between sides i and i + 1, at their common corner
     const auto &u = sides[i], &v = sides[(i + 1) % 3];
     const double norms = std::sqrt(u.squared_length() * v.squared_length());
-    if (norms > 0 && -(u * v) < std::cos(179.0 * M_PI / 180) * norms) return true;
+    if (norms > 0 && -(u * v) < std::cos(150.0 * M_PI / 180) * norms) return true;
   }
   return false;
 }
@@ -548,12 +574,16 @@ std::size_t flip_to_improve_angles(Mesh<K>& mesh, const std::vector<std::vector<
       const double before = std::min(min_angle_deg(P, Q, R), min_angle_deg(Q, P, T));
       const double after = std::min(min_angle_deg(Q, R, T), min_angle_deg(R, P, T));
       if (!(after > before + 1.0)) continue;
-      // A flat cap (its largest angle within a degree of 180: CGAL's remeshing leaves some on
-      // straight lines of the input) has no meaningful normal: only the other face is compared.
-      const bool flat_pqr = is_flat_cap(P, Q, R), flat_qpt = is_flat_cap(Q, P, T);
-      if (flat_pqr && flat_qpt) continue;
-      if ((!flat_pqr && (!close_normals(P, Q, R, Q, R, T) || !close_normals(P, Q, R, R, P, T))) ||
-          (!flat_qpt && (!close_normals(Q, P, T, Q, R, T) || !close_normals(Q, P, T, R, P, T))))
+      // A wide cap (its largest angle 150 degrees or more: CGAL's remeshing leaves some on
+      // straight lines of the input, with a largest angle near 180; three curve vertices make one
+      // where the curve bends) has a normal that says little about the surface: only the other
+      // face is compared. (A cap of three curve vertices at 162 degrees failed the comparison
+      // with its own normal by half a degree; the new faces were within 8 degrees of the face
+      // across and on the input surface.)
+      const bool wide_pqr = is_wide_cap(P, Q, R), wide_qpt = is_wide_cap(Q, P, T);
+      if (wide_pqr && wide_qpt) continue;
+      if ((!wide_pqr && (!close_normals(P, Q, R, Q, R, T) || !close_normals(P, Q, R, R, P, T))) ||
+          (!wide_qpt && (!close_normals(Q, P, T, Q, R, T) || !close_normals(Q, P, T, R, P, T))))
         continue;
       if (surface.distance(CGAL::midpoint(R, T)) > tol) continue;
       // Two new faces of one input face, in one plane, stay in it (exact coplanarity: merges and
@@ -747,6 +777,56 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
     for (F g : changed) marks.reshaped(g, snap_like);  // (no face of the input unless snap_like)
     return true;
   };
+  // Where no merge of one end into the other passes (moving every face of the removed end onto
+  // the kept one leaves the tolerance, say), both ends of an edge (neither a curve vertex) are
+  // merged at a point between them: the closest point of the input surface to p + t (q - p),
+  // t = 1/8, ..., 7/8, so that the faces of both ends share the move. The same tests as for a
+  // merge, the faces of both ends; the point (doubles, rounded) that raises the smallest angle
+  // of those faces most, by more than a degree, is taken. Faces of an end that moves by the
+  // tolerance at most keep their input face, as after snapping; others are remeshed.
+  auto merge_ends_at_a_point_between = [&](F f) {
+    V best_p = M::null_vertex(), best_q = M::null_vertex();
+    typename K::Point_3 best_m;
+    double best_gain = 1.0;
+    for (auto h : CGAL::halfedges_around_face(mesh.halfedge(f), mesh)) {
+      const V p = mesh.source(h), q = mesh.target(h);
+      if (on_curve.count(p) || on_curve.count(q) || mesh.is_border(p) || mesh.is_border(q)) continue;
+      if (!CGAL::Euler::does_satisfy_link_condition(mesh.edge(h), mesh)) continue;
+      double before = 180;
+      for (V end : {p, q})
+        for (auto g : CGAL::faces_around_target(mesh.halfedge(end), mesh)) before = std::min(before, face_angle(g));
+      const FP P = point(p), Q = point(q);
+      for (int eighth = 1; eighth < 8; ++eighth) {
+        const FP target = surface.closest_point(P + (eighth / 8.0) * (Q - P));
+        const typename K::Point_3 m(target.x(), target.y(), target.z());
+        double after = 180;
+        for (V end : {p, q}) {
+          const V other = end == p ? q : p;
+          for (auto g : CGAL::halfedges_around_target(mesh.halfedge(end), mesh)) {
+            const V a = mesh.source(g), c = mesh.target(mesh.next(g));  // the face (a, end, c)
+            if (a == other || c == other) continue;                      // removed by the merge
+            after = std::min(after, angle_with_corner_moved(a, c, mesh.point(end), m));
+            if (after < 0) break;
+          }
+          if (after < 0) break;
+        }
+        if (after - before > best_gain) best_gain = after - before, best_p = p, best_q = q, best_m = m;
+      }
+    }
+    if (best_p == M::null_vertex()) return false;
+    std::vector<std::pair<F, bool>> changed;  // the faces of both ends but the two on the edge
+    for (V end : {best_p, best_q}) {
+      const V other = end == best_p ? best_q : best_p;
+      const bool within_tolerance = CGAL::squared_distance(point(end), to_filtered(best_m)) <= CGAL::square(tol);
+      for (auto g : CGAL::halfedges_around_target(mesh.halfedge(end), mesh))
+        if (mesh.source(g) != other && mesh.target(mesh.next(g)) != other)
+          changed.emplace_back(mesh.face(g), within_tolerance);
+    }
+    const V kept = CGAL::Euler::collapse_edge(mesh.edge(mesh.halfedge(best_p, best_q)), mesh);
+    mesh.point(kept) = best_m;
+    for (auto [g, within_tolerance] : changed) marks.reshaped(g, within_tolerance);
+    return true;
+  };
   std::size_t collapses = 0;
   for (int round = 0; round < rounds; ++round) {
     std::vector<F> thin;
@@ -773,7 +853,7 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
         }
       }
       if (v == M::null_vertex()) {
-        if (move_cap_apex_onto_long_edge(f)) ++merged;
+        if (merge_ends_at_a_point_between(f) || move_cap_apex_onto_long_edge(f)) ++merged;
         continue;
       }
       // No vertex moves: w keeps its point, exactly. CGAL keeps the target of the edge's own

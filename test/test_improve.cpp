@@ -297,6 +297,37 @@ TEST_CASE("improve: a flat cap is flipped away, judged by the face across only",
   CHECK(g.twice_area() == area_before);  // the same square, covered once
 }
 
+TEST_CASE("improve: a wide cap is flipped away, judged by the face across only", "[pair][remesh]") {
+  // As above, but vertex (5, 2) goes 0.125 off the diagonal from (4, 2) to (5, 3), towards its
+  // own side, and 0.1 above the plane: the face (4, 2), x, (5, 3) is a cap with a largest angle
+  // of 154 degrees, its normal 39 degrees from the plane's (caps of three curve vertices where
+  // the curve bends look like this). The flip of its long edge makes faces within 11 degrees of
+  // the face across and the plane's normal; against the cap's own normal it turns them by more
+  // than 30 degrees, and was refused.
+  FlatGrid g;
+  M& mesh = g.mesh;
+  const seam::internal::SurfaceDistance surface(seam::internal::triangles_of<K>(mesh));
+  const V x = g.at(5, 2);
+  mesh.point(x) = K::Point_3(4.588388, 2.411612, 0.1);
+  g.mark_faces();
+  const auto curve = g.row(6);
+  const K::FT area_before = g.twice_area();
+  const F cap = mesh.face(mesh.halfedge(g.at(4, 2), x));
+  REQUIRE(cap != M::null_face());
+  const auto [p, q, r] = g.corners(cap);
+  const double cap_angle = seam::min_angle_deg(p, q, r);
+  REQUIRE(cap_angle < 15);
+  REQUIRE(g.all_faces_up());
+  REQUIRE(mesh.halfedge(g.at(4, 2), g.at(5, 3)) != M::null_halfedge());
+  CHECK(seam::internal::flip_to_improve_angles<K>(mesh, curve, surface, 0.1, 2) >= 1);
+  REQUIRE(CGAL::is_valid_polygon_mesh(mesh));
+  CHECK(mesh.halfedge(g.at(4, 2), g.at(5, 3)) == M::null_halfedge());  // the long edge went
+  CHECK(mesh.halfedge(x, g.at(4, 3)) != M::null_halfedge());           // for the other diagonal
+  CHECK(g.smallest_angle() > cap_angle + 1);
+  CHECK(g.all_faces_up());
+  CHECK(g.twice_area() == area_before);  // the same square (projected), covered once
+}
+
 TEST_CASE("improve: a vertex next to the curve moves away from it, onto the surface, the curve stays",
           "[pair][remesh]") {
   // An 8 x 8 grid bent into a trough (z = 0.02 (x - 4)^2), all of it "remeshed"; the curve is the

@@ -23,9 +23,10 @@ std::vector<std::vector<std::size_t>> choose_curve_points(const std::vector<Poly
 /// their first vertex), removes the curve vertices not in `kept` by collapsing them onto kept
 /// neighbours along the curve, then remeshes the faces with a vertex within one ring of a curve
 /// vertex with CGAL's isotropic remeshing (target `target_edge_length`, on double coordinates;
-/// curve vertices fixed; curve edges and the border of the remeshed band neither split, collapsed
-/// nor flipped). Faces that are tiny or flat once rounded to doubles stay out of the band, with
-/// the faces around them. Kept curve vertices keep their exact coordinates, so two meshes treated
+/// curve vertices fixed; curve edges, sharp edges of the surface (faces more than 60 degrees
+/// apart, where the collapses onto kept curve vertices left them alone) and the border of the
+/// remeshed band neither split, collapsed nor flipped). Faces that are tiny or flat once rounded
+/// to doubles stay out of the band, with the faces around them. Kept curve vertices keep their exact coordinates, so two meshes treated
 /// with the same `kept` share the coarser curve exactly; vertices that did not move keep theirs.
 /// Faces that changed get source_face_property = UINT32_MAX ("remeshed") and new_face_property.
 /// Returns false (mesh unchanged) when it fails; `refused` then lists, per curve, the positions
@@ -110,8 +111,11 @@ std::size_t smooth_remeshed_vertices(Mesh<K>& mesh, const std::vector<std::vecto
 /// (exact under the exact kernel), turns no face by 30 degrees or more and keeps each changed
 /// face's centroid and new edges' middles within `tol` of `surface` (doubles). Faces of the input
 /// may change too. Changed faces are marked new and remeshed, but for a merge over an edge no
-/// longer than `tol` (a snap), after which a face of the input keeps its source. A cap (largest
-/// angle 120 degrees or more) that no merge helps has its apex moved onto its long edge (not a
+/// longer than `tol` (a snap), after which a face of the input keeps its source. Where no such
+/// merge passes, both ends of an edge (neither a curve vertex) may be merged at a point between
+/// them (the closest point of `surface` to p + t (q - p), t in eighths), under the same tests for
+/// the faces of both ends; the faces of an end moved by more than `tol` are marked remeshed. A cap
+/// (largest angle 120 degrees or more) that neither helps has its apex moved onto its long edge (not a
 /// curve edge): the edge is split at the apex's closest point (exactly on it under the exact
 /// kernel), the face across is split in its plane (keeping its source), and the apex is merged
 /// into the new vertex, under the same geometric tests; faces of the input change only if the
