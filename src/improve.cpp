@@ -177,8 +177,9 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
 
   // Sharp edges of the surface, as step 1 found them, are constrained too where step 1 left their
   // faces alone: the remeshing neither splits, collapses nor flips them, nor moves their ends.
+  // (A collapse next to the border removes a face: an edge of it may be on the border now.)
   for (E e : work.edges())
-    if (sharp[e] && !work.is_removed(e)) {
+    if (sharp[e] && !work.is_border(e)) {
       const auto h = work.halfedge(e);
       if (!changed[work.face(h)] && !changed[work.face(work.opposite(h))]) econs[e] = true;
     }
@@ -401,14 +402,14 @@ bool turns_less_than_30_degrees(const Filtered::Vector_3& before, const Filtered
   return norms > 0 && before * after > 0.866 * norms;
 }
 
-/// A triangle whose largest angle is 150 degrees or more (doubles): a wide cap, whose normal says
-/// little about the surface (within a degree of 180 it says nothing).
-bool is_wide_cap(const Filtered::Point_3& a, const Filtered::Point_3& b, const Filtered::Point_3& c) {
+/// A triangle whose largest angle is `degrees` or more (doubles): a cap. From 150 degrees its
+/// normal says little about the surface; within a degree of 180, nothing.
+bool is_cap(const Filtered::Point_3& a, const Filtered::Point_3& b, const Filtered::Point_3& c, double degrees) {
   const std::array<Filtered::Vector_3, 3> sides = {b - a, c - b, a - c};
   for (int i = 0; i < 3; ++i) {  // the angle between sides i and i + 1, at their common corner
     const auto &u = sides[i], &v = sides[(i + 1) % 3];
     const double norms = std::sqrt(u.squared_length() * v.squared_length());
-    if (norms > 0 && -(u * v) < std::cos(150.0 * M_PI / 180) * norms) return true;
+    if (norms > 0 && -(u * v) < std::cos(degrees * M_PI / 180) * norms) return true;
   }
   return false;
 }
@@ -580,8 +581,16 @@ std::size_t flip_to_improve_angles(Mesh<K>& mesh, const std::vector<std::vector<
       // face is compared. (A cap of three curve vertices at 162 degrees failed the comparison
       // with its own normal by half a degree; the new faces were within 8 degrees of the face
       // across and on the input surface.)
-      const bool wide_pqr = is_wide_cap(P, Q, R), wide_qpt = is_wide_cap(Q, P, T);
+      const bool wide_pqr = is_cap(P, Q, R, 150), wide_qpt = is_cap(Q, P, T, 150);
       if (wide_pqr && wide_qpt) continue;
+      // Not over a sharp edge, though (faces more than 60 degrees apart): the remeshing keeps
+      // those, and a cap's apex may lie on the other side of one. (A flat cap, within a degree of
+      // 180, has no meaningful normal to tell.)
+      const bool flat = is_cap(P, Q, R, 179) || is_cap(Q, P, T, 179);
+      const auto n_pqr = CGAL::cross_product(Q - P, R - P), n_qpt = CGAL::cross_product(P - Q, T - Q);
+      if ((wide_pqr || wide_qpt) && !flat &&
+          !(n_pqr * n_qpt > 0.5 * std::sqrt(n_pqr.squared_length() * n_qpt.squared_length())))
+        continue;
       if ((!wide_pqr && (!close_normals(P, Q, R, Q, R, T) || !close_normals(P, Q, R, R, P, T))) ||
           (!wide_qpt && (!close_normals(Q, P, T, Q, R, T) || !close_normals(Q, P, T, R, P, T))))
         continue;

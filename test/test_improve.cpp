@@ -450,3 +450,32 @@ TEST_CASE("improve: a vertex of faces of the input moves as snapping would, by t
   CHECK(g.all_faces_up());
   check_provenance();
 }
+
+TEST_CASE("improve: a sharp edge that a collapse next to the border leaves on the border is no trouble",
+          "[pair][remesh]") {
+  // The flat grid with vertex (3, 1) lifted to z = 2: the edge from (3, 0) to (4, 1) is sharp
+  // (its faces far more than 60 degrees apart). The curve is the column x = 4; position 1, (4, 1),
+  // is dropped, so (4, 1) collapses into (4, 0): the face (3, 0), (4, 0), (4, 1), which has a
+  // border edge, goes, and the sharp edge becomes a border edge. The remeshing must not read the
+  // face beyond it (there is none).
+  FlatGrid g;
+  M& mesh = g.mesh;
+  mesh.point(g.at(3, 1)) = K::Point_3(3, 1, 2);
+  g.mark_faces(7);
+  std::vector<std::vector<V>> curve(1);
+  for (int j = 0; j <= 8; ++j) curve[0].push_back(g.at(4, j));
+  const std::vector<std::vector<std::size_t>> kept = {{0, 2, 3, 4, 5, 6, 7, 8}};
+  std::vector<std::vector<std::size_t>> refused;
+  const bool remeshed = seam::internal::coarsen_and_remesh_near_curves<K>(mesh, curve, kept, {}, 0.7, refused);
+  CHECK(CGAL::is_valid_polygon_mesh(mesh));
+  if (remeshed) {
+    REQUIRE(curve.size() == 1);
+    CHECK(curve[0].size() == 8);
+    CHECK(mesh.point(curve[0][0]) == K::Point_3(4, 0, 0));
+    CHECK(mesh.point(curve[0][1]) == K::Point_3(4, 2, 0));
+    for (std::size_t i = 0; i + 1 < curve[0].size(); ++i)
+      CHECK(mesh.halfedge(curve[0][i], curve[0][i + 1]) != M::null_halfedge());
+  } else {
+    CHECK_FALSE(refused[0].empty());
+  }
+}

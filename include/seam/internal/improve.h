@@ -83,9 +83,9 @@ std::size_t split_edges_off_surface(Mesh<K>& mesh, const std::vector<std::vector
 
 /// Flips edges between two new faces (remeshed, or new faces of the embedding) where that raises
 /// the smaller of their smallest angles by more than a degree, the new faces turn by less than 30
-/// degrees from the old ones (a flat cap, its largest angle within a degree of 180, is not
-/// compared: its normal is meaningless) and the new edge's middle lies within `tol` of `surface`
-/// (doubles);
+/// degrees from the old ones (a wide cap, its largest angle 150 degrees or more, is not
+/// compared, its normal says little, unless its long edge is sharp: faces more than 60 degrees
+/// apart) and the new edge's middle lies within `tol` of `surface` (doubles);
 /// curve edges are never flipped. Two new faces of one input face keep it as their source (the
 /// flip stays in its plane); other flipped faces are marked remeshed.
 /// Up to `rounds` passes over the edges. Returns the number of flips.
@@ -105,23 +105,23 @@ std::size_t smooth_remeshed_vertices(Mesh<K>& mesh, const std::vector<std::vecto
 /// Removes thin new faces (remeshed, or new faces of the embedding; smallest angle below
 /// `thin_deg`) by collapsing one of their edges that is not a curve edge: one end is merged into
 /// the other, which keeps its exact point (no vertex moves). Of the six merges (three edges, two
-/// directions) the one that raises the smallest angle of the faces around the removed vertex
-/// most, by more than a degree, is made, if the removed end is not a curve vertex nor on a border
-/// and the merge keeps the mesh a 2-manifold (link condition), leaves no face flat or turned over
-/// (exact under the exact kernel), turns no face by 30 degrees or more and keeps each changed
-/// face's centroid and new edges' middles within `tol` of `surface` (doubles). Faces of the input
-/// may change too. Changed faces are marked new and remeshed, but for a merge over an edge no
-/// longer than `tol` (a snap), after which a face of the input keeps its source. Where no such
-/// merge passes, both ends of an edge (neither a curve vertex) may be merged at a point between
-/// them (the closest point of `surface` to p + t (q - p), t in eighths), under the same tests for
-/// the faces of both ends; the faces of an end moved by more than `tol` are marked remeshed. A cap
-/// (largest angle 120 degrees or more) that neither helps has its apex moved onto its long edge (not a
-/// curve edge): the edge is split at the apex's closest point (exactly on it under the exact
-/// kernel), the face across is split in its plane (keeping its source), and the apex is merged
-/// into the new vertex, under the same geometric tests; faces of the input change only if the
-/// apex moves by `tol` at most (they keep their source).
-/// Up to `rounds` passes. The mesh is compacted afterwards; `curve_vertices` follow. Returns the
-/// number of merges.
+/// directions) the one that raises the smallest angle of the faces around the removed vertex most,
+/// by more than a degree, is made, if the removed end is not a curve vertex nor on a border and the
+/// merge keeps the mesh a 2-manifold (link condition), leaves no face flat or turned over (exact
+/// under the exact kernel), turns no face by 30 degrees or more and keeps each changed face's
+/// centroid and new edges' middles within `tol` of `surface` (doubles). Faces of the input may
+/// change too. Changed faces are marked new and remeshed, but for a merge over an edge no longer
+/// than `tol` (a snap), after which a face of the input keeps its source. Where no such merge
+/// passes, both ends of an edge (neither a curve vertex nor on a border; the link condition holds)
+/// may be merged at a point between them (the closest point of `surface` to p + t (q - p), t in
+/// eighths), under the same tests for the faces of both ends; the faces of an end moved by more
+/// than `tol` are marked remeshed. A cap (largest angle 120 degrees or more) that neither helps has
+/// its apex moved onto its long edge (not a curve edge): the edge is split at the apex's closest
+/// point (exactly on it under the exact kernel), the face across is split in its plane (keeping its
+/// source), and the apex is merged into the new vertex, under the same geometric tests; faces of
+/// the input change only if the apex moves by `tol` at most (they keep their source). Up to
+/// `rounds` passes. The mesh is compacted afterwards; `curve_vertices` follow. Returns the number
+/// of merges.
 template <class K>
 std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
                                                std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
