@@ -19,6 +19,21 @@
 
 namespace seam::internal {
 
+namespace {
+/// Whether non-zero vectors u and v (face normals, say) are less than (`closer` true) or more
+/// than (false) the angle whose cosine is `cosine` apart (doubles). A zero vector is neither.
+bool apart(const Filtered::Vector_3& u, const Filtered::Vector_3& v, double cosine, bool closer) {
+  const double norms = std::sqrt(u.squared_length() * v.squared_length());
+  return norms > 0 && (closer ? u * v > cosine * norms : u * v < cosine * norms);
+}
+bool less_apart_than(const Filtered::Vector_3& u, const Filtered::Vector_3& v, double cosine) {
+  return apart(u, v, cosine, true);
+}
+bool more_apart_than(const Filtered::Vector_3& u, const Filtered::Vector_3& v, double cosine) {
+  return apart(u, v, cosine, false);
+}
+}  // namespace
+
 template <class K>
 std::vector<std::vector<std::size_t>> choose_curve_points(const std::vector<Polyline<K>>& curves, double spacing,
                                                           double max_chord_deviation) {
@@ -100,9 +115,7 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
                  r = to_filtered(work.point(work.target(work.next(g))));
       return CGAL::cross_product(q - p, r - p);
     };
-    const auto n1 = normal(h), n2 = normal(work.opposite(h));
-    const double norms = std::sqrt(n1.squared_length() * n2.squared_length());
-    sharp[e] = norms > 0 && n1 * n2 < std::cos(60.0 * M_PI / 180) * norms;
+    sharp[e] = more_apart_than(normal(h), normal(work.opposite(h)), std::cos(60.0 * M_PI / 180));
   }
 
   // 1. Collapse the dropped curve vertices onto the kept ones, along the curve.
@@ -398,8 +411,7 @@ template <class V> std::set<std::pair<V, V>> curve_edge_set(const std::vector<st
 /// Normals `before` and `after` (of a face before and after a change) are non-zero and less than
 /// 30 degrees apart (doubles).
 bool turns_less_than_30_degrees(const Filtered::Vector_3& before, const Filtered::Vector_3& after) {
-  const double norms = std::sqrt(before.squared_length() * after.squared_length());
-  return norms > 0 && before * after > 0.866 * norms;
+  return less_apart_than(before, after, 0.866);
 }
 
 /// A triangle whose largest angle is `degrees` or more (doubles): a cap. From 150 degrees its
@@ -588,9 +600,7 @@ std::size_t flip_to_improve_angles(Mesh<K>& mesh, const std::vector<std::vector<
       // 180, has no meaningful normal to tell.)
       const bool flat = is_cap(P, Q, R, 179) || is_cap(Q, P, T, 179);
       const auto n_pqr = CGAL::cross_product(Q - P, R - P), n_qpt = CGAL::cross_product(P - Q, T - Q);
-      if ((wide_pqr || wide_qpt) && !flat &&
-          !(n_pqr * n_qpt > 0.5 * std::sqrt(n_pqr.squared_length() * n_qpt.squared_length())))
-        continue;
+      if ((wide_pqr || wide_qpt) && !flat && !less_apart_than(n_pqr, n_qpt, 0.5)) continue;
       if ((!wide_pqr && (!close_normals(P, Q, R, Q, R, T) || !close_normals(P, Q, R, R, P, T))) ||
           (!wide_qpt && (!close_normals(Q, P, T, Q, R, T) || !close_normals(Q, P, T, R, P, T))))
         continue;
@@ -700,6 +710,26 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
   auto angle_with_corner_moved = [&](V a, V c, const typename K::Point_3& from, const typename K::Point_3& to) {
     return angle_with_corner_moved_to<K>(mesh, surface, tol, a, c, from, to);
   };
+  // The smallest angle of v's faces once v is at `to`, but the two on the edge (v, w) (a merge
+  // removes them), or a negative value when that is not allowed.
+  auto angle_with_end_moved = [&](V v, V w, const typename K::Point_3& to) {
+    double after = 180;
+    for (auto h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh)) {
+      const V a = mesh.source(h), c = mesh.target(mesh.next(h));  // the face (a, v, c)
+      if (a == w || c == w) continue;                              // removed by the merge
+      const double angle = angle_with_corner_moved(a, c, mesh.point(v), to);
+      if (angle < 0) return -1.0;
+      after = std::min(after, angle);
+    }
+    return after;
+  };
+  // The faces of v that a merge of the edge (v, w) keeps: all but the two on the edge.
+  auto faces_kept_by_merge = [&](V v, V w) {
+    std::vector<F> faces;
+    for (auto g : CGAL::halfedges_around_target(mesh.halfedge(v), mesh))
+      if (mesh.source(g) != w && mesh.target(mesh.next(g)) != w) faces.push_back(mesh.face(g));
+    return faces;
+  };
   // The smallest angle of the faces around v after merging v into w (its neighbour), or a
   // negative value when the merge is not allowed.
   auto angle_after_merge = [&](V v, V w) {
@@ -709,15 +739,7 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
     // Faces of the input may change too (they then count as new faces), under the same tests:
     // the issue asks for the surface to stay within the tolerance, and allowing only new faces
     // to change left 26 new faces below 10 degrees on 72 held-out crossovers instead of 10.
-    double after = 180;
-    for (auto h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh)) {
-      const V a = mesh.source(h), c = mesh.target(mesh.next(h));  // the face (a, v, c)
-      if (a == w || c == w) continue;                              // removed by the merge
-      const double angle = angle_with_corner_moved(a, c, mesh.point(v), mesh.point(w));
-      if (angle < 0) return -1.0;
-      after = std::min(after, angle);
-    }
-    return after;
+    return angle_with_end_moved(v, w, mesh.point(w));
   };
   // A cap (p, q, x) whose long edge (p, q) no merge or flip removes (it lies along a sharp bend,
   // say): its apex x moves onto that edge. The edge is split at the point m closest to x (its
@@ -808,28 +830,16 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
       for (int eighth = 1; eighth < 8; ++eighth) {
         const FP target = surface.closest_point(P + (eighth / 8.0) * (Q - P));
         const typename K::Point_3 m(target.x(), target.y(), target.z());
-        double after = 180;
-        for (V end : {p, q}) {
-          const V other = end == p ? q : p;
-          for (auto g : CGAL::halfedges_around_target(mesh.halfedge(end), mesh)) {
-            const V a = mesh.source(g), c = mesh.target(mesh.next(g));  // the face (a, end, c)
-            if (a == other || c == other) continue;                      // removed by the merge
-            after = std::min(after, angle_with_corner_moved(a, c, mesh.point(end), m));
-            if (after < 0) break;
-          }
-          if (after < 0) break;
-        }
+        double after = angle_with_end_moved(p, q, m);
+        if (after >= 0) after = std::min(after, angle_with_end_moved(q, p, m));
         if (after - before > best_gain) best_gain = after - before, best_p = p, best_q = q, best_m = m;
       }
     }
     if (best_p == M::null_vertex()) return false;
     std::vector<std::pair<F, bool>> changed;  // the faces of both ends but the two on the edge
     for (V end : {best_p, best_q}) {
-      const V other = end == best_p ? best_q : best_p;
       const bool within_tolerance = CGAL::squared_distance(point(end), to_filtered(best_m)) <= CGAL::square(tol);
-      for (auto g : CGAL::halfedges_around_target(mesh.halfedge(end), mesh))
-        if (mesh.source(g) != other && mesh.target(mesh.next(g)) != other)
-          changed.emplace_back(mesh.face(g), within_tolerance);
+      for (F g : faces_kept_by_merge(end, end == best_p ? best_q : best_p)) changed.emplace_back(g, within_tolerance);
     }
     const V kept = CGAL::Euler::collapse_edge(mesh.edge(mesh.halfedge(best_p, best_q)), mesh);
     mesh.point(kept) = best_m;
@@ -868,9 +878,7 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
       // No vertex moves: w keeps its point, exactly. CGAL keeps the target of the edge's own
       // halfedge, which may hold v's index: it then gets w's point, and w's curve positions.
       // The faces that change: v's, but the two on the edge (they go); w's keep their shape.
-      std::vector<F> changed;
-      for (auto g : CGAL::halfedges_around_target(mesh.halfedge(v), mesh))
-        if (mesh.source(g) != w && mesh.target(mesh.next(g)) != w) changed.push_back(mesh.face(g));
+      const std::vector<F> changed = faces_kept_by_merge(v, w);
       const auto w_point = mesh.point(w);
       // Over an edge no longer than the tolerance, a face of the input keeps its input face, as
       // after snapping (v moved onto w); over a longer one every changed face is remeshed.

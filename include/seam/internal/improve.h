@@ -26,8 +26,9 @@ std::vector<std::vector<std::size_t>> choose_curve_points(const std::vector<Poly
 /// curve vertices fixed; curve edges, sharp edges of the surface (faces more than 60 degrees
 /// apart, where the collapses onto kept curve vertices left them alone) and the border of the
 /// remeshed band neither split, collapsed nor flipped). Faces that are tiny or flat once rounded
-/// to doubles stay out of the band, with the faces around them. Kept curve vertices keep their exact coordinates, so two meshes treated
-/// with the same `kept` share the coarser curve exactly; vertices that did not move keep theirs.
+/// to doubles stay out of the band, with the faces around them. Kept curve vertices keep their
+/// exact coordinates, so two meshes treated with the same `kept` share the coarser curve
+/// exactly; vertices that did not move keep theirs.
 /// Faces that changed get source_face_property = UINT32_MAX ("remeshed") and new_face_property.
 /// Returns false (mesh unchanged) when it fails; `refused` then lists, per curve, the positions
 /// that could not be dropped (a collapse would make the surface non-manifold): keep those too and
