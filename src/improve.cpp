@@ -1006,6 +1006,164 @@ std::size_t relocate_vertices_of_thin_faces(Mesh<K>& mesh,
   return moves;
 }
 
+template <class K>
+std::size_t split_curve_segments_under_caps(Mesh<K>& a, Mesh<K>& b,
+                                            std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_a,
+                                            std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_b,
+                                            const SurfaceDistance& surface_a, const SurfaceDistance& surface_b,
+                                            double tol, double thin_deg) {
+  using M = Mesh<K>;
+  using V = typename M::Vertex_index;
+  using F = typename M::Face_index;
+  using H = typename M::Halfedge_index;
+  using FP = Filtered::Point_3;
+  std::array<M*, 2> meshes = {&a, &b};
+  std::array<std::vector<std::vector<V>>*, 2> curves = {&curve_vertices_a, &curve_vertices_b};
+  std::array<const SurfaceDistance*, 2> surfaces = {&surface_a, &surface_b};
+  std::size_t splits = 0;
+  for (int which = 0; which < 2; ++which) {
+    M& mesh = *meshes[which];
+    M& other = *meshes[1 - which];
+    auto& cv = *curves[which];
+    auto& other_cv = *curves[1 - which];
+    FaceMarks<K> marks(mesh), other_marks(other);
+    auto point = [&](V v) { return to_filtered(mesh.point(v)); };
+    // Where each curve edge of this mesh is: (curve, position of its first vertex).
+    std::map<std::pair<V, V>, std::pair<std::size_t, std::size_t>> segment_at;
+    std::set<V> on_curve;
+    auto index_curves = [&]() {
+      segment_at.clear();
+      on_curve.clear();
+      for (std::size_t c = 0; c < cv.size(); ++c) {
+        on_curve.insert(cv[c].begin(), cv[c].end());
+        for (std::size_t i = 0; i + 1 < cv[c].size(); ++i)
+          segment_at[{std::min(cv[c][i], cv[c][i + 1]), std::max(cv[c][i], cv[c][i + 1])}] = {c, i};
+      }
+    };
+    index_curves();
+    std::vector<F> thin;
+    for (F f : mesh.faces())
+      if (marks.changeable(f) && face_angle<K>(mesh, f) < thin_deg) thin.push_back(f);
+    for (F f : thin) {
+      if (mesh.is_removed(f) || face_angle<K>(mesh, f) >= thin_deg) continue;
+      H h = mesh.halfedge(f);  // the long edge: opposite the largest angle, at target(next(h))
+      double largest = -1;
+      for (H g : CGAL::halfedges_around_face(mesh.halfedge(f), mesh)) {
+        const FP A = point(mesh.source(g)), B = point(mesh.target(g)), X = point(mesh.target(mesh.next(g)));
+        const double cosine = (A - X) * (B - X) / std::sqrt((A - X).squared_length() * (B - X).squared_length());
+        const double angle = std::acos(std::max(-1.0, std::min(1.0, cosine))) * 180 / M_PI;
+        if (angle > largest) largest = angle, h = g;
+      }
+      if (!(largest >= 120)) continue;
+      const V p = mesh.source(h), q = mesh.target(h), x = mesh.target(mesh.next(h));
+      const auto at = segment_at.find({std::min(p, q), std::max(p, q)});
+      if (at == segment_at.end() || on_curve.count(x) || mesh.is_border(x)) continue;
+      const auto [c, i] = at->second;
+      const H o = mesh.opposite(h);
+      if (mesh.is_border(o)) continue;
+      const V t = mesh.target(mesh.next(o));
+      if (t == x || mesh.halfedge(x, t) != M::null_halfedge()) continue;  // else no 2-manifold after
+      // The segment in the other mesh (the same positions of the same curve; the same points).
+      const bool forward = cv[c][i] == p;
+      const V op = forward ? other_cv[c][i] : other_cv[c][i + 1], oq = forward ? other_cv[c][i + 1] : other_cv[c][i];
+      const H oh = other.halfedge(op, oq);
+      if (oh == M::null_halfedge()) continue;
+      const FP P = point(p), Q = point(q), X = point(x), T = point(t);
+      double s = (X - P) * (Q - P) / (Q - P).squared_length();
+      if (!(s > 0.1 && s < 0.9)) continue;  // near an end a merge into it does better
+      s = std::round(s * 65536) / 65536;
+      // m is exactly on the segment under the exact kernel, in both meshes (their curve points
+      // are identical).
+      const typename K::Point_3 m = mesh.point(p) + (mesh.point(q) - mesh.point(p)) * typename K::FT(s);
+      const FP Mp = to_filtered(m);
+      const bool snap_like = CGAL::squared_distance(X, Mp) <= CGAL::square(tol);
+      double before = std::min(face_angle<K>(mesh, f), face_angle<K>(mesh, mesh.face(o)));
+      // This mesh, across: (q, p, t) becomes (q, m, t) and (m, p, t), in its plane.
+      if (CGAL::collinear(mesh.point(q), m, mesh.point(t)) || CGAL::collinear(m, mesh.point(p), mesh.point(t))) continue;
+      double after = std::min(min_angle_deg(Q, Mp, T), min_angle_deg(Mp, P, T));
+      // This mesh, around x: (a, x, c) becomes (a, m, c), f excepted (it goes).
+      bool allowed = true;
+      for (H g : CGAL::halfedges_around_target(mesh.halfedge(x), mesh)) {
+        const F face = mesh.face(g);
+        if (face == f) continue;
+        if (!snap_like && marks.untouched_input(face)) allowed = false;
+        const double angle = allowed ? angle_with_corner_moved_to<K>(mesh, *surfaces[which], tol, mesh.source(g),
+                                                                     mesh.target(mesh.next(g)), mesh.point(x), m)
+                                     : -1.0;
+        if (angle < 0) {
+          allowed = false;
+          break;
+        }
+        before = std::min(before, face_angle<K>(mesh, face));
+        after = std::min(after, angle);
+      }
+      if (!allowed) continue;
+      // The other mesh: each face on the segment, (p, q, y), becomes (p, m, y) and (m, q, y), in
+      // its plane.
+      for (H g : {oh, other.opposite(oh)}) {
+        if (other.is_border(g)) continue;
+        const V gp = other.source(g), gq = other.target(g), y = other.target(other.next(g));
+        if (CGAL::collinear(other.point(gp), m, other.point(y)) || CGAL::collinear(m, other.point(gq), other.point(y))) {
+          allowed = false;
+          break;
+        }
+        const FP GP = to_filtered(other.point(gp)), GQ = to_filtered(other.point(gq)), Y = to_filtered(other.point(y));
+        before = std::min(before, face_angle<K>(other, other.face(g)));
+        after = std::min({after, min_angle_deg(GP, Mp, Y), min_angle_deg(Mp, GQ, Y)});
+      }
+      if (!allowed || !(after > before + 1.0)) continue;
+
+      // Split the segment in the other mesh, and its faces, which keep their source.
+      {
+        const H on = CGAL::Euler::split_edge(oh, other);  // on: op -> mv, then oh: mv -> oq
+        const V omv = other.target(on);
+        other.point(omv) = m;
+        std::vector<H> to_split;
+        if (!other.is_border(oh)) to_split.push_back(oh);
+        const H back = other.opposite(oh);  // oq -> mv, then opposite(on): mv -> op
+        if (!other.is_border(back)) to_split.push_back(back);
+        for (H g : to_split) {
+          // The face's halfedge that ends at mv, then mv -> an end, then that end -> y (the vertex
+          // across): the face is split between mv and y.
+          const H into_mv = g == oh ? on : back;
+          const std::uint32_t source = other_marks.source[other.face(into_mv)];
+          const H added = CGAL::Euler::split_face(into_mv, other.next(other.next(into_mv)), other);
+          for (F face : {other.face(added), other.face(other.opposite(added))}) {
+            other_marks.source[face] = source;  // in its plane (to within rounding under the rounded kernels)
+            other_marks.is_new[face] = true;
+          }
+        }
+        other_cv[c].insert(other_cv[c].begin() + std::ptrdiff_t(i + 1), omv);
+      }
+      // This mesh: split the segment at m, connect m to x and to t, merge x into m.
+      const H hn = CGAL::Euler::split_edge(h, mesh);  // hn: p -> mv, then h: mv -> q
+      const V mv = mesh.target(hn);
+      mesh.point(mv) = m;
+      const auto across_source = marks.source[mesh.face(o)];
+      std::vector<F> changed;  // x's faces but f: they get m for x
+      for (H g : CGAL::halfedges_around_target(mesh.halfedge(x), mesh))
+        if (mesh.face(g) != f) changed.push_back(mesh.face(g));
+      CGAL::Euler::split_face(hn, mesh.next(h), mesh);
+      const H hs = CGAL::Euler::split_face(o, mesh.next(mesh.opposite(hn)), mesh);
+      for (F g : {mesh.face(hs), mesh.face(mesh.opposite(hs))}) {
+        marks.source[g] = across_source;
+        marks.is_new[g] = true;
+      }
+      const V kept = CGAL::Euler::collapse_edge(mesh.edge(mesh.halfedge(x, mv)), mesh);
+      mesh.point(kept) = m;
+      for (F g : changed) marks.reshaped(g, snap_like);
+      cv[c].insert(cv[c].begin() + std::ptrdiff_t(i + 1), kept);
+      index_curves();
+      ++splits;
+    }
+  }
+  if (splits > 0) {
+    compact_keeping_curve_vertices<K>(a, curve_vertices_a);
+    compact_keeping_curve_vertices<K>(b, curve_vertices_b);
+  }
+  return splits;
+}
+
 #define SEAM_INSTANTIATE(K)                                                                                          \
   template std::vector<std::vector<std::size_t>> choose_curve_points<K>(const std::vector<Polyline<K>>&, double, double);   \
   template bool coarsen_and_remesh_near_curves<K>(Mesh<K>&, std::vector<std::vector<typename MeshTypes<K>::V>>&,   \
@@ -1024,7 +1182,10 @@ std::size_t relocate_vertices_of_thin_faces(Mesh<K>& mesh,
   template std::size_t collapse_short_edges_of_thin_faces<K>(Mesh<K>&, std::vector<std::vector<typename MeshTypes<K>::V>>&, \
                                                              const SurfaceDistance&, double, double, int);   \
   template std::size_t relocate_vertices_of_thin_faces<K>(Mesh<K>&, const std::vector<std::vector<typename MeshTypes<K>::V>>&, \
-                                                          const SurfaceDistance&, double, double, int);
+                                                          const SurfaceDistance&, double, double, int);      \
+  template std::size_t split_curve_segments_under_caps<K>(                                                           \
+      Mesh<K>&, Mesh<K>&, std::vector<std::vector<typename MeshTypes<K>::V>>&,                                      \
+      std::vector<std::vector<typename MeshTypes<K>::V>>&, const SurfaceDistance&, const SurfaceDistance&, double, double);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)
 SEAM_INSTANTIATE(Float)

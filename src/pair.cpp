@@ -909,6 +909,13 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
             constexpr double target_min_angle = 10;  // issue #3: no new face below 10 degrees
             collapse_then_merge(2 * spacing, target_min_angle);
           }
+          // Caps left standing on a curve segment (where the curve leaves a sharp edge of the
+          // surface at a small angle, say): the segment is split in both meshes under the cap's
+          // apex, which moves onto it.
+          if (internal::split_curve_segments_under_caps<K>(a2, b2, cva, cvb, surface_a, surface_b, snap_tol, thin) > 0) {
+            merge_thin_faces(a2, cva, surface_a);
+            merge_thin_faces(b2, cvb, surface_b);
+          }
         }
       } catch (const CGAL::Failure_exception&) {
         add_note("remeshing next to the curves failed (a CGAL assertion); the embedded meshes are kept");

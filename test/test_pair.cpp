@@ -551,6 +551,25 @@ TEST_CASE("pair: the remeshing keeps sharp edges, so that three times the defaul
   CHECK(p.result.stats.remesh_max_deviation <= p.result.stats.snap_tol);
 }
 
+TEST_CASE("pair: a cap standing on a curve segment has the segment split under it, in both meshes",
+          "[pair][remesh]") {
+  using K = seam::Exact;
+  // Resolution 12, lenticular warp, overlap 0.15, snapping at half the default tolerance: five
+  // new faces below 10 degrees were left, caps among them standing on a curve segment (no step
+  // on one mesh may change a curve segment). The segment is now split in both meshes under the
+  // cap's apex, which moves onto it; two faces below 10 degrees are left.
+  const auto c = crossover(12, seam::Section::lenticular, 0.15);
+  auto a1 = mesh_of<K>(c.weft), b1 = mesh_of<K>(c.warp);
+  seam::PairOptions options;
+  options.remesh_near_curves = false;
+  options.embed.snap_tol = 0.5 * seam::pair<K>(a1, b1, options).stats.snap_tol;
+  options.remesh_near_curves = true;
+  const auto p = pair_and_check(c, options);  // both meshes hold every curve vertex and segment
+  REQUIRE(p.result.stats.remeshed);
+  CHECK(p.report.below_10_a + p.report.below_10_b <= 2);
+  CHECK(p.result.stats.remesh_max_deviation <= p.result.stats.snap_tol);
+}
+
 TEST_CASE("pair: when the snapped surfaces receive a curve differently, the unsnapped ones are embedded",
           "[pair][snap]") {
   using K = seam::Exact;

@@ -128,6 +128,25 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
                                                std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
                                                const SurfaceDistance& surface, double tol, double thin_deg, int rounds);
 
+/// Caps standing on a curve segment, which no step on one mesh removes: thin new faces of `a` or
+/// `b` (smallest angle below `thin_deg`) whose largest angle, 120 degrees or more, is opposite a
+/// curve segment and at a vertex x that is neither a curve vertex nor on a border. The segment is
+/// split in both meshes at the point m closest to x (its parameter rounded to a multiple of 2^-16
+/// and in (0.1, 0.9): m is exactly on the segment under the exact kernel, the same point in both
+/// meshes), the faces on it split in their planes (keeping their source), and x is merged into m.
+/// Under the tests of collapse_short_edges_of_thin_faces' move of a cap's apex (no face around x
+/// flat, turned over or turned by 30 degrees or more; centroids and moved edges' middles within
+/// `tol` of the mesh's input `surface_a` or `surface_b`; faces of the input change only when x
+/// moves by `tol` at most), and the smallest angle of the changed faces of both meshes must rise
+/// by more than a degree. The new curve vertex is inserted in `curve_vertices_a` and
+/// `curve_vertices_b`; both meshes are compacted. Returns the number of splits.
+template <class K>
+std::size_t split_curve_segments_under_caps(Mesh<K>& a, Mesh<K>& b,
+                                            std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_a,
+                                            std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_b,
+                                            const SurfaceDistance& surface_a, const SurfaceDistance& surface_b,
+                                            double tol, double thin_deg);
+
 /// Moves the vertices of thin new faces (smallest angle below `thin_deg`; not curve vertices, not
 /// on a border) to raise the smallest angle of their faces by more than a degree: a pattern search
 /// in the tangent plane (16 directions, halving steps, doubles), the point found moved onto
