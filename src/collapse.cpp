@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <set>
 #include <utility>
 
@@ -67,12 +68,13 @@ template <class K> bool has_face_below(const Mesh<K>& m, typename MeshTypes<K>::
   return false;
 }
 
-/// Can P merge into Q in `m`? Fills the smallest angle of the faces around P and Q before and
-/// after. Exact tests for degeneracy and orientation under the exact kernel.
+/// Can P merge into Q in `m` (Q staying, or both moving to `to` when given)? Fills the smallest
+/// angle of the faces around P and Q before and after. Exact tests for degeneracy and
+/// orientation under the exact kernel.
 template <class K>
 bool collapse_allowed(const Mesh<K>& m, typename MeshTypes<K>::V p, typename MeshTypes<K>::V q,
                       std::size_t input_vertices, Angles& before, Angles& after, const MergedFaceTest& accept_face,
-                      int mesh_id) {
+                      int mesh_id, const std::optional<typename K::Point_3>& to) {
   using V = typename MeshTypes<K>::V;
   const auto h = m.halfedge(p, q);
   if (h == Mesh<K>::null_halfedge() || m.is_border(p) || m.is_border(q)) return false;
@@ -80,16 +82,37 @@ bool collapse_allowed(const Mesh<K>& m, typename MeshTypes<K>::V p, typename Mes
   // CGAL keeps the target of the edge's own halfedge: the other vertex's index goes away.
   const auto e = m.edge(h);
   const V kept = m.target(m.halfedge(e));
-  if (kept == p && std::size_t(q) < input_vertices) return false;
+  if ((kept == p || to) && std::size_t(q) < input_vertices) return false;
   if (!CGAL::Euler::does_satisfy_link_condition(e, m)) return false;
   before = after = Angles{};
-  const auto& pq = m.point(q);
+  const auto& pq = to ? *to : m.point(q);
+  // The face with corners c once the corner at `moved` is at pq: false if it goes flat or turns
+  // over, or fails accept_face.
+  auto moved_face_allowed = [&](const std::array<typename K::Point_3, 3>& c, int moved) {
+    std::array<typename K::Point_3, 3> d = c;
+    d[moved] = pq;
+    if (CGAL::collinear(d[0], d[1], d[2])) return false;
+    const auto n0 = CGAL::cross_product(c[1] - c[0], c[2] - c[0]);
+    const auto n1 = CGAL::cross_product(d[1] - d[0], d[2] - d[0]);
+    if (CGAL::sign(n0 * n1) != CGAL::POSITIVE) return false;
+    if (accept_face && !accept_face(mesh_id, to_filtered(d[0]), to_filtered(d[1]), to_filtered(d[2]))) return false;
+    after.add(min_angle_deg(d[0], d[1], d[2]));
+    return true;
+  };
   for (auto f : CGAL::faces_around_target(m.halfedge(q), m)) {
     const double angle = face_min_angle<K>(m, f);
     before.add(angle);
     bool has_p = false;
-    for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) has_p = has_p || v == p;
-    if (!has_p) after.add(angle);
+    std::array<typename K::Point_3, 3> c;
+    int k = 0, kq = 0;
+    for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) {
+      has_p = has_p || v == p;
+      if (v == q) kq = k;
+      c[k++] = m.point(v);
+    }
+    if (has_p) continue;  // removed by the collapse
+    if (!to) after.add(angle);
+    else if (!moved_face_allowed(c, kq)) return false;
   }
   for (auto f : CGAL::faces_around_target(m.halfedge(p), m)) {
     std::array<typename K::Point_3, 3> c;
@@ -101,19 +124,12 @@ bool collapse_allowed(const Mesh<K>& m, typename MeshTypes<K>::V p, typename Mes
     }
     if (!has_q) before.add(min_angle_deg(c[0], c[1], c[2]));  // faces with Q were counted above
     if (has_q) continue;  // removed by the collapse
-    std::array<typename K::Point_3, 3> d = c;
     int kp = 0;
     for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) {
       if (v == p) break;
       ++kp;
     }
-    d[kp] = pq;
-    if (CGAL::collinear(d[0], d[1], d[2])) return false;
-    const auto n0 = CGAL::cross_product(c[1] - c[0], c[2] - c[0]);
-    const auto n1 = CGAL::cross_product(d[1] - d[0], d[2] - d[0]);
-    if (CGAL::sign(n0 * n1) != CGAL::POSITIVE) return false;
-    if (accept_face && !accept_face(mesh_id, to_filtered(d[0]), to_filtered(d[1]), to_filtered(d[2]))) return false;
-    after.add(min_angle_deg(d[0], d[1], d[2]));
+    if (!moved_face_allowed(c, kp)) return false;
   }
   return true;
 }
@@ -124,9 +140,11 @@ template <class K> void ring(const Mesh<K>& m, typename MeshTypes<K>::V v, std::
   for (auto u : CGAL::vertices_around_target(m.halfedge(v), m)) out.push_back(u);
 }
 
-/// Merges P into Q; returns the vertex that stays (it holds Q's point).
-template <class K> typename MeshTypes<K>::V merge(Mesh<K>& m, typename MeshTypes<K>::V p, typename MeshTypes<K>::V q) {
-  const auto point = m.point(q);
+/// Merges P into Q; returns the vertex that stays (it holds Q's point, or `to` when given).
+template <class K>
+typename MeshTypes<K>::V merge(Mesh<K>& m, typename MeshTypes<K>::V p, typename MeshTypes<K>::V q,
+                               const std::optional<typename K::Point_3>& to) {
+  const auto point = to ? *to : m.point(q);
   const auto kept = CGAL::Euler::collapse_edge(m.edge(m.halfedge(p, q)), m);
   m.point(kept) = point;
   return kept;
@@ -272,17 +290,22 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
   const std::size_t input_vertices[2] = {input_vertices_a, input_vertices_b};
 
   /// P merged into Q in A (mask 1), B (mask 2) or both (3: a curve segment, at positions
-  /// at_p / at_q of curve `curve`).
+  /// at_p / at_q of curve `curve`). With `to` (only with accept_face: it keeps the moved faces
+  /// near the inputs), both P and Q move there: a point of the segment, exact.
   struct Op {
     int mask;
     V p[2], q[2];
     std::size_t curve, at_p, at_q;
     double length;
     bool tiny;
+    std::optional<typename K::Point_3> to = std::nullopt;
+    int quarters = 0;  ///< with `to`: it is P + quarters / 4 (Q - P)
   };
-  std::set<std::array<std::size_t, 4>> excluded;  // (mask, P in A, P in B, Q in A or B) refused or undone
+  // (mask + 4 quarters; P in A, P in B, Q in A or B) refused or undone
+  std::set<std::array<std::size_t, 4>> excluded;
   auto key = [](const Op& op) {
-    return std::array<std::size_t, 4>{std::size_t(op.mask), op.mask & 1 ? std::size_t(op.p[0]) : 0,
+    return std::array<std::size_t, 4>{std::size_t(op.mask) + 4 * std::size_t(op.quarters),
+                                      op.mask & 1 ? std::size_t(op.p[0]) : 0,
                                       op.mask & 2 ? std::size_t(op.p[1]) : 0,
                                       op.mask & 1 ? std::size_t(op.q[0]) : std::size_t(op.q[1])};
   };
@@ -313,6 +336,12 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
               !has_face_below<K>(b, cvb[c][i], only_next_to_faces_below))
             continue;
           ops.push_back({3, {cva[c][i], cvb[c][i]}, {cva[c][j], cvb[c][j]}, c, i, j, len, len <= tiny_length});
+          // Where merging either end into the other moves its faces out of the tolerance, both
+          // may merge at a point between (a quarter, half or three quarters along, both ways).
+          if (accept_face && len > tiny_length && len <= max_length && (closed || (j >= 1 && j + 1 < n)))
+            for (int quarter : {2, 3})
+              ops.push_back({3, {cva[c][i], cvb[c][i]}, {cva[c][j], cvb[c][j]}, c, i, j, len, false,
+                             curves[c][i] + (curves[c][j] - curves[c][i]) * typename K::FT(quarter) / 4, quarter});
         }
     }
     // Tiny edges off the curves (one end off the curves and new): merged in their mesh alone.
@@ -332,10 +361,11 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
         }
       }
     if (ops.empty()) break;
-    // Tiny ones first, then the shortest.
+    // Tiny ones first, then the shortest; of a segment, merges into an end before the midpoint.
     std::sort(ops.begin(), ops.end(), [&](const Op& x, const Op& y) {
       if (x.tiny != y.tiny) return x.tiny;
       if (x.length != y.length) return x.length < y.length;
+      if (bool(x.to) != bool(y.to)) return !x.to;
       return key(x) < key(y);
     });
 
@@ -348,6 +378,7 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
     for (const auto& op : ops) {
       if (excluded.count(key(op))) continue;
       if (op.mask == 3 && (uses[0][std::size_t(op.p[0])] != 1 || uses[1][std::size_t(op.p[1])] != 1)) continue;
+      if (op.to && (uses[0][std::size_t(op.q[0])] != 1 || uses[1][std::size_t(op.q[1])] != 1)) continue;  // Q moves
       bool free = true;
       for (int m = 0; m < 2 && free; ++m) {
         near[m].clear();
@@ -361,7 +392,7 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
       for (int m = 0; m < 2 && allowed; ++m) {
         if (!(op.mask & (1 << m))) continue;
         Angles bm, am;
-        allowed = collapse_allowed<K>(*meshes[m], op.p[m], op.q[m], input_vertices[m], bm, am, accept_face, m);
+        allowed = collapse_allowed<K>(*meshes[m], op.p[m], op.q[m], input_vertices[m], bm, am, accept_face, m, op.to);
         before.min = std::min(before.min, bm.min), before.below_10 += bm.below_10;
         after.min = std::min(after.min, am.min), after.below_10 += am.below_10;
       }
@@ -381,7 +412,7 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
       std::vector<std::array<V, 2>> kept(chosen.size());
       for (std::size_t k = 0; k < chosen.size(); ++k)
         for (int m = 0; m < 2; ++m)
-          if (chosen[k].mask & (1 << m)) kept[k][m] = merge<K>(*meshes[m], chosen[k].p[m], chosen[k].q[m]);
+          if (chosen[k].mask & (1 << m)) kept[k][m] = merge<K>(*meshes[m], chosen[k].p[m], chosen[k].q[m], chosen[k].to);
       // The curves after the collapses, by the vertices that stay.
       VertexLists<K> after_lists[2] = {cva, cvb};
       for (int m = 0; m < 2; ++m) {
@@ -441,6 +472,10 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
         for (std::size_t c = 0; c < curves.size(); ++c) drop[c].assign(curves[c].size(), 0);
         for (const auto& op : chosen) {
           if (op.curve == no_curve) continue;
+          if (op.to) {  // Q moved to the midpoint
+            if (op.at_q == 0 && is_closed(curves[op.curve])) curves[op.curve].back() = *op.to;
+            curves[op.curve][op.at_q] = *op.to;
+          }
           drop[op.curve][op.at_p] = 1;
           if (op.at_p == 0 && is_closed(curves[op.curve])) drop[op.curve].back() = 1;
         }

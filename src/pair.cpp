@@ -884,7 +884,8 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
           merge_thin_faces(b2, cvb, surface_b);
           // Curve segments still short (kept by the coarsening, or frozen): collapsed in both
           // meshes where that raises the angles and crosses nothing, as after the embedding
-          // (internal/collapse.h), any curve vertex this time. Segments shorter than half the
+          // (internal/collapse.h), any curve vertex this time, and both ends may merge at a point
+          // between them (the faces of both share the move). Segments shorter than half the
           // spacing (the coarsening's own lower bound) are tried, and each changed face must stay
           // within the tolerance of its input surface (corners, edge middles and centroid,
           // doubles): the chords of the coarser curve then lie within it too. The thin faces

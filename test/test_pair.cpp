@@ -570,6 +570,32 @@ TEST_CASE("pair: a cap standing on a curve segment has the segment split under i
   CHECK(p.result.stats.remesh_max_deviation <= p.result.stats.snap_tol);
 }
 
+TEST_CASE("pair: a short curve segment whose ends cannot merge into each other merges at a point between",
+          "[pair][remesh][collapse]") {
+  // A lenticular warp at 65 degrees to an elliptical weft and tilted by 9 degrees (one of the 72
+  // held-out crossovers): a curve segment 1.7 tolerances long was left, with a face below 10
+  // degrees on it in each mesh. Merging either end into the other moved faces out of the
+  // tolerance; both ends now merge at a point of the segment between them (a quarter, half or
+  // three quarters along), the same point in both meshes.
+  Crossover c;
+  const int r = 18;
+  c.weft.segments_along = 5 * r + 1;
+  c.weft.segments_around = 2 * r + 3;
+  c.weft.translate = {-5.0, 0.0, 0.0};
+  c.warp.half_width = 0.8;
+  c.warp.half_height = 0.3;
+  c.warp.crimp_amplitude = -0.25;
+  c.warp.section = seam::Section::lenticular;
+  c.warp.segments_along = 3 * r + 5;
+  c.warp.segments_around = r + 9;
+  const double t = 65 * M_PI / 180;
+  c.warp.rotate_z = t;
+  c.warp.rotate_x = 9 * M_PI / 180;
+  c.warp.translate = {-5.0 * std::cos(t), -5.0 * std::sin(t) * std::cos(c.warp.rotate_x),
+                      0.65 - 0.17 - 5.0 * std::sin(t) * std::sin(c.warp.rotate_x)};
+  check_remeshed_without_faces_below_10(pair_and_check(c));
+}
+
 TEST_CASE("pair: when the snapped surfaces receive a curve differently, the unsnapped ones are embedded",
           "[pair][snap]") {
   using K = seam::Exact;

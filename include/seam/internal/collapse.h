@@ -6,7 +6,8 @@
 // a thin triangle: its corner facing the segment is tiny. With a snapping tolerance, the curve
 // may move by that much: the short segment (P, Q) is collapsed in both meshes at once (P merged
 // into Q, an edge collapse in A and the same in B), so both keep sharing the curve, now without
-// P. No vertex moves; the faces around P tilt by at most |PQ|.
+// P. No vertex moves; the faces around P tilt by at most |PQ|. (After the pair's remeshing, with
+// a test that keeps faces within the tolerance, both ends may instead merge at a point between.)
 //
 // A collapse is made only when, in both meshes, it keeps the mesh a 2-manifold (link
 // condition), keeps every remaining face around P non-degenerate with its orientation (exact
@@ -44,7 +45,10 @@ struct CurveCollapseReport {
 /// Optional (`accept_face`): a test of each face as it would be after a merge (mesh 0 is A, 1 is
 /// B; its corners rounded to doubles); a merge is made only if every changed face passes it in
 /// both meshes (the pair's remeshing uses it to keep faces within the tolerance of the inputs,
-/// and then allows segments longer than the tolerance).
+/// and then allows segments longer than the tolerance). With it, where neither end of a segment
+/// merges into the other, both may merge at P + t (Q - P), t = 1/4, 1/2 or 3/4 (exact: the same
+/// point in both meshes and in `curves`): the ends' faces share the move. Then Q moves too; it
+/// must not be an input vertex nor on two curves, nor, on an open curve, its end.
 /// Optional (`only_next_to_faces_below`, degrees): only segments whose merged end is a corner of a
 /// face with a smaller angle, in either mesh, are tried (and tiny ones).
 using MergedFaceTest = std::function<bool(int mesh, const Filtered::Point_3&, const Filtered::Point_3&,
