@@ -1007,6 +1007,81 @@ std::size_t relocate_vertices_of_thin_faces(Mesh<K>& mesh,
 }
 
 template <class K>
+std::size_t split_edges_of_thin_faces(Mesh<K>& mesh, const std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
+                                      const SurfaceDistance& surface, double tol, double thin_deg) {
+  using M = Mesh<K>;
+  using V = typename M::Vertex_index;
+  using F = typename M::Face_index;
+  using H = typename M::Halfedge_index;
+  const auto curve_edges = curve_edge_set(curve_vertices);
+  // New faces below thin_deg and the smallest angle of the new faces.
+  auto thin_new_faces = [&]() {
+    const auto is_new = mesh.template property_map<F, bool>(new_face_property).first;
+    std::pair<std::size_t, double> result{0, 180};
+    for (F f : mesh.faces()) {
+      if (!is_new[f]) continue;
+      const double angle = face_angle<K>(mesh, f);
+      result.first += angle < thin_deg ? 1 : 0;
+      result.second = std::min(result.second, angle);
+    }
+    return result;
+  };
+  std::vector<F> thin;
+  {
+    FaceMarks<K> marks(mesh);
+    for (F f : mesh.faces())
+      if (marks.changeable(f) && face_angle<K>(mesh, f) < thin_deg) thin.push_back(f);
+  }
+  std::size_t splits = 0;
+  for (F f : thin) {
+    if (mesh.is_removed(f) || face_angle<K>(mesh, f) >= thin_deg) continue;
+    // The corner c with the smallest angle; its two edges are the candidates.
+    H at_c = mesh.halfedge(f);  // target(at_c) = c
+    double smallest = 180;
+    for (H g : CGAL::halfedges_around_face(mesh.halfedge(f), mesh)) {
+      const auto a = to_filtered(mesh.point(mesh.source(g))), c = to_filtered(mesh.point(mesh.target(g))),
+                 b = to_filtered(mesh.point(mesh.target(mesh.next(g))));
+      const auto u = a - c, w = b - c;
+      const double cosine = u * w / std::sqrt(u.squared_length() * w.squared_length());
+      const double corner = std::acos(std::max(-1.0, std::min(1.0, cosine))) * 180 / M_PI;
+      if (corner < smallest) smallest = corner, at_c = g;
+    }
+    const V c = mesh.target(at_c);
+    for (V x : {mesh.source(at_c), mesh.target(mesh.next(at_c))}) {
+      if (curve_edges.count({std::min(c, x), std::max(c, x)})) continue;  // shared: left as it is
+      const H h = mesh.halfedge(c, x);
+      if (h == M::null_halfedge() || mesh.is_border(mesh.edge(h))) continue;
+      const typename K::Point_3 m = CGAL::midpoint(mesh.point(c), mesh.point(x));  // exact under Epeck
+      if (surface.distance(to_filtered(m)) > tol) continue;
+      const auto before = thin_new_faces();
+      const M saved = mesh;  // (property maps refer to the arrays of `mesh`: fetched again below)
+      {
+        FaceMarks<K> marks(mesh);
+        const H o = mesh.opposite(h);
+        const std::uint32_t source_h = marks.source[mesh.face(h)], source_o = marks.source[mesh.face(o)];
+        const H hn = CGAL::Euler::split_edge(h, mesh);  // hn: c -> mv, then h: mv -> x
+        mesh.point(mesh.target(hn)) = m;
+        const H across_h = CGAL::Euler::split_face(hn, mesh.next(h), mesh);         // mv to the corner after x
+        const H across_o = CGAL::Euler::split_face(o, mesh.next(mesh.next(o)), mesh);  // o: x -> mv
+        for (auto [g, source] : {std::make_pair(across_h, source_h), std::make_pair(across_o, source_o)})
+          for (F face : {mesh.face(g), mesh.face(mesh.opposite(g))}) {
+            marks.source[face] = source;  // in its plane (to within rounding under the rounded kernels)
+            marks.is_new[face] = true;
+          }
+      }
+      flip_to_improve_angles<K>(mesh, curve_vertices, surface, tol, 2);
+      const auto after = thin_new_faces();
+      if (after.first < before.first && after.second >= before.second) {
+        ++splits;
+        break;
+      }
+      mesh = saved;
+    }
+  }
+  return splits;
+}
+
+template <class K>
 std::size_t split_curve_segments_under_caps(Mesh<K>& a, Mesh<K>& b,
                                             std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_a,
                                             std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_b,
@@ -1183,6 +1258,8 @@ std::size_t split_curve_segments_under_caps(Mesh<K>& a, Mesh<K>& b,
                                                              const SurfaceDistance&, double, double, int);   \
   template std::size_t relocate_vertices_of_thin_faces<K>(Mesh<K>&, const std::vector<std::vector<typename MeshTypes<K>::V>>&, \
                                                           const SurfaceDistance&, double, double, int);      \
+  template std::size_t split_edges_of_thin_faces<K>(Mesh<K>&, const std::vector<std::vector<typename MeshTypes<K>::V>>&, \
+                                                    const SurfaceDistance&, double, double);                      \
   template std::size_t split_curve_segments_under_caps<K>(                                                           \
       Mesh<K>&, Mesh<K>&, std::vector<std::vector<typename MeshTypes<K>::V>>&,                                      \
       std::vector<std::vector<typename MeshTypes<K>::V>>&, const SurfaceDistance&, const SurfaceDistance&, double, double);

@@ -871,6 +871,7 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
           // then move their vertices where their faces are better (a search on the surface), then
           // smooth and flip once more around them.
           const double thin = options.embed.min_angle_deg;
+          constexpr double target_min_angle = 10;  // issue #3: no new face below 10 degrees
           auto merge_thin_faces = [&](Mesh<K>& m, std::vector<std::vector<typename Mesh<K>::Vertex_index>>& cv,
                                       const internal::SurfaceDistance& surface) {
             const bool merged = internal::collapse_short_edges_of_thin_faces<K>(m, cv, surface, snap_tol, thin, 3) > 0;
@@ -907,7 +908,6 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
             // A curve vertex still at a corner of a face below 10 degrees (a cap of three curve
             // vertices at a bend of the curve, say): a segment of it up to twice the spacing long
             // is collapsed too, under the same tests.
-            constexpr double target_min_angle = 10;  // issue #3: no new face below 10 degrees
             collapse_then_merge(2 * spacing, target_min_angle);
           }
           // Caps left standing on a curve segment (where the curve leaves a sharp edge of the
@@ -917,6 +917,10 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
             merge_thin_faces(a2, cva, surface_a);
             merge_thin_faces(b2, cvb, surface_b);
           }
+          // Faces still below 10 degrees: an edge at their smallest angle is split at its middle,
+          // then flips.
+          internal::split_edges_of_thin_faces<K>(a2, cva, surface_a, snap_tol, target_min_angle);
+          internal::split_edges_of_thin_faces<K>(b2, cvb, surface_b, snap_tol, target_min_angle);
         }
       } catch (const CGAL::Failure_exception&) {
         add_note("remeshing next to the curves failed (a CGAL assertion); the embedded meshes are kept");

@@ -128,6 +128,18 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
                                                std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
                                                const SurfaceDistance& surface, double tol, double thin_deg, int rounds);
 
+/// Thin new faces (smallest angle below `thin_deg`) that no merge, flip or move removed: an edge
+/// at the smallest angle (not a curve edge, not on a border) is split at its middle (exact under
+/// the exact kernel; within `tol` of `surface`), the two faces on it split in their planes
+/// (keeping their source, marked new), and flip_to_improve_angles runs. Kept only if the new
+/// faces below `thin_deg` are then fewer and the smallest angle of the new faces did not fall;
+/// else the mesh is restored. (A needle in a strip of the input between a sharp edge and the
+/// next row of vertices, its small angle at a curve vertex on the edge: the sharp edge's middle
+/// lets a flip make two faces of twice the angle.) Returns the number of splits kept.
+template <class K>
+std::size_t split_edges_of_thin_faces(Mesh<K>& mesh, const std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
+                                      const SurfaceDistance& surface, double tol, double thin_deg);
+
 /// Caps standing on a curve segment, which no step on one mesh removes: thin new faces of `a` or
 /// `b` (smallest angle below `thin_deg`) whose largest angle, 120 degrees or more, is opposite a
 /// curve segment and at a vertex x that is neither a curve vertex nor on a border. The segment is
