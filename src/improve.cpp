@@ -456,6 +456,29 @@ template <class K> double face_angle(const seam::Mesh<K>& mesh, typename seam::M
                              seam::to_filtered(mesh.point(mesh.target(mesh.next(h)))));
 }
 
+/// The angle in degrees at corner x of the triangle (a, x, b) (doubles).
+inline double corner_angle_deg(const seam::Filtered::Point_3& a, const seam::Filtered::Point_3& x,
+                               const seam::Filtered::Point_3& b) {
+  const double cosine = (a - x) * (b - x) / std::sqrt((a - x).squared_length() * (b - x).squared_length());
+  return std::acos(std::max(-1.0, std::min(1.0, cosine))) * 180 / M_PI;
+}
+
+/// The halfedge h of face f whose opposite corner, target(next(h)), has the largest angle, and
+/// that angle (doubles): h is the face's long edge.
+template <class K>
+std::pair<typename seam::Mesh<K>::Halfedge_index, double> long_edge(const seam::Mesh<K>& mesh,
+                                                                  typename seam::Mesh<K>::Face_index f) {
+  auto h = mesh.halfedge(f);
+  double largest = -1;
+  for (auto g : CGAL::halfedges_around_face(mesh.halfedge(f), mesh)) {
+    const double angle = corner_angle_deg(seam::to_filtered(mesh.point(mesh.source(g))),
+                                          seam::to_filtered(mesh.point(mesh.target(mesh.next(g)))),
+                                          seam::to_filtered(mesh.point(mesh.target(g))));
+    if (angle > largest) largest = angle, h = g;
+  }
+  return {h, largest};
+}
+
 /// The provenance of the faces as the steps on thin faces read and write it.
 template <class K> struct FaceMarks {
   using F = typename seam::Mesh<K>::Face_index;
@@ -749,14 +772,7 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
   // change them (x within tol of m; allowing more was measured, no gain), and the smallest angle
   // of the faces around x and across must rise by more than a degree.
   auto move_cap_apex_onto_long_edge = [&](F f) {
-    auto h = mesh.halfedge(f);  // the long edge: opposite the largest angle, at target(next(h))
-    double largest = -1;
-    for (auto g : CGAL::halfedges_around_face(mesh.halfedge(f), mesh)) {
-      const FP A = point(mesh.source(g)), B = point(mesh.target(g)), X = point(mesh.target(mesh.next(g)));
-      const double cosine = (A - X) * (B - X) / std::sqrt((A - X).squared_length() * (B - X).squared_length());
-      const double angle = std::acos(std::max(-1.0, std::min(1.0, cosine))) * 180 / M_PI;
-      if (angle > largest) largest = angle, h = g;
-    }
+    const auto [h, largest] = long_edge<K>(mesh, f);  // the largest angle at target(next(h))
     if (!(largest >= 120)) return false;
     const V p = mesh.source(h), q = mesh.target(h), x = mesh.target(mesh.next(h));
     const auto o = mesh.opposite(h);
@@ -1039,11 +1055,8 @@ std::size_t split_edges_of_thin_faces(Mesh<K>& mesh, const std::vector<std::vect
     H at_c = mesh.halfedge(f);  // target(at_c) = c
     double smallest = 180;
     for (H g : CGAL::halfedges_around_face(mesh.halfedge(f), mesh)) {
-      const auto a = to_filtered(mesh.point(mesh.source(g))), c = to_filtered(mesh.point(mesh.target(g))),
-                 b = to_filtered(mesh.point(mesh.target(mesh.next(g))));
-      const auto u = a - c, w = b - c;
-      const double cosine = u * w / std::sqrt(u.squared_length() * w.squared_length());
-      const double corner = std::acos(std::max(-1.0, std::min(1.0, cosine))) * 180 / M_PI;
+      const double corner = corner_angle_deg(to_filtered(mesh.point(mesh.source(g))), to_filtered(mesh.point(mesh.target(g))),
+                                             to_filtered(mesh.point(mesh.target(mesh.next(g)))));
       if (corner < smallest) smallest = corner, at_c = g;
     }
     const V c = mesh.target(at_c);
@@ -1121,14 +1134,7 @@ std::size_t split_curve_segments_under_caps(Mesh<K>& a, Mesh<K>& b,
       if (marks.changeable(f) && face_angle<K>(mesh, f) < thin_deg) thin.push_back(f);
     for (F f : thin) {
       if (mesh.is_removed(f) || face_angle<K>(mesh, f) >= thin_deg) continue;
-      H h = mesh.halfedge(f);  // the long edge: opposite the largest angle, at target(next(h))
-      double largest = -1;
-      for (H g : CGAL::halfedges_around_face(mesh.halfedge(f), mesh)) {
-        const FP A = point(mesh.source(g)), B = point(mesh.target(g)), X = point(mesh.target(mesh.next(g)));
-        const double cosine = (A - X) * (B - X) / std::sqrt((A - X).squared_length() * (B - X).squared_length());
-        const double angle = std::acos(std::max(-1.0, std::min(1.0, cosine))) * 180 / M_PI;
-        if (angle > largest) largest = angle, h = g;
-      }
+      const auto [h, largest] = long_edge<K>(mesh, f);  // the largest angle at target(next(h))
       if (!(largest >= 120)) continue;
       const V p = mesh.source(h), q = mesh.target(h), x = mesh.target(mesh.next(h));
       const auto at = segment_at.find({std::min(p, q), std::max(p, q)});
