@@ -1049,7 +1049,12 @@ std::size_t split_edges_of_thin_faces(Mesh<K>& mesh, const std::vector<std::vect
       if (marks.changeable(f) && face_angle<K>(mesh, f) < thin_deg) thin.push_back(f);
   }
   std::size_t splits = 0;
+  // Each try copies the mesh and runs the flips over it: a bounded number, so that a mesh left
+  // with many thin faces (long frozen stretches of curve) is not tried for each.
+  constexpr std::size_t max_tries = 256;
+  std::size_t tries = 0;
   for (F f : thin) {
+    if (tries >= max_tries) break;
     if (mesh.is_removed(f) || face_angle<K>(mesh, f) >= thin_deg) continue;
     // The corner c with the smallest angle; its two edges are the candidates.
     H at_c = mesh.halfedge(f);  // target(at_c) = c
@@ -1066,6 +1071,7 @@ std::size_t split_edges_of_thin_faces(Mesh<K>& mesh, const std::vector<std::vect
       if (h == M::null_halfedge() || mesh.is_border(mesh.edge(h))) continue;
       const typename K::Point_3 m = CGAL::midpoint(mesh.point(c), mesh.point(x));  // exact under Epeck
       if (surface.distance(to_filtered(m)) > tol) continue;
+      ++tries;
       const auto before = thin_new_faces();
       const M saved = mesh;  // (property maps refer to the arrays of `mesh`: fetched again below)
       {

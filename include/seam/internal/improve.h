@@ -135,7 +135,8 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
 /// faces below `thin_deg` are then fewer and the smallest angle of the new faces did not fall;
 /// else the mesh is restored. (A needle in a strip of the input between a sharp edge and the
 /// next row of vertices, its small angle at a curve vertex on the edge: the sharp edge's middle
-/// lets a flip make two faces of twice the angle.) Returns the number of splits kept.
+/// lets a flip make two faces of twice the angle.) At most 256 splits are tried (each copies the
+/// mesh and runs the flips over it). Returns the number of splits kept.
 template <class K>
 std::size_t split_edges_of_thin_faces(Mesh<K>& mesh, const std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
                                       const SurfaceDistance& surface, double tol, double thin_deg);
