@@ -131,6 +131,17 @@ CheckedPair pair_and_check(const Crossover& c, const seam::PairOptions& options 
   return p;
 }
 
+/// Options (remeshing on) that snap at `factor` times the default tolerance of crossover c.
+seam::PairOptions snapping_at_times_default(const Crossover& c, double factor) {
+  using K = seam::Exact;
+  auto a = mesh_of<K>(c.weft), b = mesh_of<K>(c.warp);
+  seam::PairOptions options;
+  options.remesh_near_curves = false;  // the default tolerance does not depend on the remeshing
+  options.embed.snap_tol = factor * seam::pair<K>(a, b, options).stats.snap_tol;
+  options.remesh_near_curves = true;
+  return options;
+}
+
 /// The issue's target on one crossover: remeshed, no new face below 10 degrees, within the tolerance.
 void check_remeshed_without_faces_below_10(const CheckedPair& p) {
   REQUIRE(p.result.stats.remeshed);
@@ -558,18 +569,12 @@ TEST_CASE("pair: a needle whose ends neither merge into the other is merged at a
 
 TEST_CASE("pair: the remeshing keeps sharp edges, so that three times the default tolerance still remeshes",
           "[pair][remesh]") {
-  using K = seam::Exact;
   // Resolution 20, elliptical warp, overlap 0.25, snapping at three times the default
   // tolerance: every remeshing attempt crossed the other mesh, and the remeshing was undone (239
   // new faces below 10 degrees were left). The remeshing cut across the sharp edges of the
   // snapped surfaces; it keeps them now, and the remeshed pair passes the check.
   const auto c = crossover(20, seam::Section::elliptical, 0.25);
-  auto a1 = mesh_of<K>(c.weft), b1 = mesh_of<K>(c.warp);
-  seam::PairOptions options;
-  options.remesh_near_curves = false;
-  options.embed.snap_tol = 3 * seam::pair<K>(a1, b1, options).stats.snap_tol;
-  options.remesh_near_curves = true;
-  const auto p = pair_and_check(c, options);
+  const auto p = pair_and_check(c, snapping_at_times_default(c, 3));
   CHECK(p.result.stats.remeshed);
   CHECK(p.result.stats.note.find("undone") == std::string::npos);
   CHECK(p.result.stats.remesh_max_deviation <= p.result.stats.snap_tol);
@@ -577,18 +582,13 @@ TEST_CASE("pair: the remeshing keeps sharp edges, so that three times the defaul
 
 TEST_CASE("pair: a cap standing on a curve segment has the segment split under it, in both meshes",
           "[pair][remesh]") {
-  using K = seam::Exact;
   // Resolution 12, lenticular warp, overlap 0.15, snapping at half the default tolerance: five
   // new faces below 10 degrees were left, caps among them standing on a curve segment (no step
   // on one mesh may change a curve segment). The segment is now split in both meshes under the
   // cap's apex, which moves onto it; two faces below 10 degrees are left.
   const auto c = crossover(12, seam::Section::lenticular, 0.15);
-  auto a1 = mesh_of<K>(c.weft), b1 = mesh_of<K>(c.warp);
-  seam::PairOptions options;
-  options.remesh_near_curves = false;
-  options.embed.snap_tol = 0.5 * seam::pair<K>(a1, b1, options).stats.snap_tol;
-  options.remesh_near_curves = true;
-  const auto p = pair_and_check(c, options);  // both meshes hold every curve vertex and segment
+  // pair_and_check: both meshes hold every curve vertex and segment.
+  const auto p = pair_and_check(c, snapping_at_times_default(c, 0.5));
   REQUIRE(p.result.stats.remeshed);
   CHECK(p.report.below_10_a + p.report.below_10_b <= 2);
   CHECK(p.result.stats.remesh_max_deviation <= p.result.stats.snap_tol);
