@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <set>
 
 namespace seam::internal {
@@ -498,6 +499,108 @@ template <class K> struct FaceMarks {
     is_new[f] = true;
   }
 };
+
+/// The move of a cap's apex onto its long edge: the cap f = (p, q, x), its largest angle (120
+/// degrees or more) at x, has its long edge h = (p -> q) split at the point m closest to x, the
+/// face across, (q, p, t), split into (q, m, t) and (m, p, t) in its plane, and x merged into m.
+template <class K> struct CapApexMove {
+  using M = seam::Mesh<K>;
+  typename M::Face_index f;
+  typename M::Halfedge_index h, o;  // the long edge, in f and across
+  typename M::Vertex_index p, q, x, t;
+  typename K::Point_3 m;  // exactly on (p, q) under the exact kernel
+  bool snap_like;         // x within the tolerance of m: faces of the input may change
+};
+
+/// The move of cap f's apex onto its long edge, if f is a cap (largest angle 120 degrees or
+/// more), its apex is neither in `on_curve` nor on a border, the long edge is not on a border,
+/// the mesh stays a 2-manifold, and the apex's closest point is in the middle 80% of the edge
+/// (near an end a merge into it does better). m's parameter along the edge is rounded to a
+/// multiple of 2^-16, so that m is exactly on the edge under the exact kernel (and the same point
+/// in two meshes that share the edge's ends).
+template <class K>
+std::optional<CapApexMove<K>> cap_apex_move(const seam::Mesh<K>& mesh, typename seam::Mesh<K>::Face_index f,
+                                            const std::set<typename seam::Mesh<K>::Vertex_index>& on_curve, double tol) {
+  using M = seam::Mesh<K>;
+  using FP = seam::Filtered::Point_3;
+  CapApexMove<K> move;
+  move.f = f;
+  double largest;
+  std::tie(move.h, largest) = long_edge<K>(mesh, f);  // the largest angle at target(next(h))
+  if (!(largest >= 120)) return std::nullopt;
+  move.p = mesh.source(move.h), move.q = mesh.target(move.h), move.x = mesh.target(mesh.next(move.h));
+  move.o = mesh.opposite(move.h);
+  if (mesh.is_border(move.o) || on_curve.count(move.x) || mesh.is_border(move.x)) return std::nullopt;
+  move.t = mesh.target(mesh.next(move.o));
+  if (move.t == move.x || mesh.halfedge(move.x, move.t) != M::null_halfedge()) return std::nullopt;
+  const FP P = seam::to_filtered(mesh.point(move.p)), Q = seam::to_filtered(mesh.point(move.q)),
+           X = seam::to_filtered(mesh.point(move.x));
+  double s = (X - P) * (Q - P) / (Q - P).squared_length();
+  if (!(s > 0.1 && s < 0.9)) return std::nullopt;
+  s = std::round(s * 65536) / 65536;
+  move.m = mesh.point(move.p) + (mesh.point(move.q) - mesh.point(move.p)) * typename K::FT(s);
+  move.snap_like = CGAL::squared_distance(X, seam::to_filtered(move.m)) <= CGAL::square(tol);
+  return move;
+}
+
+/// The smallest angle of the faces `move` changes in `mesh`, before and after it, or {-1, -1}
+/// when it is not allowed: a face across goes flat (exact under the exact kernel), a face around
+/// x fails angle_with_corner_moved_to's tests, or is a face of the input and x moves by more
+/// than the tolerance.
+template <class K>
+std::pair<double, double> angles_of_cap_apex_move(const seam::Mesh<K>& mesh, const FaceMarks<K>& marks,
+                                                  const seam::internal::SurfaceDistance& surface, double tol,
+                                                  const CapApexMove<K>& move) {
+  const std::pair<double, double> not_allowed{-1.0, -1.0};
+  const auto Mp = seam::to_filtered(move.m), P = seam::to_filtered(mesh.point(move.p)),
+             Q = seam::to_filtered(mesh.point(move.q)), T = seam::to_filtered(mesh.point(move.t));
+  double before = std::min(face_angle<K>(mesh, move.f), face_angle<K>(mesh, mesh.face(move.o)));
+  // Across: (q, p, t) becomes (q, m, t) and (m, p, t), in its plane (exactly under Epeck).
+  if (CGAL::collinear(mesh.point(move.q), move.m, mesh.point(move.t)) ||
+      CGAL::collinear(move.m, mesh.point(move.p), mesh.point(move.t)))
+    return not_allowed;
+  double after = std::min(seam::min_angle_deg(Q, Mp, T), seam::min_angle_deg(Mp, P, T));
+  // Around x: (a, x, c) becomes (a, m, c), f excepted (it goes).
+  for (auto g : CGAL::halfedges_around_target(mesh.halfedge(move.x), mesh)) {
+    const auto face = mesh.face(g);
+    if (face == move.f) continue;
+    if (!move.snap_like && marks.untouched_input(face)) return not_allowed;
+    const double angle = angle_with_corner_moved_to<K>(mesh, surface, tol, mesh.source(g), mesh.target(mesh.next(g)),
+                                                       mesh.point(move.x), move.m);
+    if (angle < 0) return not_allowed;
+    before = std::min(before, face_angle<K>(mesh, face));
+    after = std::min(after, angle);
+  }
+  return {before, after};
+}
+
+/// Makes `move` in `mesh`: splits the long edge at m (a new vertex), the face across in two
+/// (keeping its source, marked new), the cap at the new vertex, and merges x into it. The faces
+/// that were x's (but the cap) are reshaped. Returns the vertex at m (CGAL may keep x's index for
+/// it).
+template <class K>
+typename seam::Mesh<K>::Vertex_index move_cap_apex(seam::Mesh<K>& mesh, FaceMarks<K>& marks, const CapApexMove<K>& move) {
+  using F = typename seam::Mesh<K>::Face_index;
+  // Split (p, q) at m: hn (p -> m) is followed by h (m -> q); connect m to x and to t.
+  const auto hn = CGAL::Euler::split_edge(move.h, mesh);
+  const auto mv = mesh.target(hn);
+  mesh.point(mv) = move.m;
+  const auto across_source = marks.source[mesh.face(move.o)];
+  std::vector<F> changed;  // x's faces but f: they get m for x
+  for (auto g : CGAL::halfedges_around_target(mesh.halfedge(move.x), mesh))
+    if (mesh.face(g) != move.f) changed.push_back(mesh.face(g));
+  CGAL::Euler::split_face(hn, mesh.next(move.h), mesh);
+  const auto hs = CGAL::Euler::split_face(move.o, mesh.next(mesh.opposite(hn)), mesh);
+  for (F g : {mesh.face(hs), mesh.face(mesh.opposite(hs))}) {
+    marks.source[g] = across_source;  // in its plane (to within rounding under the rounded kernels)
+    marks.is_new[g] = true;
+  }
+  // Merge x into m (m keeps its point).
+  const auto kept = CGAL::Euler::collapse_edge(mesh.edge(mesh.halfedge(move.x, mv)), mesh);
+  mesh.point(kept) = move.m;
+  for (F g : changed) marks.reshaped(g, move.snap_like);  // (no face of the input unless snap_like)
+  return kept;
+}
 }
 
 template <class K>
@@ -718,8 +821,6 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
   using F = typename M::Face_index;
   using FP = Filtered::Point_3;
   FaceMarks<K> marks(mesh);
-  auto& source = marks.source;
-  auto& is_new = marks.is_new;
   std::set<V> on_curve;
   std::set<std::pair<V, V>> curve_edges;
   auto index_curves = [&]() {
@@ -772,56 +873,11 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
   // change them (x within tol of m; allowing more was measured, no gain), and the smallest angle
   // of the faces around x and across must rise by more than a degree.
   auto move_cap_apex_onto_long_edge = [&](F f) {
-    const auto [h, largest] = long_edge<K>(mesh, f);  // the largest angle at target(next(h))
-    if (!(largest >= 120)) return false;
-    const V p = mesh.source(h), q = mesh.target(h), x = mesh.target(mesh.next(h));
-    const auto o = mesh.opposite(h);
-    if (mesh.is_border(o) || curve_edges.count({std::min(p, q), std::max(p, q)})) return false;
-    if (on_curve.count(x) || mesh.is_border(x)) return false;
-    const V t = mesh.target(mesh.next(o));
-    if (t == x || mesh.halfedge(x, t) != M::null_halfedge()) return false;  // else no 2-manifold after
-    const FP P = point(p), Q = point(q), X = point(x), T = point(t);
-    double s = (X - P) * (Q - P) / (Q - P).squared_length();
-    if (!(s > 0.1 && s < 0.9)) return false;  // near an end a merge does better
-    s = std::round(s * 65536) / 65536;
-    const typename K::Point_3 m = mesh.point(p) + (mesh.point(q) - mesh.point(p)) * typename K::FT(s);
-    const FP Mp = to_filtered(m);
-    const bool snap_like = CGAL::squared_distance(X, Mp) <= CGAL::square(tol);
-    double before = std::min(face_angle(f), face_angle(mesh.face(o)));
-    // Across: (q, p, t) becomes (q, m, t) and (m, p, t), in its plane (exactly under Epeck).
-    if (CGAL::collinear(mesh.point(q), m, mesh.point(t)) || CGAL::collinear(m, mesh.point(p), mesh.point(t)))
-      return false;
-    double after = std::min(min_angle_deg(Q, Mp, T), min_angle_deg(Mp, P, T));
-    // Around x: (a, x, c) becomes (a, m, c), f excepted (it goes).
-    for (auto g : CGAL::halfedges_around_target(mesh.halfedge(x), mesh)) {
-      const F face = mesh.face(g);
-      if (face == f) continue;
-      if (!snap_like && marks.untouched_input(face)) return false;
-      const double angle = angle_with_corner_moved(mesh.source(g), mesh.target(mesh.next(g)), mesh.point(x), m);
-      if (angle < 0) return false;
-      before = std::min(before, face_angle(face));
-      after = std::min(after, angle);
-    }
-    if (!(after > before + 1.0)) return false;
-    // Split (p, q) at m: hn (p -> m) is followed by h (m -> q); connect m to x and to t.
-    const auto hn = CGAL::Euler::split_edge(h, mesh);
-    const V mv = mesh.target(hn);
-    mesh.point(mv) = m;
-    const auto across_source = source[mesh.face(o)];
-    std::vector<F> changed;  // x's faces but f: they get m for x
-    for (auto g : CGAL::halfedges_around_target(mesh.halfedge(x), mesh))
-      if (mesh.face(g) != f) changed.push_back(mesh.face(g));
-    CGAL::Euler::split_face(hn, mesh.next(h), mesh);
-    const auto hs = CGAL::Euler::split_face(o, mesh.next(mesh.opposite(hn)), mesh);
-    const std::array<F, 2> across = {mesh.face(hs), mesh.face(mesh.opposite(hs))};
-    for (F g : across) {
-      source[g] = across_source;  // in its plane (to within rounding under the rounded kernels)
-      is_new[g] = true;
-    }
-    // Merge x into m (m keeps its point; CGAL may keep x's index for it).
-    const V kept = CGAL::Euler::collapse_edge(mesh.edge(mesh.halfedge(x, mv)), mesh);
-    mesh.point(kept) = m;
-    for (F g : changed) marks.reshaped(g, snap_like);  // (no face of the input unless snap_like)
+    const auto move = cap_apex_move<K>(mesh, f, on_curve, tol);
+    if (!move || curve_edges.count({std::min(move->p, move->q), std::max(move->p, move->q)})) return false;
+    const auto [before, after] = angles_of_cap_apex_move<K>(mesh, marks, surface, tol, *move);
+    if (before < 0 || !(after > before + 1.0)) return false;
+    move_cap_apex<K>(mesh, marks, *move);
     return true;
   };
   // Where no merge of one end into the other passes (moving every face of the removed end onto
@@ -1121,7 +1177,6 @@ std::size_t split_curve_segments_under_caps(Mesh<K>& a, Mesh<K>& b,
     auto& cv = *curves[which];
     auto& other_cv = *curves[1 - which];
     FaceMarks<K> marks(mesh), other_marks(other);
-    auto point = [&](V v) { return to_filtered(mesh.point(v)); };
     // Where each curve edge of this mesh is: (curve, position of its first vertex).
     std::map<std::pair<V, V>, std::pair<std::size_t, std::size_t>> segment_at;
     std::set<V> on_curve;
@@ -1140,51 +1195,23 @@ std::size_t split_curve_segments_under_caps(Mesh<K>& a, Mesh<K>& b,
       if (marks.changeable(f) && face_angle<K>(mesh, f) < thin_deg) thin.push_back(f);
     for (F f : thin) {
       if (mesh.is_removed(f) || face_angle<K>(mesh, f) >= thin_deg) continue;
-      const auto [h, largest] = long_edge<K>(mesh, f);  // the largest angle at target(next(h))
-      if (!(largest >= 120)) continue;
-      const V p = mesh.source(h), q = mesh.target(h), x = mesh.target(mesh.next(h));
-      const auto at = segment_at.find({std::min(p, q), std::max(p, q)});
-      if (at == segment_at.end() || on_curve.count(x) || mesh.is_border(x)) continue;
+      const auto move = cap_apex_move<K>(mesh, f, on_curve, tol);
+      if (!move) continue;
+      const auto at = segment_at.find({std::min(move->p, move->q), std::max(move->p, move->q)});
+      if (at == segment_at.end()) continue;
       const auto [c, i] = at->second;
-      const H o = mesh.opposite(h);
-      if (mesh.is_border(o)) continue;
-      const V t = mesh.target(mesh.next(o));
-      if (t == x || mesh.halfedge(x, t) != M::null_halfedge()) continue;  // else no 2-manifold after
       // The segment in the other mesh (the same positions of the same curve; the same points).
-      const bool forward = cv[c][i] == p;
+      const bool forward = cv[c][i] == move->p;
       const V op = forward ? other_cv[c][i] : other_cv[c][i + 1], oq = forward ? other_cv[c][i + 1] : other_cv[c][i];
       const H oh = other.halfedge(op, oq);
       if (oh == M::null_halfedge()) continue;
-      const FP P = point(p), Q = point(q), X = point(x), T = point(t);
-      double s = (X - P) * (Q - P) / (Q - P).squared_length();
-      if (!(s > 0.1 && s < 0.9)) continue;  // near an end a merge into it does better
-      s = std::round(s * 65536) / 65536;
-      // m is exactly on the segment under the exact kernel, in both meshes (their curve points
-      // are identical).
-      const typename K::Point_3 m = mesh.point(p) + (mesh.point(q) - mesh.point(p)) * typename K::FT(s);
-      const FP Mp = to_filtered(m);
-      const bool snap_like = CGAL::squared_distance(X, Mp) <= CGAL::square(tol);
-      double before = std::min(face_angle<K>(mesh, f), face_angle<K>(mesh, mesh.face(o)));
-      // This mesh, across: (q, p, t) becomes (q, m, t) and (m, p, t), in its plane.
-      if (CGAL::collinear(mesh.point(q), m, mesh.point(t)) || CGAL::collinear(m, mesh.point(p), mesh.point(t))) continue;
-      double after = std::min(min_angle_deg(Q, Mp, T), min_angle_deg(Mp, P, T));
-      // This mesh, around x: (a, x, c) becomes (a, m, c), f excepted (it goes).
+      // This mesh: m is exactly on the segment under the exact kernel, in both meshes (their
+      // curve points are identical).
+      auto [before, after] = angles_of_cap_apex_move<K>(mesh, marks, *surfaces[which], tol, *move);
+      if (before < 0) continue;
       bool allowed = true;
-      for (H g : CGAL::halfedges_around_target(mesh.halfedge(x), mesh)) {
-        const F face = mesh.face(g);
-        if (face == f) continue;
-        if (!snap_like && marks.untouched_input(face)) allowed = false;
-        const double angle = allowed ? angle_with_corner_moved_to<K>(mesh, *surfaces[which], tol, mesh.source(g),
-                                                                     mesh.target(mesh.next(g)), mesh.point(x), m)
-                                     : -1.0;
-        if (angle < 0) {
-          allowed = false;
-          break;
-        }
-        before = std::min(before, face_angle<K>(mesh, face));
-        after = std::min(after, angle);
-      }
-      if (!allowed) continue;
+      const auto& m = move->m;
+      const FP Mp = to_filtered(m);
       // The other mesh: each face on the segment, (p, q, y), becomes (p, m, y) and (m, q, y), in
       // its plane.
       for (H g : {oh, other.opposite(oh)}) {
@@ -1223,22 +1250,7 @@ std::size_t split_curve_segments_under_caps(Mesh<K>& a, Mesh<K>& b,
         other_cv[c].insert(other_cv[c].begin() + std::ptrdiff_t(i + 1), omv);
       }
       // This mesh: split the segment at m, connect m to x and to t, merge x into m.
-      const H hn = CGAL::Euler::split_edge(h, mesh);  // hn: p -> mv, then h: mv -> q
-      const V mv = mesh.target(hn);
-      mesh.point(mv) = m;
-      const auto across_source = marks.source[mesh.face(o)];
-      std::vector<F> changed;  // x's faces but f: they get m for x
-      for (H g : CGAL::halfedges_around_target(mesh.halfedge(x), mesh))
-        if (mesh.face(g) != f) changed.push_back(mesh.face(g));
-      CGAL::Euler::split_face(hn, mesh.next(h), mesh);
-      const H hs = CGAL::Euler::split_face(o, mesh.next(mesh.opposite(hn)), mesh);
-      for (F g : {mesh.face(hs), mesh.face(mesh.opposite(hs))}) {
-        marks.source[g] = across_source;
-        marks.is_new[g] = true;
-      }
-      const V kept = CGAL::Euler::collapse_edge(mesh.edge(mesh.halfedge(x, mv)), mesh);
-      mesh.point(kept) = m;
-      for (F g : changed) marks.reshaped(g, snap_like);
+      const V kept = move_cap_apex<K>(mesh, marks, *move);
       cv[c].insert(cv[c].begin() + std::ptrdiff_t(i + 1), kept);
       index_curves();
       ++splits;
