@@ -6,6 +6,7 @@
 #include <seam/internal/improve.h>
 #include <seam/internal/provenance.h>
 #include <seam/internal/snap.h>
+#include <seam/internal/thin_faces.h>
 #include <seam/quality.h>
 #include <seam/check.h>
 #include <seam/pair.h>

@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include <seam/internal/improve.h>
+#include <seam/internal/thin_faces.h>
 #include <seam/quality.h>
 
 #include <CGAL/boost/graph/helpers.h>

@@ -1,0 +1,84 @@
+// seam internal: what the steps that edit the mesh next to the curves share (src/improve.cpp,
+// src/thin_faces.cpp): normal and cap tests, the curve edges, and the provenance marks of faces.
+// All in doubles (rounded); none of it decides exactness.
+//
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <seam/kernels.h>
+#include <seam/types.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <set>
+#include <utility>
+#include <vector>
+
+namespace seam::internal {
+
+/// Whether non-zero vectors u and v (face normals, say) are less than (`closer` true) or more
+/// than (false) the angle whose cosine is `cosine` apart (doubles). A zero vector is neither.
+inline bool apart(const Filtered::Vector_3& u, const Filtered::Vector_3& v, double cosine, bool closer) {
+  const double norms = std::sqrt(u.squared_length() * v.squared_length());
+  return norms > 0 && (closer ? u * v > cosine * norms : u * v < cosine * norms);
+}
+inline bool less_apart_than(const Filtered::Vector_3& u, const Filtered::Vector_3& v, double cosine) {
+  return apart(u, v, cosine, true);
+}
+inline bool more_apart_than(const Filtered::Vector_3& u, const Filtered::Vector_3& v, double cosine) {
+  return apart(u, v, cosine, false);
+}
+
+/// The source face of a face that no single input face contains (remeshed, or reshaped).
+inline constexpr std::uint32_t remeshed_face = std::numeric_limits<std::uint32_t>::max();
+
+/// The curve edges (consecutive curve vertices), each as (smaller, larger) vertex.
+template <class V> std::set<std::pair<V, V>> curve_edge_set(const std::vector<std::vector<V>>& curve_vertices) {
+  std::set<std::pair<V, V>> edges;
+  for (const auto& vs : curve_vertices)
+    for (std::size_t i = 0; i + 1 < vs.size(); ++i) edges.emplace(std::min(vs[i], vs[i + 1]), std::max(vs[i], vs[i + 1]));
+  return edges;
+}
+
+/// Normals `before` and `after` (of a face before and after a change) are non-zero and less than
+/// 30 degrees apart (doubles).
+inline bool turns_less_than_30_degrees(const Filtered::Vector_3& before, const Filtered::Vector_3& after) {
+  return less_apart_than(before, after, 0.866);
+}
+
+/// A triangle whose largest angle is `degrees` or more (doubles): a cap. From 150 degrees its
+/// normal says little about the surface; within a degree of 180, nothing.
+inline bool is_cap(const Filtered::Point_3& a, const Filtered::Point_3& b, const Filtered::Point_3& c, double degrees) {
+  const std::array<Filtered::Vector_3, 3> sides = {b - a, c - b, a - c};
+  for (int i = 0; i < 3; ++i) {  // the angle between sides i and i + 1, at their common corner
+    const auto &u = sides[i], &v = sides[(i + 1) % 3];
+    const double norms = std::sqrt(u.squared_length() * v.squared_length());
+    if (norms > 0 && -(u * v) < std::cos(degrees * M_PI / 180) * norms) return true;
+  }
+  return false;
+}
+
+/// The provenance of the faces as the steps on thin faces read and write it.
+template <class K> struct FaceMarks {
+  using F = typename seam::Mesh<K>::Face_index;
+  typename seam::Mesh<K>::template Property_map<F, std::uint32_t> source;
+  typename seam::Mesh<K>::template Property_map<F, bool> is_new;
+  explicit FaceMarks(seam::Mesh<K>& mesh)
+      : source(mesh.template property_map<F, std::uint32_t>(seam::source_face_property).first),
+        is_new(mesh.template property_map<F, bool>(seam::new_face_property).first) {}
+  /// A face of the input that no step changed.
+  bool untouched_input(F f) const { return source[f] != remeshed_face && !is_new[f]; }
+  /// A face the steps may reshape: remeshed, or new (of the embedding, or changed already).
+  bool changeable(F f) const { return !untouched_input(f); }
+  /// f's shape changed: a face of the input whose corner moved by the tolerance at most keeps its
+  /// input face, as after snapping; any other face is remeshed.
+  void reshaped(F f, bool moved_within_tolerance) {
+    if (!moved_within_tolerance || !untouched_input(f)) source[f] = remeshed_face;
+    is_new[f] = true;
+  }
+};
+
+}  // namespace seam::internal
