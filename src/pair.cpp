@@ -845,6 +845,19 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
       }
       Mesh<K> a2 = a, b2 = b;
       auto cva = result.a.curve_vertices, cvb = result.b.curve_vertices;
+      // The faces of a2 and b2 that seam check's tests need to see: remeshed, or reshaped by a
+      // step after the remeshing (the rest passed the check before).
+      auto focus_on_changed_faces = [&]() {
+        CheckFocus focus;
+        for (auto [m, marks] : {std::make_pair(&a2, &focus.faces_a), std::make_pair(&b2, &focus.faces_b)}) {
+          const auto source = m->template property_map<typename Mesh<K>::Face_index, std::uint32_t>(source_face_property).first;
+          marks->assign(m->number_of_faces() + m->number_of_removed_faces(), 0);
+          const auto is_new = m->template property_map<typename Mesh<K>::Face_index, bool>(new_face_property).first;
+          for (auto f : m->faces())
+            (*marks)[std::size_t(f)] = source[f] == std::numeric_limits<std::uint32_t>::max() || is_new[f];
+        }
+        return focus;
+      };
       // CGAL's remeshing on rounded coordinates can fail its own assertions on a degenerate
       // band: that attempt then counts as a failure of the remeshing, the embedded meshes stay.
       bool coarsened = false;
@@ -918,6 +931,21 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
             merge_thin_faces(a2, cva, surface_a);
             merge_thin_faces(b2, cvb, surface_b);
           }
+          // Such caps where an edge to the apex would cut across a bend (a sharp edge leaving the
+          // curve at a small angle): the sharp edge is routed along the curve, then split back
+          // onto the surface; kept only where that leaves fewer faces below 10 degrees.
+          const auto still_meets_only_along_curves = [&]() {
+            const std::vector<Polyline<K>> ca = curves_of(a2, cva);
+            if (!(ca == curves_of(b2, cvb))) return false;
+            const CheckFocus focus = focus_on_changed_faces();
+            try {
+              return check_pair<K>(a, b, a2, b2, ca, std::numeric_limits<double>::infinity(), &focus).ok();
+            } catch (const InternalError&) {  // the check could not be done (rounded kernels)
+              return false;
+            }
+          };
+          internal::split_curve_segments_under_caps_across_bends<K>(a2, b2, cva, cvb, surface_a, surface_b, snap_tol,
+                                                                   target_min_angle, thin, still_meets_only_along_curves);
           // Faces still below 10 degrees: an edge at their smallest angle is split at its middle,
           // then flips.
           internal::split_edges_of_thin_faces<K>(a2, cva, surface_a, snap_tol, target_min_angle);
@@ -948,16 +976,7 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
       // and try again.
       // Only the faces that changed need checking when the rest passed the check above; without
       // snapping nothing was checked, and the empty focus takes all faces. Check 4 is not needed.
-      CheckFocus focus;
-      if (snapped)
-        for (auto [m, marks] : {std::make_pair(&a2, &focus.faces_a), std::make_pair(&b2, &focus.faces_b)}) {
-          const auto source = m->template property_map<typename Mesh<K>::Face_index, std::uint32_t>(source_face_property).first;
-          marks->assign(m->number_of_faces() + m->number_of_removed_faces(), 0);
-          const auto is_new = m->template property_map<typename Mesh<K>::Face_index, bool>(new_face_property).first;
-          // remeshed, or reshaped by a collapse of short curve segments after the remeshing
-          for (auto f : m->faces())
-            (*marks)[std::size_t(f)] = source[f] == std::numeric_limits<std::uint32_t>::max() || is_new[f];
-        }
+      const CheckFocus focus = snapped ? focus_on_changed_faces() : CheckFocus{};
       PairCheckReport report;
       try {
         report = check_pair<K>(a, b, a2, b2, ca, std::numeric_limits<double>::infinity(), &focus);

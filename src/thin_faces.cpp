@@ -12,6 +12,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <set>
@@ -520,6 +521,104 @@ std::size_t split_edges_of_thin_faces(Mesh<K>& mesh, const std::vector<std::vect
   return splits;
 }
 
+namespace {
+/// A cap of one mesh of a pair standing on a curve segment: the move of its apex onto the
+/// segment, and where the segment is in the curve lists (curve c, positions i and i + 1) and in
+/// the other mesh (halfedge oh, the segment in the same direction as the move's (p -> q)).
+template <class K> struct CapOnSegment {
+  CapApexMove<K> move;
+  std::size_t c, i;
+  typename Mesh<K>::Halfedge_index oh;
+};
+
+/// The cap move of face f of `mesh` onto the curve segment under it (see cap_apex_move), if f is
+/// such a cap and the segment is an edge of `other` too. `segment_at` maps each curve edge of
+/// `mesh` (smaller, larger vertex) to (curve, position of its first vertex).
+template <class K>
+std::optional<CapOnSegment<K>> cap_on_segment(
+    const Mesh<K>& mesh, const Mesh<K>& other, typename Mesh<K>::Face_index f,
+    const std::vector<std::vector<typename Mesh<K>::Vertex_index>>& cv,
+    const std::vector<std::vector<typename Mesh<K>::Vertex_index>>& other_cv,
+    const std::set<typename Mesh<K>::Vertex_index>& on_curve,
+    const std::map<std::pair<typename Mesh<K>::Vertex_index, typename Mesh<K>::Vertex_index>,
+                   std::pair<std::size_t, std::size_t>>& segment_at,
+    double tol) {
+  using V = typename Mesh<K>::Vertex_index;
+  const auto move = cap_apex_move<K>(mesh, f, on_curve, tol);
+  if (!move) return std::nullopt;
+  const auto at = segment_at.find({std::min(move->p, move->q), std::max(move->p, move->q)});
+  if (at == segment_at.end()) return std::nullopt;
+  const auto [c, i] = at->second;
+  // The segment in the other mesh (the same positions of the same curve; the same points).
+  const bool forward = cv[c][i] == move->p;
+  const V op = forward ? other_cv[c][i] : other_cv[c][i + 1], oq = forward ? other_cv[c][i + 1] : other_cv[c][i];
+  const auto oh = other.halfedge(op, oq);
+  if (oh == Mesh<K>::null_halfedge()) return std::nullopt;
+  return CapOnSegment<K>{*move, c, i, oh};
+}
+
+/// The other mesh's part of a cap's move onto a curve segment: each face on the segment oh,
+/// (p, q, y), becomes (p, m, y) and (m, q, y), in its plane. Lowers `before` and `after` to the
+/// smallest angles of those faces before and after; false when one would be flat (exact under
+/// the exact kernel).
+template <class K>
+bool angles_of_segment_split(const Mesh<K>& other, typename Mesh<K>::Halfedge_index oh, const typename K::Point_3& m,
+                             double& before, double& after) {
+  const auto Mp = to_filtered(m);
+  for (auto g : {oh, other.opposite(oh)}) {
+    if (other.is_border(g)) continue;
+    const auto gp = other.source(g), gq = other.target(g), y = other.target(other.next(g));
+    if (CGAL::collinear(other.point(gp), m, other.point(y)) || CGAL::collinear(m, other.point(gq), other.point(y)))
+      return false;
+    const auto GP = to_filtered(other.point(gp)), GQ = to_filtered(other.point(gq)), Y = to_filtered(other.point(y));
+    before = std::min(before, face_angle<K>(other, other.face(g)));
+    after = std::min({after, min_angle_deg(GP, Mp, Y), min_angle_deg(Mp, GQ, Y)});
+  }
+  return true;
+}
+
+/// Splits the segment oh (op -> oq) of `other` at m, and its faces in their planes (keeping their
+/// source, marked new). Returns the new vertex.
+template <class K>
+typename Mesh<K>::Vertex_index split_segment(Mesh<K>& other, FaceMarks<K>& marks, typename Mesh<K>::Halfedge_index oh,
+                                             const typename K::Point_3& m) {
+  using H = typename Mesh<K>::Halfedge_index;
+  const H on = CGAL::Euler::split_edge(oh, other);  // on: op -> mv, then oh: mv -> oq
+  const auto omv = other.target(on);
+  other.point(omv) = m;
+  std::vector<H> to_split;
+  if (!other.is_border(oh)) to_split.push_back(oh);
+  const H back = other.opposite(oh);  // oq -> mv, then opposite(on): mv -> op
+  if (!other.is_border(back)) to_split.push_back(back);
+  for (H g : to_split) {
+    // The face's halfedge that ends at mv, then mv -> an end, then that end -> y (the vertex
+    // across): the face is split between mv and y.
+    const H into_mv = g == oh ? on : back;
+    const std::uint32_t source = marks.source[other.face(into_mv)];
+    const H added = CGAL::Euler::split_face(into_mv, other.next(other.next(into_mv)), other);
+    for (auto face : {other.face(added), other.face(other.opposite(added))}) {
+      marks.source[face] = source;  // in its plane (to within rounding under the rounded kernels)
+      marks.is_new[face] = true;
+    }
+  }
+  return omv;
+}
+
+/// Where each curve edge of a mesh is, (smaller, larger vertex) -> (curve, position of its first
+/// vertex), and its curve vertices.
+template <class V> struct CurveIndex {
+  std::map<std::pair<V, V>, std::pair<std::size_t, std::size_t>> segment_at;
+  std::set<V> on_curve;
+  explicit CurveIndex(const std::vector<std::vector<V>>& cv) {
+    for (std::size_t c = 0; c < cv.size(); ++c) {
+      on_curve.insert(cv[c].begin(), cv[c].end());
+      for (std::size_t i = 0; i + 1 < cv[c].size(); ++i)
+        segment_at[{std::min(cv[c][i], cv[c][i + 1]), std::max(cv[c][i], cv[c][i + 1])}] = {c, i};
+    }
+  }
+};
+}  // namespace
+
 template <class K>
 std::size_t split_curve_segments_under_caps(Mesh<K>& a, Mesh<K>& b,
                                             std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_a,
@@ -529,8 +628,6 @@ std::size_t split_curve_segments_under_caps(Mesh<K>& a, Mesh<K>& b,
   using M = Mesh<K>;
   using V = typename M::Vertex_index;
   using F = typename M::Face_index;
-  using H = typename M::Halfedge_index;
-  using FP = Filtered::Point_3;
   std::array<M*, 2> meshes = {&a, &b};
   std::array<std::vector<std::vector<V>>*, 2> curves = {&curve_vertices_a, &curve_vertices_b};
   std::array<const SurfaceDistance*, 2> surfaces = {&surface_a, &surface_b};
@@ -541,82 +638,26 @@ std::size_t split_curve_segments_under_caps(Mesh<K>& a, Mesh<K>& b,
     auto& cv = *curves[which];
     auto& other_cv = *curves[1 - which];
     FaceMarks<K> marks(mesh), other_marks(other);
-    // Where each curve edge of this mesh is: (curve, position of its first vertex).
-    std::map<std::pair<V, V>, std::pair<std::size_t, std::size_t>> segment_at;
-    std::set<V> on_curve;
-    auto index_curves = [&]() {
-      segment_at.clear();
-      on_curve.clear();
-      for (std::size_t c = 0; c < cv.size(); ++c) {
-        on_curve.insert(cv[c].begin(), cv[c].end());
-        for (std::size_t i = 0; i + 1 < cv[c].size(); ++i)
-          segment_at[{std::min(cv[c][i], cv[c][i + 1]), std::max(cv[c][i], cv[c][i + 1])}] = {c, i};
-      }
-    };
-    index_curves();
+    std::optional<CurveIndex<V>> index(std::in_place, cv);
     std::vector<F> thin;
     for (F f : mesh.faces())
       if (marks.changeable(f) && face_angle<K>(mesh, f) < thin_deg) thin.push_back(f);
     for (F f : thin) {
       if (mesh.is_removed(f) || face_angle<K>(mesh, f) >= thin_deg) continue;
-      const auto move = cap_apex_move<K>(mesh, f, on_curve, tol);
-      if (!move) continue;
-      const auto at = segment_at.find({std::min(move->p, move->q), std::max(move->p, move->q)});
-      if (at == segment_at.end()) continue;
-      const auto [c, i] = at->second;
-      // The segment in the other mesh (the same positions of the same curve; the same points).
-      const bool forward = cv[c][i] == move->p;
-      const V op = forward ? other_cv[c][i] : other_cv[c][i + 1], oq = forward ? other_cv[c][i + 1] : other_cv[c][i];
-      const H oh = other.halfedge(op, oq);
-      if (oh == M::null_halfedge()) continue;
-      // This mesh: m is exactly on the segment under the exact kernel, in both meshes (their
-      // curve points are identical).
-      auto [before, after] = angles_of_cap_apex_move<K>(mesh, marks, *surfaces[which], tol, *move);
-      if (before < 0) continue;
-      bool allowed = true;
-      const auto& m = move->m;
-      const FP Mp = to_filtered(m);
-      // The other mesh: each face on the segment, (p, q, y), becomes (p, m, y) and (m, q, y), in
-      // its plane.
-      for (H g : {oh, other.opposite(oh)}) {
-        if (other.is_border(g)) continue;
-        const V gp = other.source(g), gq = other.target(g), y = other.target(other.next(g));
-        if (CGAL::collinear(other.point(gp), m, other.point(y)) || CGAL::collinear(m, other.point(gq), other.point(y))) {
-          allowed = false;
-          break;
-        }
-        const FP GP = to_filtered(other.point(gp)), GQ = to_filtered(other.point(gq)), Y = to_filtered(other.point(y));
-        before = std::min(before, face_angle<K>(other, other.face(g)));
-        after = std::min({after, min_angle_deg(GP, Mp, Y), min_angle_deg(Mp, GQ, Y)});
-      }
-      if (!allowed || !(after > before + 1.0)) continue;
-
-      // Split the segment in the other mesh, and its faces, which keep their source.
-      {
-        const H on = CGAL::Euler::split_edge(oh, other);  // on: op -> mv, then oh: mv -> oq
-        const V omv = other.target(on);
-        other.point(omv) = m;
-        std::vector<H> to_split;
-        if (!other.is_border(oh)) to_split.push_back(oh);
-        const H back = other.opposite(oh);  // oq -> mv, then opposite(on): mv -> op
-        if (!other.is_border(back)) to_split.push_back(back);
-        for (H g : to_split) {
-          // The face's halfedge that ends at mv, then mv -> an end, then that end -> y (the vertex
-          // across): the face is split between mv and y.
-          const H into_mv = g == oh ? on : back;
-          const std::uint32_t source = other_marks.source[other.face(into_mv)];
-          const H added = CGAL::Euler::split_face(into_mv, other.next(other.next(into_mv)), other);
-          for (F face : {other.face(added), other.face(other.opposite(added))}) {
-            other_marks.source[face] = source;  // in its plane (to within rounding under the rounded kernels)
-            other_marks.is_new[face] = true;
-          }
-        }
-        other_cv[c].insert(other_cv[c].begin() + std::ptrdiff_t(i + 1), omv);
-      }
+      const auto cap = cap_on_segment<K>(mesh, other, f, cv, other_cv, index->on_curve, index->segment_at, tol);
+      if (!cap) continue;
+      // This mesh (m is exactly on the segment under the exact kernel, in both meshes: their
+      // curve points are identical), then the other.
+      auto [before, after] = angles_of_cap_apex_move<K>(mesh, marks, *surfaces[which], tol, cap->move);
+      if (before < 0 || !angles_of_segment_split<K>(other, cap->oh, cap->move.m, before, after) ||
+          !(after > before + 1.0))
+        continue;
+      const V omv = split_segment<K>(other, other_marks, cap->oh, cap->move.m);
+      other_cv[cap->c].insert(other_cv[cap->c].begin() + std::ptrdiff_t(cap->i + 1), omv);
       // This mesh: split the segment at m, connect m to x and to t, merge x into m.
-      const V kept = move_cap_apex<K>(mesh, marks, *move);
-      cv[c].insert(cv[c].begin() + std::ptrdiff_t(i + 1), kept);
-      index_curves();
+      const V kept = move_cap_apex<K>(mesh, marks, cap->move);
+      cv[cap->c].insert(cv[cap->c].begin() + std::ptrdiff_t(cap->i + 1), kept);
+      index.emplace(cv);
       ++splits;
     }
   }
@@ -625,6 +666,110 @@ std::size_t split_curve_segments_under_caps(Mesh<K>& a, Mesh<K>& b,
     compact_keeping_curve_vertices<K>(b, curve_vertices_b);
   }
   return splits;
+}
+
+template <class K>
+std::size_t split_curve_segments_under_caps_across_bends(
+    Mesh<K>& a, Mesh<K>& b, std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_a,
+    std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_b, const SurfaceDistance& surface_a,
+    const SurfaceDistance& surface_b, double tol, double thin_deg, double merge_deg,
+    const std::function<bool()>& still_meets_only_along_curves) {
+  using M = Mesh<K>;
+  using V = typename M::Vertex_index;
+  using F = typename M::Face_index;
+  std::array<M*, 2> meshes = {&a, &b};
+  std::array<std::vector<std::vector<V>>*, 2> curves = {&curve_vertices_a, &curve_vertices_b};
+  std::array<const SurfaceDistance*, 2> surfaces = {&surface_a, &surface_b};
+  // Over both meshes: new faces below thin_deg, the smallest angle of new faces, and remeshed
+  // faces farther than tol from their input surface.
+  struct Figures {
+    std::size_t thin = 0;
+    double smallest = 180;
+    std::size_t off_surface = 0;
+  };
+  auto figures = [&]() {
+    Figures result;
+    for (int which = 0; which < 2; ++which) {
+      const M& mesh = *meshes[which];
+      const auto is_new = mesh.template property_map<F, bool>(new_face_property).first;
+      for (F f : mesh.faces()) {
+        if (!is_new[f]) continue;
+        const double angle = face_angle<K>(mesh, f);
+        result.thin += angle < thin_deg ? 1 : 0;
+        result.smallest = std::min(result.smallest, angle);
+      }
+      double farthest = 0;
+      result.off_surface += remeshed_faces_off_surface<K>(mesh, *surfaces[which], tol, farthest).size();
+    }
+    return result;
+  };
+  // Each try copies both meshes: a bounded number.
+  constexpr std::size_t max_tries = 32;
+  std::size_t tries = 0, kept_moves = 0;
+  for (bool progress = true; progress && tries < max_tries;) {
+    progress = false;
+    for (int which = 0; which < 2 && !progress; ++which) {
+      M& mesh = *meshes[which];
+      M& other = *meshes[1 - which];
+      auto& cv = *curves[which];
+      auto& other_cv = *curves[1 - which];
+      const CurveIndex<V> index(cv);
+      std::vector<F> thin;
+      {
+        const FaceMarks<K> marks(mesh);
+        for (F f : mesh.faces())
+          if (marks.changeable(f) && face_angle<K>(mesh, f) < thin_deg) thin.push_back(f);
+      }
+      for (F f : thin) {
+        if (tries >= max_tries) break;
+        const auto cap = cap_on_segment<K>(mesh, other, f, cv, other_cv, index.on_curve, index.segment_at, tol);
+        if (!cap || !cap->move.snap_like) continue;  // the apex itself moves by the tolerance at most
+        // The edges to the apex may stray up to twice the tolerance from the surface: they are
+        // split onto it below.
+        auto [before, after] = angles_of_cap_apex_move<K>(mesh, FaceMarks<K>(mesh), *surfaces[which], 2 * tol, cap->move);
+        if (before < 0 || !angles_of_segment_split<K>(other, cap->oh, cap->move.m, before, after)) continue;
+        ++tries;
+        const Figures start = figures();
+        const M saved_a = a, saved_b = b;
+        const auto saved_cva = *curves[0], saved_cvb = *curves[1];
+        {
+          FaceMarks<K> marks(mesh), other_marks(other);
+          const V omv = split_segment<K>(other, other_marks, cap->oh, cap->move.m);
+          other_cv[cap->c].insert(other_cv[cap->c].begin() + std::ptrdiff_t(cap->i + 1), omv);
+          auto move = cap->move;
+          move.snap_like = false;  // the faces around the apex are remeshed, so that their edges may be split
+          const V kept = move_cap_apex<K>(mesh, marks, move);
+          cv[cap->c].insert(cv[cap->c].begin() + std::ptrdiff_t(cap->i + 1), kept);
+        }
+        split_edges_off_surface<K>(mesh, cv, *surfaces[which], tol, 4);
+        flip_to_improve_angles<K>(mesh, cv, *surfaces[which], tol, 2);
+        flip_to_improve_angles<K>(other, other_cv, *surfaces[1 - which], tol, 2);
+        // Then what follows a move in the pipeline: merges and moves of thin faces (below
+        // merge_deg), smoothing and flips, and splits of the edges of faces still below thin_deg.
+        for (int w = 0; w < 2; ++w) {
+          collapse_short_edges_of_thin_faces<K>(*meshes[w], *curves[w], *surfaces[w], tol, merge_deg, 3);
+          relocate_vertices_of_thin_faces<K>(*meshes[w], *curves[w], *surfaces[w], tol, merge_deg, 4);
+          smooth_remeshed_vertices<K>(*meshes[w], *curves[w], *surfaces[w], tol, 2);
+          flip_to_improve_angles<K>(*meshes[w], *curves[w], *surfaces[w], tol, 2);
+          split_edges_of_thin_faces<K>(*meshes[w], *curves[w], *surfaces[w], tol, thin_deg);
+        }
+        const Figures end = figures();
+        if (end.thin < start.thin && end.smallest >= start.smallest && end.off_surface <= start.off_surface &&
+            still_meets_only_along_curves()) {
+          ++kept_moves;
+          progress = true;  // the faces and curve positions listed are stale: list them again
+          break;
+        }
+        a = saved_a, b = saved_b;
+        *curves[0] = saved_cva, *curves[1] = saved_cvb;
+      }
+    }
+  }
+  if (kept_moves > 0) {
+    compact_keeping_curve_vertices<K>(a, curve_vertices_a);
+    compact_keeping_curve_vertices<K>(b, curve_vertices_b);
+  }
+  return kept_moves;
 }
 
 #define SEAM_INSTANTIATE(K) \
@@ -636,7 +781,11 @@ std::size_t split_curve_segments_under_caps(Mesh<K>& a, Mesh<K>& b,
                                                     const SurfaceDistance&, double, double); \
   template std::size_t split_curve_segments_under_caps<K>(                                                           \
       Mesh<K>&, Mesh<K>&, std::vector<std::vector<typename MeshTypes<K>::V>>&,                                      \
-      std::vector<std::vector<typename MeshTypes<K>::V>>&, const SurfaceDistance&, const SurfaceDistance&, double, double);
+      std::vector<std::vector<typename MeshTypes<K>::V>>&, const SurfaceDistance&, const SurfaceDistance&, double, double); \
+  template std::size_t split_curve_segments_under_caps_across_bends<K>(                                              \
+      Mesh<K>&, Mesh<K>&, std::vector<std::vector<typename MeshTypes<K>::V>>&,                                      \
+      std::vector<std::vector<typename MeshTypes<K>::V>>&, const SurfaceDistance&, const SurfaceDistance&, double, double, \
+      double, const std::function<bool()>&);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)
 SEAM_INSTANTIATE(Float)
