@@ -931,21 +931,11 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
             merge_thin_faces(a2, cva, surface_a);
             merge_thin_faces(b2, cvb, surface_b);
           }
-          // Such caps where an edge to the apex would cut across a bend (a sharp edge leaving the
-          // curve at a small angle): the sharp edge is routed along the curve, then split back
-          // onto the surface; kept only where that leaves fewer faces below 10 degrees.
-          const auto still_meets_only_along_curves = [&]() {
-            const std::vector<Polyline<K>> ca = curves_of(a2, cva);
-            if (!(ca == curves_of(b2, cvb))) return false;
-            const CheckFocus focus = focus_on_changed_faces();
-            try {
-              return check_pair<K>(a, b, a2, b2, ca, std::numeric_limits<double>::infinity(), &focus).ok();
-            } catch (const InternalError&) {  // the check could not be done (rounded kernels)
-              return false;
-            }
-          };
-          internal::split_curve_segments_under_caps_across_bends<K>(a2, b2, cva, cvb, surface_a, surface_b, snap_tol,
-                                                                   target_min_angle, thin, still_meets_only_along_curves);
+          // A last round of merges and moves: the smoothing and flips after the previous round,
+          // and the collapses and splits of curve segments since, can open merges that were not
+          // allowed before.
+          merge_thin_faces(a2, cva, surface_a);
+          merge_thin_faces(b2, cvb, surface_b);
           // Faces still below 10 degrees: an edge at their smallest angle is split at its middle,
           // then flips.
           internal::split_edges_of_thin_faces<K>(a2, cva, surface_a, snap_tol, target_min_angle);

@@ -12,7 +12,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <functional>
 #include <map>
 #include <optional>
 #include <set>
@@ -668,110 +667,6 @@ std::size_t split_curve_segments_under_caps(Mesh<K>& a, Mesh<K>& b,
   return splits;
 }
 
-template <class K>
-std::size_t split_curve_segments_under_caps_across_bends(
-    Mesh<K>& a, Mesh<K>& b, std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_a,
-    std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_b, const SurfaceDistance& surface_a,
-    const SurfaceDistance& surface_b, double tol, double thin_deg, double merge_deg,
-    const std::function<bool()>& still_meets_only_along_curves) {
-  using M = Mesh<K>;
-  using V = typename M::Vertex_index;
-  using F = typename M::Face_index;
-  std::array<M*, 2> meshes = {&a, &b};
-  std::array<std::vector<std::vector<V>>*, 2> curves = {&curve_vertices_a, &curve_vertices_b};
-  std::array<const SurfaceDistance*, 2> surfaces = {&surface_a, &surface_b};
-  // Over both meshes: new faces below thin_deg, the smallest angle of new faces, and remeshed
-  // faces farther than tol from their input surface.
-  struct Figures {
-    std::size_t thin = 0;
-    double smallest = 180;
-    std::size_t off_surface = 0;
-  };
-  auto figures = [&]() {
-    Figures result;
-    for (int which = 0; which < 2; ++which) {
-      const M& mesh = *meshes[which];
-      const auto is_new = mesh.template property_map<F, bool>(new_face_property).first;
-      for (F f : mesh.faces()) {
-        if (!is_new[f]) continue;
-        const double angle = face_angle<K>(mesh, f);
-        result.thin += angle < thin_deg ? 1 : 0;
-        result.smallest = std::min(result.smallest, angle);
-      }
-      double farthest = 0;
-      result.off_surface += remeshed_faces_off_surface<K>(mesh, *surfaces[which], tol, farthest).size();
-    }
-    return result;
-  };
-  // Each try copies both meshes: a bounded number.
-  constexpr std::size_t max_tries = 32;
-  std::size_t tries = 0, kept_moves = 0;
-  for (bool progress = true; progress && tries < max_tries;) {
-    progress = false;
-    for (int which = 0; which < 2 && !progress; ++which) {
-      M& mesh = *meshes[which];
-      M& other = *meshes[1 - which];
-      auto& cv = *curves[which];
-      auto& other_cv = *curves[1 - which];
-      const CurveIndex<V> index(cv);
-      std::vector<F> thin;
-      {
-        const FaceMarks<K> marks(mesh);
-        for (F f : mesh.faces())
-          if (marks.changeable(f) && face_angle<K>(mesh, f) < thin_deg) thin.push_back(f);
-      }
-      for (F f : thin) {
-        if (tries >= max_tries) break;
-        const auto cap = cap_on_segment<K>(mesh, other, f, cv, other_cv, index.on_curve, index.segment_at, tol);
-        if (!cap || !cap->move.snap_like) continue;  // the apex itself moves by the tolerance at most
-        // The edges to the apex may stray up to twice the tolerance from the surface: they are
-        // split onto it below.
-        auto [before, after] = angles_of_cap_apex_move<K>(mesh, FaceMarks<K>(mesh), *surfaces[which], 2 * tol, cap->move);
-        if (before < 0 || !angles_of_segment_split<K>(other, cap->oh, cap->move.m, before, after)) continue;
-        ++tries;
-        const Figures start = figures();
-        const M saved_a = a, saved_b = b;
-        const auto saved_cva = *curves[0], saved_cvb = *curves[1];
-        {
-          FaceMarks<K> marks(mesh), other_marks(other);
-          const V omv = split_segment<K>(other, other_marks, cap->oh, cap->move.m);
-          other_cv[cap->c].insert(other_cv[cap->c].begin() + std::ptrdiff_t(cap->i + 1), omv);
-          auto move = cap->move;
-          move.snap_like = false;  // the faces around the apex are remeshed, so that their edges may be split
-          const V kept = move_cap_apex<K>(mesh, marks, move);
-          cv[cap->c].insert(cv[cap->c].begin() + std::ptrdiff_t(cap->i + 1), kept);
-        }
-        split_edges_off_surface<K>(mesh, cv, *surfaces[which], tol, 4);
-        flip_to_improve_angles<K>(mesh, cv, *surfaces[which], tol, 2);
-        flip_to_improve_angles<K>(other, other_cv, *surfaces[1 - which], tol, 2);
-        // Then what follows a move in the pipeline: merges and moves of thin faces (below
-        // merge_deg), smoothing and flips, and splits of the edges of faces still below thin_deg.
-        for (int w = 0; w < 2; ++w) {
-          collapse_short_edges_of_thin_faces<K>(*meshes[w], *curves[w], *surfaces[w], tol, merge_deg, 3);
-          relocate_vertices_of_thin_faces<K>(*meshes[w], *curves[w], *surfaces[w], tol, merge_deg, 4);
-          smooth_remeshed_vertices<K>(*meshes[w], *curves[w], *surfaces[w], tol, 2);
-          flip_to_improve_angles<K>(*meshes[w], *curves[w], *surfaces[w], tol, 2);
-          split_edges_of_thin_faces<K>(*meshes[w], *curves[w], *surfaces[w], tol, thin_deg);
-        }
-        const Figures end = figures();
-        if (end.thin < start.thin && end.smallest >= start.smallest && end.off_surface <= start.off_surface &&
-            still_meets_only_along_curves()) {
-          ++kept_moves;
-          progress = true;  // the faces and curve positions listed are stale: list them again
-          break;
-        }
-        a = saved_a, b = saved_b;
-        *curves[0] = saved_cva, *curves[1] = saved_cvb;
-      }
-    }
-  }
-  if (kept_moves > 0) {
-    compact_keeping_curve_vertices<K>(a, curve_vertices_a);
-    compact_keeping_curve_vertices<K>(b, curve_vertices_b);
-  }
-  return kept_moves;
-}
-
 #define SEAM_INSTANTIATE(K) \
   template std::size_t collapse_short_edges_of_thin_faces<K>(Mesh<K>&, std::vector<std::vector<typename MeshTypes<K>::V>>&, \
                                                              const SurfaceDistance&, double, double, int);   \
@@ -781,11 +676,7 @@ std::size_t split_curve_segments_under_caps_across_bends(
                                                     const SurfaceDistance&, double, double); \
   template std::size_t split_curve_segments_under_caps<K>(                                                           \
       Mesh<K>&, Mesh<K>&, std::vector<std::vector<typename MeshTypes<K>::V>>&,                                      \
-      std::vector<std::vector<typename MeshTypes<K>::V>>&, const SurfaceDistance&, const SurfaceDistance&, double, double); \
-  template std::size_t split_curve_segments_under_caps_across_bends<K>(                                              \
-      Mesh<K>&, Mesh<K>&, std::vector<std::vector<typename MeshTypes<K>::V>>&,                                      \
-      std::vector<std::vector<typename MeshTypes<K>::V>>&, const SurfaceDistance&, const SurfaceDistance&, double, double, \
-      double, const std::function<bool()>&);
+      std::vector<std::vector<typename MeshTypes<K>::V>>&, const SurfaceDistance&, const SurfaceDistance&, double, double);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)
 SEAM_INSTANTIATE(Float)

@@ -614,14 +614,13 @@ TEST_CASE("pair: a needle between a sharp edge and the next row of the input has
   check_remeshed_without_faces_below_10(pair_and_check(held_out_crossover(18, 0.27, true, true, 90, 0)));
 }
 
-TEST_CASE("pair: a sharp edge leaving the curve at a small angle is routed along the curve",
+TEST_CASE("pair: a last round of merges removes the cap where the curve leaves a sharp edge at a small angle",
           "[pair][remesh]") {
   // Resolution 8, lenticular warp, overlap 0.2 (the last of the 72 sweep crossovers with a new
   // face below 10 degrees): the curve crosses the warp's sharp edge at 6 degrees, and the face
-  // between the two was a cap of 5.9 degrees on a curve segment. Its apex, the sharp edge's next
-  // vertex, is 0.93 tolerances from the segment, but moving it there made the sharp edge's next
-  // edge a chord 1.13 tolerances from the warp. The move is now made with that edge split back
-  // onto the warp, and kept because it leaves no face below 10 degrees.
+  // between the two was a cap of 5.9 degrees on a curve segment. No merge removed it while the
+  // smoothing, flips and curve-segment collapses that follow each round of merges were still
+  // changing the faces around it; a last round of merges, after them, does.
   check_remeshed_without_faces_below_10(pair_and_check(crossover(8, seam::Section::lenticular, 0.2)));
 }
 

@@ -6,8 +6,6 @@
 
 #include <seam/internal/improve.h>
 
-#include <functional>
-
 namespace seam::internal {
 
 /// Removes thin new faces (remeshed, or new faces of the embedding; smallest angle below
@@ -66,29 +64,6 @@ std::size_t split_curve_segments_under_caps(Mesh<K>& a, Mesh<K>& b,
                                             std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_b,
                                             const SurfaceDistance& surface_a, const SurfaceDistance& surface_b,
                                             double tol, double thin_deg);
-
-/// Caps on a curve segment that split_curve_segments_under_caps left because an edge to the apex
-/// would cut across a bend of the surface: where a sharp edge leaves the curve at a small angle,
-/// moving the sharp edge's vertex onto the curve makes the next edge of the sharp edge a chord
-/// across the bend. For thin new faces of `a` or `b` (below `thin_deg`) that are such caps, with
-/// the apex within `tol` of its point m on the segment, the move is tested as there but with the
-/// middles of the moved edges allowed up to twice `tol` from the surface; it is then made on both
-/// meshes, the faces around the apex marked remeshed, their edges that stray from the surface split
-/// onto it (split_edges_off_surface) and flips run on both meshes, and then what follows a move in
-/// the pair's pipeline, on both: collapse_short_edges_of_thin_faces and
-/// relocate_vertices_of_thin_faces (faces below `merge_deg`), smoothing and flips, and
-/// split_edges_of_thin_faces (below `thin_deg`). The result is kept only if the
-/// new faces below `thin_deg` of both meshes are fewer, their smallest angle did not fall and no
-/// more remeshed faces stray farther than `tol` from their input surface than before, and
-/// `still_meets_only_along_curves` (called on the changed meshes: seam check's test that they meet
-/// nowhere but along the curves) holds; else both meshes and curve lists are restored. At most 32 tries (each copies both meshes). Returns the
-/// number of moves kept; both meshes are compacted after one.
-template <class K>
-std::size_t split_curve_segments_under_caps_across_bends(
-    Mesh<K>& a, Mesh<K>& b, std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_a,
-    std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices_b, const SurfaceDistance& surface_a,
-    const SurfaceDistance& surface_b, double tol, double thin_deg, double merge_deg,
-    const std::function<bool()>& still_meets_only_along_curves);
 
 /// Moves the vertices of thin new faces (smallest angle below `thin_deg`; not curve vertices, not
 /// on a border) to raise the smallest angle of their faces by more than a degree: a pattern search
