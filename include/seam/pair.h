@@ -55,8 +55,8 @@ struct PairOptions {
   /// points near the failing faces are kept, then, if it fails there again, the curve there is
   /// frozen (left as embedded); up to 12 attempts, then the remeshing is undone altogether
   /// (PairStats::note says so). With the steps on thin faces that follow (see pair.cpp), measured
-  /// on 72 generated crossovers (resolutions 5-24): 1 of 43,366 new faces below 10 degrees and
-  /// 0.20% below 20, instead of 17.0% and 40.8% without remeshing (README, stop 16).
+  /// on 72 generated crossovers (resolutions 5-24): none of 43,358 new faces below 10 degrees and
+  /// 0.20% below 20, instead of 17.0% and 40.8% without remeshing (README, stop 17).
   bool remesh_near_curves = true;
   /// With snapping: collapse curve segments shorter than the snapping tolerance in both meshes
   /// where that improves the angles (see internal/collapse.h). Edges below 1e-9 of the pair's
