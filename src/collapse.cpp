@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/internal/certified.h>
 #include <seam/internal/collapse.h>
+#include <seam/internal/local_edits.h>
 #include <seam/quality.h>
 
 #include <CGAL/boost/graph/Euler_operations.h>
@@ -375,6 +376,8 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
     for (int m = 0; m < 2; ++m) locked[m].assign(uses[m].size(), 0);
     std::vector<Op> chosen;
     std::vector<V> near[2];
+    // (Faces next to a frozen stretch of curve stay as they are: see frozen_face_property.)
+    const internal::FrozenFaces<K> frozen[2] = {internal::FrozenFaces<K>(a), internal::FrozenFaces<K>(b)};
     for (const auto& op : ops) {
       if (excluded.count(key(op))) continue;
       if (op.mask == 3 && (uses[0][std::size_t(op.p[0])] != 1 || uses[1][std::size_t(op.p[1])] != 1)) continue;
@@ -384,7 +387,8 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
         near[m].clear();
         if (!(op.mask & (1 << m))) continue;
         ring<K>(*meshes[m], op.p[m], near[m]), ring<K>(*meshes[m], op.q[m], near[m]);
-        free = std::none_of(near[m].begin(), near[m].end(), [&](V v) { return locked[m][std::size_t(v)]; });
+        free = std::none_of(near[m].begin(), near[m].end(), [&](V v) { return locked[m][std::size_t(v)]; }) &&
+               !frozen[m].around(*meshes[m], op.p[m]) && !frozen[m].around(*meshes[m], op.q[m]);
       }
       if (!free) continue;
       Angles before, after;

@@ -86,6 +86,7 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
   // Each vertex's index before the garbage collection of step 3 (the curves refer to those).
   auto index_before = work.template add_property_map<V, std::uint32_t>("v:seam_index_before").first;
   auto vfrozen = work.template add_property_map<V, bool>("v:seam_frozen", false).first;
+  auto vfrozen_faces = work.template add_property_map<V, bool>("v:seam_frozen_faces", false).first;
   auto changed = work.template add_property_map<F, bool>("f:seam_changed", false).first;
 
   // Sharp edges (faces on either side more than 60 degrees apart, doubles: the crest of a
@@ -118,6 +119,7 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
       if (frozen[c][i]) {
         if (!keep[i]) return false;  // a frozen position must be kept
         vfrozen[vs[i]] = true;
+        if (frozen[c][i] == 2) vfrozen_faces[vs[i]] = true;
       }
     // handle[i]: the vertex now standing for curve position i (a collapse may keep either end).
     std::vector<V> handle(vs.begin(), vs.begin() + n);
@@ -196,15 +198,24 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
   auto index_before2 = work.template property_map<V, std::uint32_t>("v:seam_index_before").first;
   auto vfrozen2 = work.template property_map<V, bool>("v:seam_frozen").first;
   std::vector<char> in_band_face(work.number_of_faces(), 0);
+  auto vfrozen_faces2 = work.template property_map<V, bool>("v:seam_frozen_faces").first;
+  // Vertices within one ring of a frozen curve vertex: their faces stay as embedded (out of the
+  // band); near_frozen_faces, those of curve vertices frozen with their faces: these faces are
+  // frozen for the steps after the remeshing too (frozen_face_property).
+  std::set<V> near_frozen, near_frozen_faces;
   {
     // recompute the band after garbage collection: faces with a vertex within one ring of a curve
     // vertex, and none within one ring of a frozen one
-    std::set<V> near, near_frozen;
+    std::set<V> near;
     for (V v : work.vertices())
       if (vfixed2[v]) {
         auto& set = vfrozen2[v] ? near_frozen : near;
         set.insert(v);
         for (V w : CGAL::vertices_around_target(work.halfedge(v), work)) set.insert(w);
+        if (vfrozen_faces2[v]) {
+          near_frozen_faces.insert(v);
+          for (V w : CGAL::vertices_around_target(work.halfedge(v), work)) near_frozen_faces.insert(w);
+        }
       }
     for (F f : work.faces()) {
       bool is_near = false, is_frozen = false;
@@ -285,6 +296,8 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
   }
   auto source = out.template add_property_map<F, std::uint32_t>(source_face_property, 0).first;
   auto is_new = out.template add_property_map<F, bool>(new_face_property, false).first;
+  std::optional<typename M::template Property_map<F, bool>> frozen_face;
+  if (!near_frozen_faces.empty()) frozen_face = out.template add_property_map<F, bool>(frozen_face_property, false).first;
   const auto [old_source, has_source] = work.template property_map<F, std::uint32_t>(source_face_property);
   const auto [old_new, has_new] = work.template property_map<F, bool>(new_face_property);
   // Faces outside the band are unchanged (same vertex triples, no corner moved, not reshaped by a
@@ -303,14 +316,16 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
     std::vector<V> vs;
     std::array<std::int64_t, 3> key;
     int i = 0;
-    bool corner_moved = false;
+    bool corner_moved = false, near_a_frozen_vertex = false;
     for (DV dv : CGAL::vertices_around_face(dmesh.halfedge(df), dmesh)) {
       vs.push_back(map[std::size_t(dv)]);
       key[i++] = d_orig2[dv];
       corner_moved = corner_moved || moved[std::size_t(dv)];
+      near_a_frozen_vertex = near_a_frozen_vertex || (d_orig2[dv] >= 0 && near_frozen_faces.count(V(std::uint32_t(d_orig2[dv]))));
     }
     const F nf = out.add_face(vs);
     if (nf == M::null_face()) return false;
+    if (frozen_face) (*frozen_face)[nf] = near_a_frozen_vertex;
     std::rotate(key.begin(), std::min_element(key.begin(), key.end()), key.end());
     auto it = old_faces.find(key);
     if (it != old_faces.end() && !corner_moved) {
@@ -412,6 +427,7 @@ std::size_t split_edges_off_surface(Mesh<K>& mesh, const std::vector<std::vector
   using F = typename M::Face_index;
   auto source = mesh.template property_map<F, std::uint32_t>(source_face_property).first;
   auto is_new = mesh.template property_map<F, bool>(new_face_property).first;
+  const FrozenFaces<K> frozen(mesh);
   const auto curve_edges = curve_edge_set(curve_vertices);
   auto point = [&](V v) { return to_filtered(mesh.point(v)); };
 
@@ -426,6 +442,7 @@ std::size_t split_edges_off_surface(Mesh<K>& mesh, const std::vector<std::vector
       for (auto h : CGAL::halfedges_around_face(h0, mesh)) {
         const V a = mesh.source(h), b = mesh.target(h);
         if (curve_edges.count({std::min(a, b), std::max(a, b)})) continue;  // shared: left as it is
+        if (frozen.face(mesh.face(mesh.opposite(h)))) continue;            // frozen: left as it is
         const double d = surface.distance(CGAL::midpoint(point(a), point(b)));
         if (d > worst) worst = d, chosen = mesh.edge(h);
         const double l = CGAL::squared_distance(point(a), point(b));
@@ -538,6 +555,7 @@ std::size_t smooth_remeshed_vertices(Mesh<K>& mesh, const std::vector<std::vecto
   using F = typename M::Face_index;
   using FP = Filtered::Point_3;
   auto source = mesh.template property_map<F, std::uint32_t>(source_face_property).first;
+  const FrozenFaces<K> frozen(mesh);
   std::set<V> on_curve;
   for (const auto& vs : curve_vertices) on_curve.insert(vs.begin(), vs.end());
   auto point = [&](V v) { return to_filtered(mesh.point(v)); };
@@ -545,7 +563,7 @@ std::size_t smooth_remeshed_vertices(Mesh<K>& mesh, const std::vector<std::vecto
   for (int round = 0; round < rounds; ++round) {
     std::size_t moved = 0;
     for (V v : mesh.vertices()) {
-      if (on_curve.count(v) || mesh.is_border(v)) continue;
+      if (on_curve.count(v) || mesh.is_border(v) || frozen.around(mesh, v)) continue;
       // Only vertices all of whose faces are remeshed (not the band's border).
       bool inside = true;
       std::vector<V> ring;

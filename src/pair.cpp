@@ -4,6 +4,7 @@
 #include <seam/internal/embed_known_sites.h>
 #include <seam/internal/general_position_curves.h>
 #include <seam/internal/improve.h>
+#include <seam/internal/local_edits.h>
 #include <seam/internal/provenance.h>
 #include <seam/internal/snap.h>
 #include <seam/internal/thin_faces.h>
@@ -791,7 +792,10 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     // Positions kept besides the chosen ones: refused collapses (they would break a surface), and
     // where an attempt failed (the meshes crossed, or strayed from the inputs): first all the
     // embedded points there are kept (the remeshing still runs), then, if it fails there again,
-    // the stretch is frozen (left as embedded).
+    // the stretch is frozen (left as embedded), and if it still fails there, the faces next to it
+    // are frozen for the steps after the remeshing too (frozen value 2; see
+    // internal::frozen_face_property). (Freezing those faces at once leaves the faces next to a
+    // frozen stretch as embedded, thin ones among them, where the steps would have mended them.)
     std::vector<std::vector<std::size_t>> also_kept(result.curves.size());
     std::vector<std::vector<char>> keep_all(result.curves.size()), frozen(result.curves.size());
     for (std::size_t c = 0; c < result.curves.size(); ++c) {
@@ -804,8 +808,10 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
         also_kept[c].insert(also_kept[c].end(), refused[c].begin(), refused[c].end());
     };
     // Escalates the curve positions within `radius` of a vertex of a failing face (kept, then
-    // frozen); returns how many changed.
-    auto escalate_near = [&](const Mesh<K>& m, const std::vector<std::size_t>& faces, double radius) {
+    // frozen; with `faces_too`, frozen ones get their faces frozen; with `at_once`, any of them is
+    // frozen with its faces); returns how many changed.
+    auto escalate_near = [&](const Mesh<K>& m, const std::vector<std::size_t>& faces, double radius, bool faces_too,
+                             bool at_once) {
       std::vector<Filtered::Point_3> near;
       for (std::size_t f : faces)
         for (auto v : CGAL::vertices_around_face(m.halfedge(typename Mesh<K>::Face_index(f)), m))
@@ -813,11 +819,14 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
       std::size_t count = 0;
       for (std::size_t c = 0; c < frozen.size(); ++c)
         for (std::size_t i = 0; i < frozen[c].size(); ++i) {
-          if (frozen[c][i]) continue;
+          if (at_once ? frozen[c][i] == 2 : faces_too ? frozen[c][i] != 1 : frozen[c][i] != 0) continue;
           const auto p = to_filtered(result.curves[c][i]);
           for (const auto& q : near)
             if (CGAL::squared_distance(p, q) < radius * radius) {
-              (keep_all[c][i] ? frozen[c][i] : keep_all[c][i]) = 1;
+              if (faces_too || at_once)
+                keep_all[c][i] = 1, frozen[c][i] = 2;
+              else
+                (keep_all[c][i] ? frozen[c][i] : keep_all[c][i]) = 1;
               ++count;
               break;
             }
@@ -833,7 +842,7 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
       }
       return curves;
     };
-    constexpr int max_attempts = 12;
+    constexpr int max_attempts = 16;
     for (int attempt = 0; attempt < max_attempts; ++attempt) {
       auto kept = chosen;
       for (std::size_t c = 0; c < kept.size(); ++c) {
@@ -985,9 +994,19 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
       if (!report.ok() || !off_a.empty() || !off_b.empty()) {
         auto& faces_a = report.ok() ? off_a : report.conflict_faces_a;
         auto& faces_b = report.ok() ? off_b : report.conflict_faces_b;
-        std::size_t newly = 0;
-        for (double radius = 0.5 * spacing; newly == 0 && radius < 1e3 * spacing; radius *= 2)
-          newly = escalate_near(a2, faces_a, radius) + escalate_near(b2, faces_b, radius);
+        // Within half the spacing of the failing faces: positions kept, or frozen; where all are
+        // frozen already, their faces frozen too; then farther away. In the last quarter of the
+        // attempts (long curves on real tows with many places to mend: one step at a time would
+        // run out of attempts and undo all of the remeshing), each position goes straight to the
+        // last stage.
+        const double near_radius = 0.5 * spacing;
+        const bool at_once = 4 * (attempt + 1) >= 3 * max_attempts;
+        std::size_t newly = escalate_near(a2, faces_a, near_radius, false, at_once) +
+                            escalate_near(b2, faces_b, near_radius, false, at_once);
+        if (newly == 0)
+          newly = escalate_near(a2, faces_a, near_radius, true, false) + escalate_near(b2, faces_b, near_radius, true, false);
+        for (double radius = 2 * near_radius; newly == 0 && radius < 1e3 * spacing; radius *= 2)
+          newly = escalate_near(a2, faces_a, radius, false, at_once) + escalate_near(b2, faces_b, radius, false, at_once);
         if (newly == 0 || attempt + 1 == max_attempts) {
           add_note(report.ok() ? "remeshing next to the curves was undone: it moved the surfaces farther than the "
                                  "snapping tolerance"
@@ -997,6 +1016,11 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
         continue;
       }
       st.remesh_max_deviation = std::max(deviation_a, deviation_b);
+      for (Mesh<K>* m : {&a2, &b2})  // (the steps' business only)
+        if (auto [frozen_faces, found] =
+                m->template property_map<typename Mesh<K>::Face_index, bool>(internal::frozen_face_property);
+            found)
+          m->remove_property_map(frozen_faces);
       a = std::move(a2);
       b = std::move(b2);
       result.curves = ca;
@@ -1005,7 +1029,7 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
       result.a.curve_vertices = cva;
       result.b.curve_vertices = cvb;
       st.remeshed = true;
-      for (const auto& f : frozen) st.curve_vertices_frozen += std::size_t(std::count(f.begin(), f.end(), 1));
+      for (const auto& f : frozen) st.curve_vertices_frozen += std::size_t(std::count_if(f.begin(), f.end(), [](char x) { return x != 0; }));
       st.remesh_attempts = std::size_t(attempt + 1);
       for (auto* r : {&result.a, &result.b}) {  // the figures of the remeshed meshes
         const auto& m = r == &result.a ? a : b;

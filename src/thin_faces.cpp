@@ -125,6 +125,7 @@ std::pair<double, double> angles_of_cap_apex_move(const seam::Mesh<K>& mesh, con
                                                   const seam::internal::SurfaceDistance& surface, double tol,
                                                   const CapApexMove<K>& move) {
   const std::pair<double, double> not_allowed{-1.0, -1.0};
+  if (marks.frozen.around(mesh, move.x) || marks.frozen.face(mesh.face(move.o))) return not_allowed;
   const auto Mp = seam::to_filtered(move.m), P = seam::to_filtered(mesh.point(move.p)),
              Q = seam::to_filtered(mesh.point(move.q)), T = seam::to_filtered(mesh.point(move.t));
   double before = std::min(face_angle<K>(mesh, move.f), face_angle<K>(mesh, mesh.face(move.o)));
@@ -222,6 +223,7 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
   // negative value when the merge is not allowed.
   auto angle_after_merge = [&](V v, V w) {
     if (on_curve.count(v) || mesh.is_border(v)) return -1.0;
+    if (marks.frozen.around(mesh, v) || marks.frozen.around(mesh, w)) return -1.0;
     const auto vw = mesh.halfedge(v, w);
     if (vw == M::null_halfedge() || !CGAL::Euler::does_satisfy_link_condition(mesh.edge(vw), mesh)) return -1.0;
     // Faces of the input may change too (they then count as new faces), under the same tests:
@@ -258,6 +260,7 @@ std::size_t collapse_short_edges_of_thin_faces(Mesh<K>& mesh,
     for (auto h : CGAL::halfedges_around_face(mesh.halfedge(f), mesh)) {
       const V p = mesh.source(h), q = mesh.target(h);
       if (on_curve.count(p) || on_curve.count(q) || mesh.is_border(p) || mesh.is_border(q)) continue;
+      if (marks.frozen.around(mesh, p) || marks.frozen.around(mesh, q)) continue;
       if (!CGAL::Euler::does_satisfy_link_condition(mesh.edge(h), mesh)) continue;
       double before = 180;
       for (V end : {p, q})
@@ -359,6 +362,7 @@ std::size_t relocate_vertices_of_thin_faces(Mesh<K>& mesh,
           if (!on_curve.count(v) && !mesh.is_border(v)) candidates.insert(v);
     std::size_t moved = 0;
     for (V x : candidates) {
+      if (marks.frozen.around(mesh, x)) continue;
       // The star of x: faces (a, x, c) in halfedge order. A face of the input (unchanged so far)
       // may change only as snapping would change it: x then moves by tol at most.
       std::vector<std::pair<V, V>> star;
@@ -489,6 +493,10 @@ std::size_t split_edges_of_thin_faces(Mesh<K>& mesh, const std::vector<std::vect
       if (curve_edges.count({std::min(c, x), std::max(c, x)})) continue;  // shared: left as it is
       const H h = mesh.halfedge(c, x);
       if (h == M::null_halfedge() || mesh.is_border(mesh.edge(h))) continue;
+      {
+        const FrozenFaces<K> frozen(mesh);
+        if (frozen.face(mesh.face(h)) || frozen.face(mesh.face(mesh.opposite(h)))) continue;
+      }
       const typename K::Point_3 m = CGAL::midpoint(mesh.point(c), mesh.point(x));  // exact under Epeck
       if (surface.distance(to_filtered(m)) > tol) continue;
       ++tries;
@@ -644,7 +652,9 @@ std::size_t split_curve_segments_under_caps(Mesh<K>& a, Mesh<K>& b,
     for (F f : thin) {
       if (mesh.is_removed(f) || face_angle<K>(mesh, f) >= thin_deg) continue;
       const auto cap = cap_on_segment<K>(mesh, other, f, cv, other_cv, index->on_curve, index->segment_at, tol);
-      if (!cap) continue;
+      if (!cap || other_marks.frozen.face(other.face(cap->oh)) ||
+          other_marks.frozen.face(other.face(other.opposite(cap->oh))))
+        continue;
       // This mesh (m is exactly on the segment under the exact kernel, in both meshes: their
       // curve points are identical), then the other.
       auto [before, after] = angles_of_cap_apex_move<K>(mesh, marks, *surfaces[which], tol, cap->move);

@@ -36,7 +36,8 @@ std::vector<std::vector<std::size_t>> choose_curve_points(const std::vector<Poly
 /// call again, for both meshes. On success `curve_vertices` holds the new curve vertices.
 /// `frozen` (per curve, per position; may be empty) marks stretches of the curves left alone:
 /// their positions must be in `kept`, and no face with a vertex within one ring of a frozen curve
-/// vertex is remeshed (the caller freezes where earlier attempts failed).
+/// vertex is remeshed (the caller freezes where earlier attempts failed). Where the value is 2,
+/// those faces are marked with internal::frozen_face_property too (no later step changes them).
 template <class K>
 bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typename MeshTypes<K>::V>>& curve_vertices,
                                     const std::vector<std::vector<std::size_t>>& kept,

@@ -8,11 +8,14 @@
 #include <seam/kernels.h>
 #include <seam/types.h>
 
+#include <CGAL/boost/graph/iterator.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <set>
 #include <utility>
 #include <vector>
@@ -61,18 +64,48 @@ inline bool is_cap(const Filtered::Point_3& a, const Filtered::Point_3& b, const
   return false;
 }
 
-/// The provenance of the faces as the steps on thin faces read and write it.
+/// Faces next to a frozen stretch of curve (left as embedded after a remeshing attempt failed
+/// there, see coarsen_and_remesh_near_curves): no step after the remeshing changes them, so that
+/// freezing a stretch really leaves it as it was when it passed seam check's tests. A mesh
+/// without the property has none.
+inline constexpr const char* frozen_face_property = "f:seam_frozen";
+
+/// Which faces of a mesh are frozen (see frozen_face_property).
+template <class K> struct FrozenFaces {
+  using M = seam::Mesh<K>;
+  using F = typename M::Face_index;
+  using V = typename M::Vertex_index;
+  std::optional<typename M::template Property_map<F, bool>> map;
+  explicit FrozenFaces(const M& mesh) {
+    const auto [found_map, found] = mesh.template property_map<F, bool>(frozen_face_property);
+    if (found) map = found_map;
+  }
+  bool face(F f) const { return map && f != M::null_face() && (*map)[f]; }
+  /// Whether a face around v is frozen: moving, merging or splitting at v would change it.
+  bool around(const M& mesh, V v) const {
+    if (!map) return false;
+    for (auto h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh))
+      if (face(mesh.face(h))) return true;
+    return false;
+  }
+};
+
+/// The provenance of the faces as the steps on thin faces read and write it, and which are frozen.
 template <class K> struct FaceMarks {
   using F = typename seam::Mesh<K>::Face_index;
+  using V = typename seam::Mesh<K>::Vertex_index;
   typename seam::Mesh<K>::template Property_map<F, std::uint32_t> source;
   typename seam::Mesh<K>::template Property_map<F, bool> is_new;
+  FrozenFaces<K> frozen;
   explicit FaceMarks(seam::Mesh<K>& mesh)
       : source(mesh.template property_map<F, std::uint32_t>(seam::source_face_property).first),
-        is_new(mesh.template property_map<F, bool>(seam::new_face_property).first) {}
+        is_new(mesh.template property_map<F, bool>(seam::new_face_property).first),
+        frozen(mesh) {}
   /// A face of the input that no step changed.
   bool untouched_input(F f) const { return source[f] != remeshed_face && !is_new[f]; }
-  /// A face the steps may reshape: remeshed, or new (of the embedding, or changed already).
-  bool changeable(F f) const { return !untouched_input(f); }
+  /// A face the steps may reshape: remeshed, or new (of the embedding, or changed already), and
+  /// not frozen.
+  bool changeable(F f) const { return !untouched_input(f) && !frozen.face(f); }
   /// f's shape changed: a face of the input whose corner moved by the tolerance at most keeps its
   /// input face, as after snapping; any other face is remeshed.
   void reshaped(F f, bool moved_within_tolerance) {
