@@ -509,9 +509,12 @@ std::vector<Polyline<K>> intersection_curves_near(const Mesh<K>& a, const Mesh<K
 
 namespace {
 /// seam::pair; `collapse_after_embedding` false skips the collapses of short curve segments right
-/// after the embedding (not those after the remeshing, whose results are checked on their own).
+/// after the embedding (not those after the remeshing, whose results are checked on their own);
+/// `snap_vertices` false skips snapping, but the tolerance still bounds the collapses and the
+/// remeshing (a run done again after the snapped result failed a check).
 template <class K>
-PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options, bool collapse_after_embedding) {
+PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options, bool collapse_after_embedding,
+                              bool snap_vertices = true) {
   validate_options(options.embed);
   PairResult<K> result;
   // Edge snapping adds faces: each mesh face's input face, and whether its shape changed
@@ -564,7 +567,7 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     st.note = std::string("snapping was undone: ") + why;
     unsnapped.reset();
   };
-  if (snap_tol > 0 && !curves.empty()) {
+  if (snap_vertices && snap_tol > 0 && !curves.empty()) {
     unsnapped.emplace(Unsnapped{a, b, prov_a, prov_b, curves, touching, sites_a, sites_b});
     // Report step 1 on both meshes, against the exact intersection points; then the curves of
     // the moved surfaces.
@@ -739,20 +742,26 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
   // Snapping moves vertices, which the embedding then takes as given: a moved vertex can make a
   // surface meet itself, or the other one off the curves. The snapped result is checked with
   // seam check's own tests (on the whole meshes, once) and, if it fails, done again without
-  // the collapses of short curve segments (if any), and failing that without snapping.
+  // the collapses of short curve segments (if any), and failing that without snapping (the curves
+  // are still coarsened and the meshes remeshed within the tolerance).
   const bool snapped = st.vertices_snapped_a + st.vertices_snapped_b + st.edges_snapped_a + st.edges_snapped_b > 0;
   // The run done again from the inputs (snapped results that fail a check), `why` first in its note.
   auto redo_from_inputs = [&](const PairOptions& redo_options, bool redo_collapse_after_embedding,
-                              const std::string& why) {
+                              bool redo_snap_vertices, const std::string& why) {
     a = *input_a;
     b = *input_b;
-    PairResult<K> redone = pair_collapsing<K>(a, b, redo_options, redo_collapse_after_embedding);
+    PairResult<K> redone =
+        pair_collapsing<K>(a, b, redo_options, redo_collapse_after_embedding, redo_snap_vertices);
     redone.stats.note = why + (redone.stats.note.empty() ? "" : "; " + redone.stats.note);
     return redone;
   };
   PairOptions unsnapped_options = options;
   unsnapped_options.embed.snap_tol = 0;
-  if (snapped && !result.curves.empty()) {
+  // Collapses of short curve segments change the embedded meshes too (also without snapping).
+  // (Each run done again has fewer changes: no collapses, then no snapping, then neither.)
+  const bool collapsed_segments =
+      collapse_after_embedding && options.collapse_short_segments && st.curve_vertices_collapsed > 0;
+  if ((snapped || collapsed_segments) && !result.curves.empty()) {
     t = Clock::now();
     // (Check 4, the distances from the inputs, and the figures are not needed: an empty focus.)
     const CheckFocus whole_meshes;
@@ -766,17 +775,20 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     st.stage_seconds["verify"] = seconds_since(t);
     // (Once: the run done again has no collapses right after the embedding, so it cannot come
     // back here; tiny segments are counted as collapses too, and are collapsed again there.)
-    if (!report.ok() && collapse_after_embedding && options.collapse_short_segments && st.curve_vertices_collapsed > 0) {
+    if (!report.ok() && collapsed_segments) {
       // The collapses tilt faces by up to the snapping tolerance, which can make a surface meet
       // itself (they are tested against the other mesh only): done again without them first. The
       // collapses after the remeshing stay: each remeshing attempt is checked as a whole.
-      return redo_from_inputs(options, false,
+      return redo_from_inputs(options, false, snap_vertices,
                               "short curve segments were kept after the embedding: with them collapsed the result "
                               "failed seam check's tests (" +
                                   report.problems.front() + ")");
     }
+    // Without snapping the curves are still coarsened and both meshes remeshed next to them,
+    // within the tolerance (before, snapping was undone by setting the tolerance to 0, which
+    // turned the remeshing off too: on CT tows, 36% of the new faces below 10 degrees).
     if (!report.ok())
-      return redo_from_inputs(unsnapped_options, true,
+      return redo_from_inputs(options, true, false,
                               "snapping was undone: the snapped result failed seam check's tests (" +
                                   report.problems.front() + ")");
   }
@@ -1054,9 +1066,10 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
   // where the remeshing did not run (it failed, or the curve was frozen) the exact points of the
   // embedding stay: rounded, a few can make a surface meet itself, or the other one off the
   // curves. Under the exact kernel the faces with a corner that rounding moves are checked again
-  // on the rounded meshes (seam check's tests); a failure undoes snapping, as above.
+  // on the rounded meshes (seam check's tests). A failure undoes snapping (the run is done again
+  // without it, still remeshed), or, without snapping, the remeshing.
   if constexpr (kernel_traits<K>::exact_constructions) {
-    if (snapped && !result.curves.empty()) {
+    if ((snapped || st.remeshed) && !result.curves.empty()) {
       t = Clock::now();
       // Each point's exact value is computed first (the lazy representations are shared with
       // a, b and the curves): CGAL::to_double then rounds it the same way here and when the
@@ -1093,10 +1106,11 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
           report.problems.push_back(e.what());
         }
         st.stage_seconds["verify_rounded"] = seconds_since(t);
+        // Done again without snapping (still remeshed), and if that fails too, as embedded.
         if (!report.ok())
-          return redo_from_inputs(unsnapped_options, true,
-                                  "snapping was undone: the snapped result, rounded to doubles, failed seam check's "
-                                  "tests (" +
+          return redo_from_inputs(snapped ? options : unsnapped_options, true, false,
+                                  std::string(snapped ? "snapping was undone" : "the remeshing was undone") +
+                                      ": the result, rounded to doubles, failed seam check's tests (" +
                                       report.problems.front() + ")");
       }
     }
