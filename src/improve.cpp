@@ -435,7 +435,8 @@ std::size_t split_edges_off_surface(Mesh<K>& mesh, const std::vector<std::vector
   for (int round = 0; round < rounds; ++round) {
     std::set<E> to_split;
     for (F f : mesh.faces()) {
-      if (source[f] != remeshed_face) continue;
+      // (Faces around a curve vertex kept next to a frozen stretch can be remeshed and frozen.)
+      if (source[f] != remeshed_face || frozen.face(f)) continue;
       const auto h0 = mesh.halfedge(f);
       double worst = tol, longest = -1;
       E chosen = M::null_edge(), longest_edge = M::null_edge();

@@ -510,8 +510,9 @@ std::vector<Polyline<K>> intersection_curves_near(const Mesh<K>& a, const Mesh<K
 namespace {
 /// seam::pair; `collapse_after_embedding` false skips the collapses of short curve segments right
 /// after the embedding (not those after the remeshing, whose results are checked on their own);
-/// `snap_vertices` false skips snapping, but the tolerance still bounds the collapses and the
-/// remeshing (a run done again after the snapped result failed a check).
+/// `snap_vertices` false skips snapping (and with it the collapses right after the embedding),
+/// but the tolerance still bounds the remeshing (a run done again after the snapped result failed
+/// a check).
 template <class K>
 PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options, bool collapse_after_embedding,
                               bool snap_vertices = true) {

@@ -64,10 +64,11 @@ inline bool is_cap(const Filtered::Point_3& a, const Filtered::Point_3& b, const
   return false;
 }
 
-/// Faces next to a frozen stretch of curve (left as embedded after a remeshing attempt failed
-/// there, see coarsen_and_remesh_near_curves): no step after the remeshing changes them, so that
-/// freezing a stretch really leaves it as it was when it passed seam check's tests. A mesh
-/// without the property has none.
+/// Faces next to a frozen stretch of curve (left as embedded after remeshing attempts failed
+/// there twice, see coarsen_and_remesh_near_curves): no step after the remeshing changes them, so
+/// that the steps cannot make the same conflict there again. (The collapses of dropped curve
+/// positions onto the kept ones still reshape the faces at the ends of a stretch.) A mesh without
+/// the property has none.
 inline constexpr const char* frozen_face_property = "f:seam_frozen";
 
 /// Which faces of a mesh are frozen (see frozen_face_property).
