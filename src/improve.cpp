@@ -207,15 +207,14 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
     // recompute the band after garbage collection: faces with a vertex within one ring of a curve
     // vertex, and none within one ring of a frozen one
     std::set<V> near;
+    auto insert_with_ring = [&](std::set<V>& set, V v) {
+      set.insert(v);
+      for (V w : CGAL::vertices_around_target(work.halfedge(v), work)) set.insert(w);
+    };
     for (V v : work.vertices())
       if (vfixed2[v]) {
-        auto& set = vfrozen2[v] ? near_frozen : near;
-        set.insert(v);
-        for (V w : CGAL::vertices_around_target(work.halfedge(v), work)) set.insert(w);
-        if (vfrozen_faces2[v]) {
-          near_frozen_faces.insert(v);
-          for (V w : CGAL::vertices_around_target(work.halfedge(v), work)) near_frozen_faces.insert(w);
-        }
+        insert_with_ring(vfrozen2[v] ? near_frozen : near, v);
+        if (vfrozen_faces2[v]) insert_with_ring(near_frozen_faces, v);
       }
     for (F f : work.faces()) {
       bool is_near = false, is_frozen = false;
@@ -297,7 +296,8 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
   auto source = out.template add_property_map<F, std::uint32_t>(source_face_property, 0).first;
   auto is_new = out.template add_property_map<F, bool>(new_face_property, false).first;
   std::optional<typename M::template Property_map<F, bool>> frozen_face;
-  if (!near_frozen_faces.empty()) frozen_face = out.template add_property_map<F, bool>(frozen_face_property, false).first;
+  if (!near_frozen_faces.empty())
+    frozen_face = out.template add_property_map<F, bool>(frozen_face_property, false).first;
   const auto [old_source, has_source] = work.template property_map<F, std::uint32_t>(source_face_property);
   const auto [old_new, has_new] = work.template property_map<F, bool>(new_face_property);
   // Faces outside the band are unchanged (same vertex triples, no corner moved, not reshaped by a
@@ -321,7 +321,8 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
       vs.push_back(map[std::size_t(dv)]);
       key[i++] = d_orig2[dv];
       corner_moved = corner_moved || moved[std::size_t(dv)];
-      near_a_frozen_vertex = near_a_frozen_vertex || (d_orig2[dv] >= 0 && near_frozen_faces.count(V(std::uint32_t(d_orig2[dv]))));
+      near_a_frozen_vertex =
+          near_a_frozen_vertex || (d_orig2[dv] >= 0 && near_frozen_faces.count(V(std::uint32_t(d_orig2[dv]))));
     }
     const F nf = out.add_face(vs);
     if (nf == M::null_face()) return false;

@@ -820,11 +820,12 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
       for (std::size_t c = 0; c < also_kept.size(); ++c)
         also_kept[c].insert(also_kept[c].end(), refused[c].begin(), refused[c].end());
     };
-    // Escalates the curve positions within `radius` of a vertex of a failing face (kept, then
-    // frozen; with `faces_too`, frozen ones get their faces frozen; with `at_once`, any of them is
-    // frozen with its faces); returns how many changed.
-    auto escalate_near = [&](const Mesh<K>& m, const std::vector<std::size_t>& faces, double radius, bool faces_too,
-                             bool at_once) {
+    // How escalate_near moves a curve position: one stage on (embedded -> kept -> frozen), frozen
+    // -> frozen with its faces (frozen value 2), or any stage straight to that.
+    enum class Escalation { one_stage, frozen_to_faces, straight_to_faces };
+    // Escalates the curve positions within `radius` of a vertex of a failing face; returns how
+    // many changed.
+    auto escalate_near = [&](const Mesh<K>& m, const std::vector<std::size_t>& faces, double radius, Escalation how) {
       std::vector<Filtered::Point_3> near;
       for (std::size_t f : faces)
         for (auto v : CGAL::vertices_around_face(m.halfedge(typename Mesh<K>::Face_index(f)), m))
@@ -832,14 +833,18 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
       std::size_t count = 0;
       for (std::size_t c = 0; c < frozen.size(); ++c)
         for (std::size_t i = 0; i < frozen[c].size(); ++i) {
-          if (at_once ? frozen[c][i] == 2 : faces_too ? frozen[c][i] != 1 : frozen[c][i] != 0) continue;
+          const char stage = frozen[c][i];
+          if (how == Escalation::one_stage ? stage != 0
+              : how == Escalation::frozen_to_faces ? stage != 1
+                                                   : stage == 2)
+            continue;
           const auto p = to_filtered(result.curves[c][i]);
           for (const auto& q : near)
             if (CGAL::squared_distance(p, q) < radius * radius) {
-              if (faces_too || at_once)
-                keep_all[c][i] = 1, frozen[c][i] = 2;
-              else
+              if (how == Escalation::one_stage)
                 (keep_all[c][i] ? frozen[c][i] : keep_all[c][i]) = 1;
+              else
+                keep_all[c][i] = 1, frozen[c][i] = 2;
               ++count;
               break;
             }
@@ -1013,13 +1018,15 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
         // run out of attempts and undo all of the remeshing), each position goes straight to the
         // last stage.
         const double near_radius = 0.5 * spacing;
-        const bool at_once = 4 * (attempt + 1) >= 3 * max_attempts;
-        std::size_t newly = escalate_near(a2, faces_a, near_radius, false, at_once) +
-                            escalate_near(b2, faces_b, near_radius, false, at_once);
-        if (newly == 0)
-          newly = escalate_near(a2, faces_a, near_radius, true, false) + escalate_near(b2, faces_b, near_radius, true, false);
+        const Escalation how = 4 * (attempt + 1) >= 3 * max_attempts ? Escalation::straight_to_faces
+                                                                     : Escalation::one_stage;
+        auto escalate_both = [&](double radius, Escalation e) {
+          return escalate_near(a2, faces_a, radius, e) + escalate_near(b2, faces_b, radius, e);
+        };
+        std::size_t newly = escalate_both(near_radius, how);
+        if (newly == 0 && how == Escalation::one_stage) newly = escalate_both(near_radius, Escalation::frozen_to_faces);
         for (double radius = 2 * near_radius; newly == 0 && radius < 1e3 * spacing; radius *= 2)
-          newly = escalate_near(a2, faces_a, radius, false, at_once) + escalate_near(b2, faces_b, radius, false, at_once);
+          newly = escalate_both(radius, how);
         if (newly == 0 || attempt + 1 == max_attempts) {
           add_note(report.ok() ? "remeshing next to the curves was undone: it moved the surfaces farther than the "
                                  "snapping tolerance"
@@ -1042,7 +1049,8 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
       result.a.curve_vertices = cva;
       result.b.curve_vertices = cvb;
       st.remeshed = true;
-      for (const auto& f : frozen) st.curve_vertices_frozen += std::size_t(std::count_if(f.begin(), f.end(), [](char x) { return x != 0; }));
+      for (const auto& f : frozen)  // (frozen, with or without their faces)
+        st.curve_vertices_frozen += std::size_t(std::count_if(f.begin(), f.end(), [](char x) { return x != 0; }));
       st.remesh_attempts = std::size_t(attempt + 1);
       for (auto* r : {&result.a, &result.b}) {  // the figures of the remeshed meshes
         const auto& m = r == &result.a ? a : b;

@@ -15,8 +15,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <optional>
 #include <set>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -76,15 +76,15 @@ template <class K> struct FrozenFaces {
   using M = seam::Mesh<K>;
   using F = typename M::Face_index;
   using V = typename M::Vertex_index;
-  std::optional<typename M::template Property_map<F, bool>> map;
+  typename M::template Property_map<F, bool> map;
+  bool any = false;  ///< whether the mesh has the property
   explicit FrozenFaces(const M& mesh) {
-    const auto [found_map, found] = mesh.template property_map<F, bool>(frozen_face_property);
-    if (found) map = found_map;
+    std::tie(map, any) = mesh.template property_map<F, bool>(frozen_face_property);
   }
-  bool face(F f) const { return map && f != M::null_face() && (*map)[f]; }
+  bool face(F f) const { return any && f != M::null_face() && map[f]; }
   /// Whether a face around v is frozen: moving, merging or splitting at v would change it.
   bool around(const M& mesh, V v) const {
-    if (!map) return false;
+    if (!any) return false;
     for (auto h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh))
       if (face(mesh.face(h))) return true;
     return false;
