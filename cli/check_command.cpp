@@ -63,6 +63,11 @@ nlohmann::json report_json(const seam::PairCheckReport& r, const CheckArgs& a) {
   j["face_pairs"] = {{"candidates", r.candidate_face_pairs},
                      {"intersecting_on_curves", r.face_pairs_on_curve},
                      {"intersecting_off_curves", r.intersecting_face_pairs_off_curve}};
+  j["shared_faces"] = r.shared_faces;
+  j["vertex_separation"] = {{"required", r.min_separation}, {"closer_pairs", r.close_vertex_pairs}};
+  j["coverage"] = {{"samples", r.intersection_samples},
+                   {"uncovered", r.uncovered_samples},
+                   {"max_uncovered_distance", r.max_uncovered_distance}};
   j["a2"] = {{"vertices", r.vertices_a2},       {"faces", r.faces_a2},        {"new_faces", r.new_faces_a},
              {"max_distance", r.max_distance_a}, {"min_angle_deg", r.min_angle_deg_a},
              {"new_below_10", r.below_10_a},     {"new_below_20", r.below_20_a}};
@@ -78,7 +83,11 @@ void print_summary(std::ostream& os, const seam::PairCheckReport& r, const Check
   os << "  curves:      " << r.curves << " (" << r.curve_vertices << " vertices, " << r.curve_segments
      << " segments)\n";
   os << "  face pairs:  " << r.candidate_face_pairs << " with overlapping boxes, " << r.face_pairs_on_curve
-     << " meeting on the curves, " << r.intersecting_face_pairs_off_curve << " intersecting off the curves\n";
+     << " meeting on the curves, " << r.intersecting_face_pairs_off_curve << " intersecting off the curves; "
+     << r.shared_faces << " shared faces\n";
+  os << "  coverage:    " << r.intersection_samples << " points sampled on the intersection of A and B, "
+     << r.uncovered_samples << " farther than the tolerance from the curves; " << r.close_vertex_pairs
+     << " vertex pairs closer than " << r.min_separation << "\n";
   os << "  tolerance:   " << r.tolerance << " (largest distance from the input: A2 " << r.max_distance_a << ", B2 "
      << r.max_distance_b << ")\n";
   auto mesh_line = [&](const char* name, std::size_t v, std::size_t f, std::size_t nf, double angle, std::size_t b10,

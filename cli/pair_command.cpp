@@ -115,6 +115,11 @@ int run_pair(const PairArgs& args) {
                        {"attempts", st.remesh_attempts},
                        {"curve_vertices_frozen", st.curve_vertices_frozen},
                        {"max_deviation", st.remesh_max_deviation}};
+        j["contact"] = {{"patches", st.contact_patches},
+                        {"shared_faces", st.shared_faces},
+                        {"patches_left", st.contact_patches_left}};
+        j["verified"] = st.verified;
+        j["verify_tolerance"] = st.verify_tolerance;
         j["note"] = st.note;
         j["seconds"] = st.stage_seconds;
         j["files"] = {{"a", args.a}, {"b", args.b}, {"out_a", args.out_a}, {"out_b", args.out_b}};
@@ -130,6 +135,9 @@ int run_pair(const PairArgs& args) {
               << qa.faces_crossed << " faces -> " << qa.faces_added << " (min angle " << qa.min_angle_deg_new
               << "), B: " << qb.faces_crossed << " faces -> " << qb.faces_added << " (min angle "
               << qb.min_angle_deg_new << ")";
+    if (st.shared_faces > 0)
+      std::cout << "; " << st.shared_faces << " faces shared by both (" << st.contact_patches << " flat contacts)";
+    if (st.verified) std::cout << "; verified (seam check --tol " << st.verify_tolerance << ")";
     if (st.given_curves) std::cout << "; curve vertices moved onto the given curves by at most " << st.max_curve_move;
     if (!st.note.empty()) std::cout << "; " << st.note;
     std::cout << "\n";

@@ -12,7 +12,9 @@
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_segment_primitive.h>
 #include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/intersections.h>
 #include <CGAL/Interval_nt.h>
 #include <CGAL/box_intersection_d.h>
 #include <CGAL/boost/graph/helpers.h>
@@ -20,6 +22,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstdint>
 #include <limits>
 #include <map>
@@ -372,13 +376,197 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
   if (m.number_of_faces() == 0) min_angle = 0;
 }
 
+/// Check 5: distinct vertices of A2 and B2, in doubles as written, are at least
+/// min_vertex_separation x the diagonal of their common bounding box apart (TetGen takes closer
+/// points for one: its -T tolerance, 1e-8 of that diagonal by default).
+template <class K>
+void check_vertex_separation(const Mesh<K>& a, const Mesh<K>& b, const MeshView<K>& va, const MeshView<K>& vb,
+                             PairCheckReport& report) {
+  // Pairs of vertices of the inputs themselves are not the outputs' doing: counted apart.
+  std::set<std::array<double, 3>> inputs;
+  for (const Mesh<K>* m : {&a, &b})
+    for (auto v : m->vertices()) {
+      const auto q = to_filtered(m->point(v));
+      inputs.insert({q.x(), q.y(), q.z()});
+    }
+  std::vector<std::array<double, 3>> points;
+  CGAL::Bbox_3 box;
+  for (const MeshView<K>* view : {&va, &vb})
+    for (auto v : view->mesh.vertices()) {
+      const auto q = to_filtered(view->mesh.point(v));
+      points.push_back({q.x(), q.y(), q.z()});
+      box += q.bbox();
+    }
+  std::sort(points.begin(), points.end());
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                    CGAL::square(box.zmax() - box.zmin()));
+  const double r = min_vertex_separation * diagonal;
+  report.min_separation = r;
+  std::vector<Box> boxes;
+  boxes.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto& p = points[i];
+    boxes.emplace_back(CGAL::Bbox_3(p[0] - r, p[1] - r, p[2] - r, p[0] + r, p[1] + r, p[2] + r), std::uint32_t(i));
+  }
+  std::size_t count = 0;
+  std::string first;
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
+    const auto &p = points[x.info()], &q = points[y.info()];
+    const double d = std::sqrt(CGAL::square(p[0] - q[0]) + CGAL::square(p[1] - q[1]) + CGAL::square(p[2] - q[2]));
+    if (d >= r) return;
+    if (inputs.count(p) && inputs.count(q)) {
+      ++report.close_vertex_pairs_in_inputs;
+      return;
+    }
+    if (count++ == 0)
+      first = say("(", p[0], ", ", p[1], ", ", p[2], ") and (", q[0], ", ", q[1], ", ", q[2], "), ", d, " apart");
+  });
+  report.close_vertex_pairs = count;
+  if (count)
+    report.problems.push_back(say(count, " pairs of distinct vertices of A2 and B2 are closer than ", r,
+                                  " (", min_vertex_separation,
+                                  " of the diagonal: a volume mesher such as TetGen takes them for one point; first: ",
+                                  first, ")"));
+}
+
+/// Check 6: the curves cover the intersection of the inputs. Every face pair of A and B that
+/// meets is intersected exactly (Epeck, on the input coordinates as doubles: a rounded
+/// construction can put a touching point far off in a degenerate configuration) and sampled (a
+/// point; a segment's ends and middle; a flat contact's corners and centroid), the samples
+/// rounded to doubles; each must lie within tol of a curve or of a shared face of the outputs.
+template <class K>
+void check_coverage(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyline<K>>& curves,
+                    const std::vector<Filtered::Triangle_3>& shared_triangles, double tol, PairCheckReport& report) {
+  using FP = Filtered::Point_3;
+  using FT3 = Filtered::Triangle_3;
+  using FS = Filtered::Segment_3;
+  using EP = Exact::Point_3;
+  using ET3 = Exact::Triangle_3;
+  using ES = Exact::Segment_3;
+  auto triangles = [](const Mesh<K>& m) {
+    std::vector<ET3> result;
+    result.reserve(m.number_of_faces());
+    auto exact = [](const typename K::Point_3& p) {
+      const FP q = to_filtered(p);
+      return EP(q.x(), q.y(), q.z());
+    };
+    for (auto f : m.faces()) {
+      const auto h = m.halfedge(f);
+      result.emplace_back(exact(m.point(m.source(h))), exact(m.point(m.target(h))),
+                          exact(m.point(m.target(m.next(h)))));
+    }
+    return result;
+  };
+  const std::vector<ET3> ta = triangles(a), tb = triangles(b);
+  std::vector<FS> segments;
+  std::vector<FP> lone_points;  // curves of one point (an isolated contact)
+  CGAL::Bbox_3 box;
+  for (const auto& c : curves) {
+    if (c.size() == 1) lone_points.push_back(to_filtered(c.front()));
+    for (std::size_t i = 0; i + 1 < c.size(); ++i) {
+      const FP p = to_filtered(c[i]), q = to_filtered(c[i + 1]);
+      if (p == q)
+        lone_points.push_back(p);
+      else
+        segments.emplace_back(p, q);
+    }
+  }
+  for (const auto* t : {&ta, &tb})
+    for (const auto& x : *t) box += x.bbox();
+  auto rounded = [](const EP& p) { return FP(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())); };
+  const double scale = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                 CGAL::square(box.zmax() - box.zmin()));
+  const double slack = 1e-12 * (scale + 1.0);  // rounding of the samples and the distances
+  using SegmentTree = CGAL::AABB_tree<
+      CGAL::AABB_traits<Filtered, CGAL::AABB_segment_primitive<Filtered, std::vector<FS>::const_iterator>>>;
+  using TriangleTree = CGAL::AABB_tree<
+      CGAL::AABB_traits<Filtered, CGAL::AABB_triangle_primitive<Filtered, std::vector<FT3>::const_iterator>>>;
+  SegmentTree segment_tree(segments.begin(), segments.end());
+  TriangleTree shared_tree(shared_triangles.begin(), shared_triangles.end());
+  if (!segments.empty()) segment_tree.accelerate_distance_queries();
+  if (!shared_triangles.empty()) shared_tree.accelerate_distance_queries();
+  auto distance = [&](const FP& p) {
+    double d2 = std::numeric_limits<double>::infinity();
+    if (!segments.empty()) d2 = std::min(d2, segment_tree.squared_distance(p));
+    if (!shared_triangles.empty()) d2 = std::min(d2, shared_tree.squared_distance(p));
+    for (const auto& q : lone_points) d2 = std::min(d2, CGAL::squared_distance(p, q));
+    return std::sqrt(d2);
+  };
+  std::size_t uncovered = 0;
+  std::string first;
+  // The distance allowed for a sample of faces s and t: tol where they are coplanar (a flat
+  // contact does not move), else 2 tol / sin(angle between them), how far their line of
+  // intersection moves when each face moves by tol (a grazing crossing moves far along the
+  // surfaces when snapping moves them a little).
+  double allowed = tol;
+  auto sample = [&](const FP& p) {
+    ++report.intersection_samples;
+    const double d = distance(p);
+    if (d <= allowed + slack) return;
+    if (uncovered++ == 0) first = say(point_text(p), ", ", d, " from the curves (allowed there: ", allowed, ")");
+    report.max_uncovered_distance = std::max(report.max_uncovered_distance, d);
+  };
+  auto allowed_for = [&](const ET3& s, const ET3& t) {
+    if (CGAL::coplanar(s[0], s[1], s[2], t[0]) && CGAL::coplanar(s[0], s[1], s[2], t[1]) &&
+        CGAL::coplanar(s[0], s[1], s[2], t[2]))
+      return tol;
+    auto normal = [](const ET3& x) {
+      const FP p = to_filtered(x[0]), q = to_filtered(x[1]), r = to_filtered(x[2]);
+      return CGAL::cross_product(q - p, r - p);
+    };
+    const auto u = normal(s), v = normal(t);
+    const double sine = std::sqrt(CGAL::cross_product(u, v).squared_length() / (u.squared_length() * v.squared_length()));
+    return sine > 0 ? 2 * tol / sine : std::numeric_limits<double>::infinity();
+  };
+  std::vector<Box> boxes_a, boxes_b;
+  for (std::size_t i = 0; i < ta.size(); ++i) boxes_a.emplace_back(ta[i].bbox(), std::uint32_t(i));
+  for (std::size_t i = 0; i < tb.size(); ++i) boxes_b.emplace_back(tb[i].bbox(), std::uint32_t(i));
+  CGAL::box_intersection_d(boxes_a.begin(), boxes_a.end(), boxes_b.begin(), boxes_b.end(),
+                           [&](const Box& x, const Box& y) {
+                             const ET3 &s = ta[x.info()], &t = tb[y.info()];
+                             if (!CGAL::do_intersect(s, t)) return;
+                             const auto meet = CGAL::intersection(s, t);
+                             if (!meet) return;
+                             allowed = allowed_for(s, t);
+                             if (const EP* p = boost::get<EP>(&*meet)) {
+                               sample(rounded(*p));
+                             } else if (const ES* g = boost::get<ES>(&*meet)) {
+                               sample(rounded(g->source()));
+                               sample(rounded(g->target()));
+                               sample(rounded(CGAL::midpoint(g->source(), g->target())));
+                             } else if (const ET3* u = boost::get<ET3>(&*meet)) {
+                               for (int k = 0; k < 3; ++k) sample(rounded(u->vertex(k)));
+                               sample(rounded(CGAL::centroid(u->vertex(0), u->vertex(1), u->vertex(2))));
+                             } else if (const auto* poly = boost::get<std::vector<EP>>(&*meet)) {
+                               double x0 = 0, y0 = 0, z0 = 0;
+                               for (const auto& q : *poly) {
+                                 const FP r = rounded(q);
+                                 sample(r);
+                                 x0 += r.x(), y0 += r.y(), z0 += r.z();
+                               }
+                               if (!poly->empty()) {
+                                 const double n = double(poly->size());
+                                 sample(FP(x0 / n, y0 / n, z0 / n));
+                               }
+                             }
+                           });
+  report.uncovered_samples = uncovered;
+  if (uncovered)
+    report.problems.push_back(say(uncovered, " points of the intersection of A and B are farther than the tolerance ",
+                                  tol, " (2 tol / sin of the faces' angle where they cross) from the curves and the shared",
+                                  " faces: parts of the intersection are missing from the curves (first: ", first,
+                                  "; largest distance ", report.max_uncovered_distance, ")"));
+}
+
 }  // namespace
 
 namespace {
 
 template <class K>
 PairCheckReport check_pair_unguarded(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2, const Mesh<K>& b2,
-                                     const std::vector<Polyline<K>>& curves, double tol, const CheckFocus* focus) {
+                                     const std::vector<Polyline<K>>& curves, double tol, const CheckFocus* focus,
+                                     bool separation) {
   // Faces are restricted only when some are marked: an empty focus restricts nothing (and still
   // leaves check 4 and the figures to the caller).
   const bool restricted = focus && !(focus->faces_a.empty() && focus->faces_b.empty());
@@ -449,6 +637,7 @@ PairCheckReport check_pair_unguarded(const Mesh<K>& a, const Mesh<K>& b, const M
   }
 
   // ------------------------------------------------------------ 3. no intersection off the curves
+  std::vector<char> shared_faces_a;  // per A2 face index: a shared face (kept for check 6)
   if (va.structure_ok && vb.structure_ok) {
     // B2 vertex -> A2 vertex at the same point; A2 vertices that are curve points.
     std::vector<std::uint32_t> b_to_a(vb.vertex_slots(), none);
@@ -463,21 +652,32 @@ PairCheckReport check_pair_unguarded(const Mesh<K>& a, const Mesh<K>& b, const M
     }
 
 
-    // Flat contact (issue 3: flat sides of two tows in one plane): coplanar faces that meet, in
-    // any way, lie where the two surfaces coincide. That region is bounded where a face of one
-    // mesh leaves the common plane, and there it meets a face of the other that is not coplanar
-    // with it: such pairs are tested like all others (only along the curves), which is what
-    // requires the region's boundary to be curves. A face with a border edge is not accepted (an
-    // open surface can end inside the region without leaving the plane). Exact predicates; tested
-    // only for pairs that would otherwise be a problem.
-    auto on_border = [](const M& m, F f) {
-      for (auto h : CGAL::halfedges_around_face(m.halfedge(f), m))
-        if (m.is_border(m.opposite(h))) return true;
-      return false;
-    };
-    auto flat_contact = [&](F fa, F fb, const std::array<V, 3>& ca, const std::array<V, 3>& cb) {
-      return coplanar_faces(va.geometry(ca), vb.geometry(cb)) && !on_border(a2, fa) && !on_border(b2, fb);
-    };
+    // Shared faces: a face of A2 whose three corners are the corners of a face of B2 (exact
+    // coordinates). Where the surfaces coincide (a flat contact) both must hold one common
+    // triangulation, so the faces there are shared and the merged outputs are a valid PLC.
+    std::vector<char> shared_a(va.face_slots(), 0), shared_b(vb.face_slots(), 0);
+    {
+      std::map<std::array<std::uint32_t, 3>, F> a_faces;
+      for (auto f : a2.faces()) {
+        const auto c = va.corners(f);
+        std::array<std::uint32_t, 3> key = {std::uint32_t(c[0]), std::uint32_t(c[1]), std::uint32_t(c[2])};
+        std::sort(key.begin(), key.end());
+        a_faces.emplace(key, f);
+      }
+      for (auto g : b2.faces()) {
+        const auto c = vb.corners(g);
+        std::array<std::uint32_t, 3> key;
+        bool all = true;
+        for (int k = 0; k < 3; ++k) all = all && (key[k] = b_to_a[std::size_t(c[k])]) != none;
+        if (!all) continue;
+        std::sort(key.begin(), key.end());
+        const auto it = a_faces.find(key);
+        if (it == a_faces.end()) continue;
+        shared_a[std::size_t(it->second)] = shared_b[std::size_t(g)] = 1;
+        ++report.shared_faces;
+      }
+    }
+    shared_faces_a = shared_a;
     std::vector<std::string> examples;
     auto off_curve = [&](F fa, F fb, const char* why) {
       report.conflict_faces_a.push_back(std::size_t(fa));
@@ -501,20 +701,26 @@ PairCheckReport check_pair_unguarded(const Mesh<K>& a, const Mesh<K>& b, const M
             ++shared;
           }
       }
+      if (shared == 3) return;  // the same triangle: a shared face (counted above)
+      // Two shared faces may meet in any common vertex or edge (inside a flat contact); every
+      // other meeting must be a curve point or segment.
+      const bool both_shared = shared_a[std::size_t(fa)] && shared_b[std::size_t(fb)];
       const Meet how = meet<K>(va.geometry(ca), vb.geometry(cb), ia, shared);
       switch (how) {
         case Meet::apart:
           return;
         case Meet::beyond:
-          if (flat_contact(fa, fb, ca, cb)) return;
-          off_curve(fa, fb, beyond_text(shared));
+          off_curve(fa, fb,
+                    coplanar_faces(va.geometry(ca), vb.geometry(cb))
+                        ? "overlap in a common plane (a flat contact that is not one common triangulation)"
+                        : beyond_text(shared));
           return;
         case Meet::at_vertex: {
           int k = 0;
           while (ia[k] < 0) ++k;
-          if (on_curve_a[std::size_t(ca[ia[k]])])
+          if (on_curve_a[std::size_t(ca[ia[k]])] || both_shared)
             ++report.face_pairs_on_curve;
-          else if (!flat_contact(fa, fb, ca, cb))
+          else
             off_curve(fa, fb, "touch at a vertex that is not a curve point");
           return;
         }
@@ -522,9 +728,9 @@ PairCheckReport check_pair_unguarded(const Mesh<K>& a, const Mesh<K>& b, const M
           int k = 0;
           while (ia[k] >= 0) ++k;
           const auto u = std::uint32_t(ca[ia[(k + 1) % 3]]), w = std::uint32_t(ca[ia[(k + 2) % 3]]);
-          if (curve_edges_a.count({std::min(u, w), std::max(u, w)}))
+          if (curve_edges_a.count({std::min(u, w), std::max(u, w)}) || both_shared)
             ++report.face_pairs_on_curve;
-          else if (!flat_contact(fa, fb, ca, cb))
+          else
             off_curve(fa, fb, "share an edge that is not a curve segment");
           return;
         }
@@ -555,7 +761,20 @@ PairCheckReport check_pair_unguarded(const Mesh<K>& a, const Mesh<K>& b, const M
     faces->erase(std::unique(faces->begin(), faces->end()), faces->end());
   }
 
-  if (focus) return report;  // check 4 and the figures are the caller's
+  if (focus) return report;  // checks 4-6 and the figures are the caller's
+
+  // ------------------------------------------------------------ 5. vertices apart, 6. coverage
+  if (va.structure_ok && vb.structure_ok) {
+    if (separation) check_vertex_separation(a, b, va, vb, report);
+    std::vector<Filtered::Triangle_3> shared_triangles;
+    for (auto f : a2.faces())
+      if (shared_faces_a[std::size_t(f)]) {
+        const auto c = va.corners(f);
+        shared_triangles.emplace_back(to_filtered(a2.point(c[0])), to_filtered(a2.point(c[1])),
+                                      to_filtered(a2.point(c[2])));
+      }
+    check_coverage<K>(a, b, curves, shared_triangles, tol, report);
+  }
 
   // ------------------------------------------------------------ 4. within tol of the inputs + quality
   if (va.structure_ok)
@@ -571,9 +790,10 @@ PairCheckReport check_pair_unguarded(const Mesh<K>& a, const Mesh<K>& b, const M
 
 template <class K>
 PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2, const Mesh<K>& b2,
-                           const std::vector<Polyline<K>>& curves, double tol, const CheckFocus* focus) {
+                           const std::vector<Polyline<K>>& curves, double tol, const CheckFocus* focus,
+                           bool separation) {
   try {
-    return check_pair_unguarded<K>(a, b, a2, b2, curves, tol, focus);
+    return check_pair_unguarded<K>(a, b, a2, b2, curves, tol, focus, separation);
   } catch (const CGAL::Failure_exception& e) {
     // Only where CGAL's assertions are compiled in (the fuzz build), and in practice only under
     // the float kernel, whose rounded predicates can contradict a CGAL precondition (a coplanar
@@ -584,7 +804,7 @@ PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2
 
 #define SEAM_INSTANTIATE(K)                                                                                  \
   template PairCheckReport check_pair<K>(const Mesh<K>&, const Mesh<K>&, const Mesh<K>&, const Mesh<K>&, \
-                                         const std::vector<Polyline<K>>&, double, const CheckFocus*);
+                                         const std::vector<Polyline<K>>&, double, const CheckFocus*, bool);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)
 SEAM_INSTANTIATE(Float)

@@ -278,7 +278,7 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
                                                   VertexLists<K>& cva, VertexLists<K>& cvb, double max_length,
                                                   double tiny_length, std::size_t input_vertices_a,
                                                   std::size_t input_vertices_b, const MergedFaceTest& accept_face,
-                                                  double only_next_to_faces_below) {
+                                                  double only_next_to_faces_below, bool merge_onto_curves) {
   using V = typename MeshTypes<K>::V;
   using F = typename MeshTypes<K>::F;
   constexpr std::size_t no_curve = std::numeric_limits<std::size_t>::max();
@@ -301,6 +301,11 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
     bool tiny;
     std::optional<typename K::Point_3> to = std::nullopt;
     int quarters = 0;  ///< with `to`: it is P + quarters / 4 (Q - P)
+    /// P may be an input vertex: a tiny edge from a vertex off the curves to a curve vertex (P
+    /// merged into the curve point, as snapping would: an exact construction left the point a
+    /// few units in the last place away, and two distinct vertices that close are one for a
+    /// volume mesher). Its index then goes, as with snapping's own merges.
+    bool input_ok = false;
   };
   // (mask + 4 quarters; P in A, P in B, Q in A or B) refused or undone
   std::set<std::array<std::size_t, 4>> excluded;
@@ -354,9 +359,14 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
           const double len = rounded_distance(mesh.point(u), mesh.point(w));
           if (!(len <= tiny_length)) continue;
           auto movable = [&](V v) { return uses[m][std::size_t(v)] == 0 && std::size_t(v) >= input_vertices[m]; };
+          auto onto_curve = [&](V v, V on) {
+            return merge_onto_curves && uses[m][std::size_t(v)] == 0 && uses[m][std::size_t(on)] > 0;
+          };
           Op op{1 << m, {}, {}, no_curve, 0, 0, len, true};
           if (movable(u)) op.p[m] = u, op.q[m] = w;
           else if (movable(w)) op.p[m] = w, op.q[m] = u;
+          else if (onto_curve(u, w)) op.p[m] = u, op.q[m] = w, op.input_ok = true;
+          else if (onto_curve(w, u)) op.p[m] = w, op.q[m] = u, op.input_ok = true;
           else continue;
           ops.push_back(op);
         }
@@ -396,7 +406,8 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
       for (int m = 0; m < 2 && allowed; ++m) {
         if (!(op.mask & (1 << m))) continue;
         Angles bm, am;
-        allowed = collapse_allowed<K>(*meshes[m], op.p[m], op.q[m], input_vertices[m], bm, am, accept_face, m, op.to);
+        allowed = collapse_allowed<K>(*meshes[m], op.p[m], op.q[m], op.input_ok ? 0 : input_vertices[m], bm, am,
+                                      accept_face, m, op.to);
         before.min = std::min(before.min, bm.min), before.below_10 += bm.below_10;
         after.min = std::min(after.min, am.min), after.below_10 += am.below_10;
       }
@@ -521,7 +532,7 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
 #define SEAM_INSTANTIATE(K)                                                                                     \
   template CurveCollapseReport collapse_short_curve_segments<K>(                                                 \
       Mesh<K>&, Mesh<K>&, std::vector<Polyline<K>>&, VertexLists<K>&, VertexLists<K>&, double, double,     \
-      std::size_t, std::size_t, const MergedFaceTest&, double);                                                                              \
+      std::size_t, std::size_t, const MergedFaceTest&, double, bool);                                                                           \
   template void compact_keeping_curve_vertices<K>(Mesh<K>&, VertexLists<K>&);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)

@@ -185,6 +185,87 @@ std::vector<Point3d> make_ring_curve(const TowOptions& options, double s_center,
   return curve;
 }
 
+namespace {
+
+/// The inverse of the rigid transform.
+Point3d untransform(const TowOptions& o, const Point3d& p) {
+  const Point3d r = {p[0] - o.translate[0], p[1] - o.translate[1], p[2] - o.translate[2]};
+  const double cz = std::cos(o.rotate_z), sz = std::sin(o.rotate_z);
+  const double cx = std::cos(o.rotate_x), sx = std::sin(o.rotate_x);
+  const Point3d q = {r[0], cx * r[1] + sx * r[2], -sx * r[1] + cx * r[2]};
+  return {cz * q[0] + sz * q[1], -sz * q[0] + cz * q[1], q[2]};
+}
+
+/// Surface parameters (s, phi) of a point near the tow's surface: s from the path's direction,
+/// phi from the section coordinates (a first guess for Gauss-Newton).
+std::array<double, 2> surface_parameters(const TowOptions& o, const Point3d& p) {
+  const Point3d q = untransform(o, p);
+  const double s = std::fmin(std::fmax(q[0], 0.0), o.length);
+  const double u = q[1], v = q[2] - path_height(o, s)[0];
+  return {s, std::atan2(v / o.half_height, u / o.half_width)};
+}
+
+}  // namespace
+
+std::vector<Point3d> smooth_intersection_points(const TowOptions& a, const TowOptions& b,
+                                                const std::vector<Point3d>& near) {
+  validate(a);
+  validate(b);
+  std::vector<Point3d> result;
+  result.reserve(near.size());
+  for (const Point3d& seed : near) {
+    const auto pa = surface_parameters(a, seed), pb = surface_parameters(b, seed);
+    std::array<double, 4> x = {pa[0], pa[1], pb[0], pb[1]};  // (s_a, phi_a, s_b, phi_b)
+    auto residual = [&](const std::array<double, 4>& y) {
+      const Point3d p = tow_surface_point(a, y[0], y[1]), q = tow_surface_point(b, y[2], y[3]);
+      return Point3d{p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+    };
+    Point3d f = residual(x);
+    const double scale = std::fmax(a.half_width, b.half_width);
+    bool converged = false;
+    for (int iteration = 0; iteration < 50 && !converged; ++iteration) {
+      // Jacobian by central differences; the minimal-norm step -J^T (J J^T)^-1 f.
+      double J[3][4];
+      for (int k = 0; k < 4; ++k) {
+        const double h = 1e-7;
+        auto plus = x, minus = x;
+        plus[std::size_t(k)] += h;
+        minus[std::size_t(k)] -= h;
+        const Point3d fp = residual(plus), fm = residual(minus);
+        for (int r = 0; r < 3; ++r) J[r][k] = (fp[std::size_t(r)] - fm[std::size_t(r)]) / (2 * h);
+      }
+      double M[3][3];
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) {
+          M[r][c] = 0;
+          for (int k = 0; k < 4; ++k) M[r][c] += J[r][k] * J[c][k];
+        }
+      const double det = M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) -
+                         M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
+                         M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0]);
+      if (!(std::fabs(det) > 0)) break;
+      // w = M^-1 f (Cramer), step = -J^T w
+      double w[3];
+      for (int c = 0; c < 3; ++c) {
+        double N[3][3];
+        for (int r = 0; r < 3; ++r)
+          for (int k = 0; k < 3; ++k) N[r][k] = k == c ? f[std::size_t(r)] : M[r][k];
+        w[c] = (N[0][0] * (N[1][1] * N[2][2] - N[1][2] * N[2][1]) - N[0][1] * (N[1][0] * N[2][2] - N[1][2] * N[2][0]) +
+                N[0][2] * (N[1][0] * N[2][1] - N[1][1] * N[2][0])) /
+               det;
+      }
+      for (int k = 0; k < 4; ++k) x[std::size_t(k)] -= J[0][k] * w[0] + J[1][k] * w[1] + J[2][k] * w[2];
+      x[0] = std::fmin(std::fmax(x[0], 0.0), a.length);
+      x[2] = std::fmin(std::fmax(x[2], 0.0), b.length);
+      f = residual(x);
+      converged = std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]) < 1e-13 * scale;
+    }
+    require(converged, "smooth_intersection_points: a point did not converge onto both surfaces");
+    result.push_back(tow_surface_point(a, x[0], x[1]));
+  }
+  return result;
+}
+
 CrossoverTows make_crossover(int weft_along, int weft_around, int warp_along, int warp_around,
                              Section warp_section, double warp_height) {
   CrossoverTows c;

@@ -105,6 +105,10 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
     sharp[e] = more_apart_than(normal(h), normal(work.opposite(h)), std::cos(60.0 * M_PI / 180));
   }
 
+  // Shared faces (a flat contact's common triangulation: internal/flat_contacts.h) are left as
+  // they are, with their corners, so that both meshes keep them identical.
+  const FrozenFaces<K> shared_faces(work);
+
   // 1. Collapse the dropped curve vertices onto the kept ones, along the curve.
   std::vector<std::vector<V>> coarse(curve_vertices.size());
   refused.assign(curve_vertices.size(), {});
@@ -121,6 +125,10 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
         vfrozen[vs[i]] = true;
         if (frozen[c][i] == 2) vfrozen_faces[vs[i]] = true;
       }
+    // Positions at a shared face (a flat contact's common triangulation, the same in both
+    // meshes) stay: a collapse there would change the shared faces.
+    for (std::size_t i = 0; i < n; ++i)
+      if (shared_faces.around(work, vs[i])) keep[i] = 1;
     // handle[i]: the vertex now standing for curve position i (a collapse may keep either end).
     std::vector<V> handle(vs.begin(), vs.begin() + n);
     std::size_t last = 0;
@@ -148,8 +156,8 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
       const V r = CGAL::Euler::collapse_edge(work.edge(h), work);
       work.point(r) = point;
       handle[last] = r;
-      for (F f : CGAL::faces_around_target(work.halfedge(r), work))
-        if (f != M::null_face()) changed[f] = true;
+      for (F f : CGAL::faces_around_target(work.halfedge(r), work))  // (a shared face keeps its corners' points)
+        if (f != M::null_face() && !shared_faces.face(f)) changed[f] = true;
     }
     for (std::size_t i = 0; i < n; ++i)
       if (keep[i] || std::find(refused[c].begin(), refused[c].end(), i) != refused[c].end()) coarse[c].push_back(handle[i]);
@@ -225,6 +233,11 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
       in_band_face[std::size_t(f)] = is_near && !is_frozen;
     }
   }
+  // (after the garbage collection: the property moved with its faces)
+  const auto [shared2, has_shared] = work.template property_map<F, bool>(shared_face_property);
+  if (has_shared)
+    for (F f : work.faces())
+      if (shared2[f]) in_band_face[std::size_t(f)] = 0;
   for (V v : work.vertices()) dmesh.add_vertex(to_band(to_filtered(work.point(v))));
   for (F f : work.faces()) {
     std::vector<typename CGAL::Surface_mesh<DK::Point_3>::Vertex_index> vs;
@@ -241,6 +254,14 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
     d_fixed[DV(std::uint32_t(std::size_t(v)))] = vfixed2[v];
     d_orig[DV(std::uint32_t(std::size_t(v)))] = std::int64_t(std::size_t(v));
   }
+  if (has_shared)  // shared faces' corners and edges stay as they are
+    for (F f : work.faces())
+      if (shared2[f])
+        for (auto h : CGAL::halfedges_around_face(work.halfedge(f), work)) {
+          vfixed2[work.target(h)] = true;
+          econs2[work.edge(h)] = true;
+        }
+  for (V v : work.vertices()) d_fixed[DV(std::uint32_t(std::size_t(v)))] = vfixed2[v];
   for (E e : work.edges()) {
     if (!econs2[e]) continue;
     const auto h = work.halfedge(e);
@@ -298,6 +319,8 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
   std::optional<typename M::template Property_map<F, bool>> frozen_face;
   if (!near_frozen_faces.empty())
     frozen_face = out.template add_property_map<F, bool>(frozen_face_property, false).first;
+  std::optional<typename M::template Property_map<F, bool>> shared_face;
+  if (has_shared) shared_face = out.template add_property_map<F, bool>(shared_face_property, false).first;
   const auto [old_source, has_source] = work.template property_map<F, std::uint32_t>(source_face_property);
   const auto [old_new, has_new] = work.template property_map<F, bool>(new_face_property);
   // Faces outside the band are unchanged (same vertex triples, no corner moved, not reshaped by a
@@ -332,6 +355,7 @@ bool coarsen_and_remesh_near_curves(Mesh<K>& mesh, std::vector<std::vector<typen
     if (it != old_faces.end() && !corner_moved) {
       source[nf] = has_source ? old_source[it->second] : std::uint32_t(std::size_t(it->second));
       is_new[nf] = has_new && old_new[it->second];
+      if (shared_face) (*shared_face)[nf] = shared2[it->second];
     } else {
       source[nf] = std::numeric_limits<std::uint32_t>::max();  // remeshed: no single input face
       is_new[nf] = true;

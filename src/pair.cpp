@@ -1,5 +1,6 @@
 // seam::pair: two tows, one interface. See seam/pair.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/internal/flat_contacts.h>
 #include <seam/internal/collapse.h>
 #include <seam/internal/embed_known_sites.h>
 #include <seam/internal/general_position_curves.h>
@@ -7,6 +8,7 @@
 #include <seam/internal/local_edits.h>
 #include <seam/internal/provenance.h>
 #include <seam/internal/snap.h>
+#include <seam/internal/verify_output.h>
 #include <seam/internal/thin_faces.h>
 #include <seam/quality.h>
 #include <seam/check.h>
@@ -46,7 +48,8 @@ template <class Point> void sort_by_first_point(std::vector<std::vector<Point>>&
   });
 }
 
-/// Chains polylines that share end points (exact comparison) into maximal polylines.
+/// Chains polylines that share end points (exact comparison) into maximal polylines, through points
+/// where an even number of them meet (see below).
 template <class Point> std::vector<std::vector<Point>> chain(std::vector<std::vector<Point>> pieces) {
   // Drop repeated consecutive points and pieces with no length.
   std::vector<std::vector<Point>> clean;
@@ -65,26 +68,36 @@ template <class Point> std::vector<std::vector<Point>> chain(std::vector<std::ve
   }
   std::vector<char> used(clean.size(), 0);
   std::vector<std::vector<Point>> result;
+  // Where an even number of pieces meet (2, or 4 where two curves touch or one crosses itself),
+  // the chain goes on through, with the first unused piece: so every curve of a set of closed
+  // curves stays closed (a walk through even points can only stop where it started). Chains end
+  // where an odd number meet (a branch, such as the corner of a flat contact).
+  auto odd = [&](const Point& p) {
+    const auto it = ends.find(p);
+    return it != ends.end() && it->second.size() % 2 == 1;
+  };
   auto extend = [&](std::vector<Point>& line) {
-    // Grow at the back while exactly one other unused piece continues there (degree-2 point).
     for (;;) {
       if (line.front() == line.back() && line.size() > 2) return;
       auto it = ends.find(line.back());
-      if (it == ends.end()) return;
-      std::size_t next = clean.size(), unused = 0;
+      if (it == ends.end() || it->second.size() % 2 == 1) return;
+      std::size_t next = clean.size();
       for (std::size_t j : it->second)
-        if (!used[j]) ++unused, next = j;
-      if (unused != 1 || it->second.size() != 2) return;
+        if (!used[j]) {
+          next = j;
+          break;
+        }
+      if (next == clean.size()) return;
       used[next] = 1;
       auto piece = clean[next];
       if (!(piece.front() == line.back())) std::reverse(piece.begin(), piece.end());
       line.insert(line.end(), piece.begin() + 1, piece.end());
     }
   };
-  // Open chains first: start at an end point that is not a degree-2 point.
+  // Open chains first: start at an end point where an odd number of pieces meet.
   for (std::size_t i = 0; i < clean.size(); ++i) {
     if (used[i] || clean[i].front() == clean[i].back()) continue;
-    const bool front_free = ends[clean[i].front()].size() != 2, back_free = ends[clean[i].back()].size() != 2;
+    const bool front_free = odd(clean[i].front()), back_free = odd(clean[i].back());
     if (!front_free && !back_free) continue;
     used[i] = 1;
     auto line = clean[i];
@@ -404,25 +417,12 @@ std::vector<Polyline<K>> curves_and_sites(const Mesh<K>& a, const Mesh<K>& b, st
     }
     flush();
   }
-  // A touching run that meets a kept curve (an edge of one surface lying in a face of the other,
-  // ending where the surfaces cross or a flat contact begins) is part of the same interface: the
-  // outputs meet along it, so it is kept as well. Only separate touching contacts are dropped.
-  std::set<Point, PointLess<Point>> on_kept;
-  for (const auto& run : kept) on_kept.insert(run.begin(), run.end());
-  for (bool grew = true; grew && !kept.empty();) {
-    grew = false;
-    for (auto it = touched.begin(); it != touched.end();) {
-      if (on_kept.count(it->front()) || on_kept.count(it->back())) {
-        on_kept.insert(it->begin(), it->end());
-        kept.push_back(std::move(*it));
-        it = touched.erase(it);
-        grew = true;
-      } else {
-        ++it;
-      }
-    }
-  }
-  if (touching_points) *touching_points = touching + chain(std::move(touched)).size();
+  // Touching runs (an edge of one surface lying in a face of the other, the surfaces on one side
+  // of each other there) are kept too: the outputs meet along them, so they must be curves of
+  // both, or the merged outputs are not a valid complex (seam check and TetGen reject them). Only
+  // isolated points of contact are not curves; they are counted (snapping must not make more).
+  if (touching_points) *touching_points = touching;
+  kept.insert(kept.end(), std::make_move_iterator(touched.begin()), std::make_move_iterator(touched.end()));
   auto curves = chain(std::move(kept));
   orient_curves<K>(a, b, curves);
   return curves;
@@ -515,7 +515,7 @@ namespace {
 /// a check).
 template <class K>
 PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options, bool collapse_after_embedding,
-                              bool snap_vertices = true) {
+                              bool snap_vertices = true, bool snap_to_doubles = false) {
   validate_options(options.embed);
   PairResult<K> result;
   // Edge snapping adds faces: each mesh face's input face, and whether its shape changed
@@ -577,8 +577,8 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     prov_b.emplace().start<K>(b);
     // Onto the closest point of the curves (they lie on both surfaces), not only their nodes,
     // which are sparse: one per crossing of an edge.
-    const auto sa = internal::snap_vertices_to_segments<K>(a, curves, snap_tol);
-    const auto sb = internal::snap_vertices_to_segments<K>(b, curves, snap_tol);
+    const auto sa = internal::snap_vertices_to_segments<K>(a, curves, snap_tol, snap_to_doubles);
+    const auto sb = internal::snap_vertices_to_segments<K>(b, curves, snap_tol, snap_to_doubles);
     st.vertices_snapped_a = sa.snapped;
     st.vertices_snapped_b = sb.snapped;
     st.snaps_refused = sa.refused + sb.refused;
@@ -700,6 +700,7 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
   if (const std::string mismatch = embedding_mismatch(); !mismatch.empty()) throw InternalError("pair: " + mismatch);
   result.curves = result.a.curves;
 
+
   // With a snapping tolerance, curve segments shorter than it are collapsed in both meshes at
   // once where that improves the angles and the meshes still meet only along the curves (see
   // internal/collapse.h): a crossing of A's edge next to a crossing of B's edge otherwise leaves
@@ -736,6 +737,32 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     prov_b->apply<K>(b, result.b.stats);
   }
 
+  // Flat contacts (faces of both in one plane, overlapping): one common triangulation in both,
+  // its faces shared (see internal/flat_contacts.h); the steps below leave them alone.
+  if (!result.curves.empty()) {
+    t = Clock::now();
+    const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(a) + CGAL::Polygon_mesh_processing::bbox(b);
+    const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                      CGAL::square(box.zmax() - box.zmin()));
+    const auto fc = internal::unify_flat_contacts<K>(a, b, min_vertex_separation * diagonal);
+    st.contact_patches = fc.patches;
+    st.shared_faces = fc.shared_faces;
+    st.contact_patches_left = fc.patches_left;
+    if (fc.patches_left > 0) st.note += (st.note.empty() ? "" : "; ") + fc.first_left;
+    if (fc.patches > 0)
+      for (auto* r : {&result.a, &result.b}) {
+        const auto& m = r == &result.a ? a : b;
+        const auto q = new_face_quality<K>(m);
+        r->stats.output_vertices = m.number_of_vertices();
+        r->stats.output_faces = m.number_of_faces();
+        r->stats.min_angle_deg_new = q.min_angle_deg;
+        r->stats.new_faces_below_10 = q.below_10;
+        r->stats.new_faces_below_20 = q.below_20;
+        r->stats.faces_added = q.new_faces;
+      }
+    st.stage_seconds["flat_contacts"] = seconds_since(t);
+  }
+
   // Experimental: coarsen the curve to about the edge length and remesh both meshes next to it
   // (see internal/improve.h and PairOptions::remesh_near_curves). Kept only when both succeed.
   auto add_note = [&](const std::string& sentence) { st.note += (st.note.empty() ? "" : "; ") + sentence; };
@@ -752,7 +779,7 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     a = *input_a;
     b = *input_b;
     PairResult<K> redone =
-        pair_collapsing<K>(a, b, redo_options, redo_collapse_after_embedding, redo_snap_vertices);
+        pair_collapsing<K>(a, b, redo_options, redo_collapse_after_embedding, redo_snap_vertices, snap_to_doubles);
     redone.stats.note = why + (redone.stats.note.empty() ? "" : "; " + redone.stats.note);
     return redone;
   };
@@ -1071,6 +1098,34 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     st.stage_seconds["remesh"] = seconds_since(t);
   }
 
+  // No two output vertices closer than a volume mesher's tolerance (min_vertex_separation of the
+  // pair's size, TetGen's -T twice over): tiny edges left by the exact constructions are
+  // collapsed, and a vertex that close to a curve point merges into it (moving by that much at
+  // most). Nothing changes where there are none.
+  if (!result.curves.empty()) {
+    t = Clock::now();
+    const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(a) + CGAL::Polygon_mesh_processing::bbox(b);
+    const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                      CGAL::square(box.zmax() - box.zmin()));
+    const auto cr = internal::collapse_short_curve_segments<K>(a, b, result.curves, result.a.curve_vertices,
+                                                               result.b.curve_vertices, 0.0,
+                                                               min_vertex_separation * diagonal, 0, 0, {}, 0, true);
+    if (cr.collapsed + cr.tiny_edges_collapsed > 0) {
+      st.tiny_edges_collapsed += cr.tiny_edges_collapsed;
+      st.curve_vertices_collapsed += cr.collapsed;
+      result.a.curves = result.b.curves = result.curves;
+      st.curve_vertices = 0;
+      for (const auto& c : result.curves) st.curve_vertices += is_closed(c) ? c.size() - 1 : c.size();
+      for (auto* r : {&result.a, &result.b}) {
+        const auto& m = r == &result.a ? a : b;
+        r->stats.output_vertices = m.number_of_vertices();
+        r->stats.output_faces = m.number_of_faces();
+        r->stats.curve_nodes_out = st.curve_vertices;
+      }
+    }
+    st.stage_seconds["separate"] = seconds_since(t);
+  }
+
   // The outputs are written in doubles. Snapped surfaces meet along nearly coplanar faces, and
   // where the remeshing did not run (it failed, or the curve was frozen) the exact points of the
   // embedding stay: rounded, a few can make a surface meet itself, or the other one off the
@@ -1129,7 +1184,51 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
 }  // namespace
 
 template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions& options) {
-  return pair_collapsing<K>(a, b, options, true);
+  if (!options.verify_output) return pair_collapsing<K>(a, b, options, true);
+  const Mesh<K> a0 = a, b0 = b;
+  PairResult<K> result = pair_collapsing<K>(a, b, options, true);
+  std::string problem;
+  if (internal::verify_outputs<K>(a0, b0, a, b, result, problem)) return result;
+  // Snapping and the remeshing move vertices: done again without snapping (still remeshed within
+  // the tolerance), then without either (the outputs are then the input surfaces, cut along the
+  // exact curves). An exact result can still fail once rounded to doubles (a sliver of crossing
+  // thinner than a unit in the last place): last, snapped at the vertex separation of check 5
+  // (TetGen's tolerance, twice over), which no volume mesher resolves anyway. At most three runs
+  // more, so this ends.
+  const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(a0) + CGAL::Polygon_mesh_processing::bbox(b0);
+  const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                    CGAL::square(box.zmax() - box.zmin()));
+  struct Redo {
+    PairOptions options;
+    bool snap_vertices;
+    const char* what;
+    bool to_doubles = false;
+  };
+  std::vector<Redo> redos;
+  PairOptions unsnapped = options, minimal = options;
+  unsnapped.embed.snap_tol = 0;
+  minimal.embed.snap_tol = min_vertex_separation * diagonal;
+  minimal.remesh_near_curves = false;
+  if (result.stats.snap_tol > 0) {
+    redos.push_back({options, false, "done again without snapping"});
+    redos.push_back({unsnapped, true, "done again without snapping or remeshing"});
+  }
+  if (result.stats.snap_tol != minimal.embed.snap_tol)
+    redos.push_back({minimal, true, "done again snapped at the vertex separation only, onto doubles", true});
+  std::string tried;
+  for (const Redo& redo : redos) {
+    tried += (tried.empty() ? "" : "; then ") + problem;
+    a = a0;
+    b = b0;
+    PairResult<K> again = pair_collapsing<K>(a, b, redo.options, true, redo.snap_vertices, redo.to_doubles);
+    again.stats.note = std::string(redo.what) + ": the result failed seam check's tests (" + tried + ")" +
+                       (again.stats.note.empty() ? "" : "; " + again.stats.note);
+    again.stats.stage_seconds["verify_output"] = result.stats.stage_seconds["verify_output"];
+    if (internal::verify_outputs<K>(a0, b0, a, b, again, problem)) return again;
+  }
+  a = a0;
+  b = b0;
+  throw InternalError("pair: the outputs fail seam check's tests, so none is given (" + problem + ")");
 }
 
 #define SEAM_INSTANTIATE(K)                                                                       \

@@ -23,9 +23,18 @@
 #include <seam/internal/coarsen.h>
 #include <seam/internal/snap.h>
 #include <seam/internal/trace.h>
+#include <seam/internal/verify_output.h>
 #include <seam/pair.h>
 
+#include <seam/internal/message.h>
+
+#include <CGAL/AABB_segment_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+
 #include <algorithm>
+#include <map>
+#include <set>
 #include <optional>
 #include <chrono>
 #include <cmath>
@@ -35,6 +44,7 @@ namespace seam {
 
 namespace {
 
+using internal::say;
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
@@ -300,6 +310,92 @@ struct FoldError : InvalidInput {
   using InvalidInput::InvalidInput;
 };
 
+/// What move_onto_curves did: the largest move, or where a face would fold.
+struct CurveMove {
+  double max_move = 0;
+  std::string folded;  ///< empty, or the point (as text) where a face would fold
+  double fold_distance = 0;
+};
+
+/// Moves the curve vertices of `m` onto their `target`s (exactly), and the other vertices of the
+/// faces new from the embedding within three rings of them by a blend of those moves (inverse
+/// distance weights over the neighbours one ring closer to the curve; rounded): so the faces
+/// along the curve move with it instead of folding where the embedding made them thin. A move
+/// is made only when no face around a moved vertex folds or flattens (exact tests).
+template <class K>
+CurveMove move_onto_curves(Mesh<K>& m, const std::map<typename Mesh<K>::Vertex_index, typename K::Point_3>& target) {
+  using V = typename Mesh<K>::Vertex_index;
+  using Vec = Filtered::Vector_3;
+  CurveMove report;
+  const auto [is_new, has_new] = m.template property_map<typename Mesh<K>::Face_index, bool>(new_face_property);
+  std::map<V, Vec> shift;  // the blended moves of the vertices off the curves
+  std::map<V, Vec> layer;  // the moves of the last ring
+  for (const auto& [v, p] : target) layer.emplace(v, to_filtered(p) - to_filtered(m.point(v)));
+  std::map<V, Vec> all = layer;
+  for (int ring = 0; ring < 3; ++ring) {
+    std::map<V, std::pair<Vec, double>> next;
+    for (const auto& [v, d] : layer)
+      for (auto h : CGAL::halfedges_around_target(m.halfedge(v), m)) {
+        const V w = m.source(h);
+        if (all.count(w)) continue;
+        // only along faces new from the embedding
+        const auto f = m.face(h), g = m.face(m.opposite(h));
+        if (!has_new || !((f != Mesh<K>::null_face() && is_new[f]) || (g != Mesh<K>::null_face() && is_new[g]))) continue;
+        const double l2 = CGAL::squared_distance(to_filtered(m.point(v)), to_filtered(m.point(w)));
+        const double weight = 1.0 / std::max(l2, 1e-300);
+        auto& [sum, weights] = next.try_emplace(w, Vec(0, 0, 0), 0.0).first->second;
+        sum = sum + d * weight;
+        weights += weight;
+      }
+    layer.clear();
+    for (const auto& [w, sw] : next) {
+      const Vec d = sw.first / sw.second;
+      layer.emplace(w, d);
+      all.emplace(w, d);
+      shift.emplace(w, d);
+    }
+  }
+  // The new positions, then the test of every face around a moved vertex.
+  std::map<V, typename K::Point_3> position;
+  for (const auto& [v, p] : target) position.emplace(v, p);
+  for (const auto& [w, d] : shift) {
+    auto p = m.point(w) + typename K::Vector_3(d.x(), d.y(), d.z());
+    make_exact(p);
+    position.emplace(w, p);
+  }
+  auto at = [&](V v) -> const typename K::Point_3& {
+    const auto it = position.find(v);
+    return it != position.end() ? it->second : m.point(v);
+  };
+  std::set<typename Mesh<K>::Face_index> faces;
+  for (const auto& [v, p] : position)
+    for (auto f : CGAL::faces_around_target(m.halfedge(v), m))
+      if (f != Mesh<K>::null_face()) faces.insert(f);
+  for (auto f : faces) {
+    std::array<V, 3> c;
+    int i = 0;
+    for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) c[i++] = v;
+    const auto n_old = CGAL::cross_product(m.point(c[1]) - m.point(c[0]), m.point(c[2]) - m.point(c[0]));
+    const auto n_new = CGAL::cross_product(at(c[1]) - at(c[0]), at(c[2]) - at(c[0]));
+    if (CGAL::collinear(at(c[0]), at(c[1]), at(c[2])) || !CGAL::is_positive(n_old * n_new)) {
+      for (const V v : c)
+        if (target.count(v)) {
+          const auto q = to_filtered(target.at(v));
+          report.folded = say("(", q.x(), ", ", q.y(), ", ", q.z(), ")");
+          report.fold_distance = std::sqrt(CGAL::to_double(CGAL::squared_distance(m.point(v), target.at(v))));
+          return report;
+        }
+      report.folded = "a face next to the curve";
+      return report;
+    }
+  }
+  for (const auto& [v, p] : position) {
+    report.max_move = std::max(report.max_move, std::sqrt(CGAL::to_double(CGAL::squared_distance(m.point(v), p))));
+    m.point(v) = p;
+  }
+  return report;
+}
+
 template <class K>
 PairResult<K> pair_given_once(Mesh<K>& a, Mesh<K>& b, const std::vector<Polyline<K>>& curves,
                               const PairOptions& options) {
@@ -433,13 +529,14 @@ PairResult<K> pair_given_once(Mesh<K>& a, Mesh<K>& b, const std::vector<Polyline
   result.a.stats.vertices_snapped = st.vertices_snapped_a;
   result.b.stats.vertices_snapped = st.vertices_snapped_b;
 
-  // ---- 5. both meshes' curve vertices onto the given curve
+  // ---- 5. both meshes' curve vertices onto the given curve, the faces around them along
   t = Clock::now();
   for (auto* r : {&result.a, &result.b}) {
     Mesh<K>& m = r == &result.a ? a : b;
     const char* name = r == &result.a ? "A" : "B";
     if (r->curve_vertices.size() != shared.size())
       throw InternalError("pair: the given curves were embedded into a different number of curves");
+    std::map<typename Mesh<K>::Vertex_index, Point> target;
     for (std::size_t c = 0; c < shared.size(); ++c) {
       const auto& vs = r->curve_vertices[c];
       if (vs.size() != shared[c].size()) {
@@ -448,25 +545,16 @@ PairResult<K> pair_given_once(Mesh<K>& a, Mesh<K>& b, const std::vector<Polyline
             << " after embedding into mesh " << name << (kernel_traits<K>::exact_constructions ? "" : " (rounded arithmetic)");
         throw InternalError(msg.str());
       }
-      for (std::size_t k = 0; k < vs.size(); ++k) {
-        if (m.point(vs[k]) == shared[c][k]) continue;
-        if (!internal::move_keeps_faces<K>(m, vs[k], shared[c][k])) {
-          double shortest = std::numeric_limits<double>::max();
-          for (auto h : CGAL::halfedges_around_target(m.halfedge(vs[k]), m))
-            shortest = std::min(shortest, std::sqrt(CGAL::to_double(
-                                              CGAL::squared_distance(m.point(m.source(h)), m.point(vs[k])))));
-          std::ostringstream msg;
-          msg << "curve " << c << ": point " << k << " lies "
-              << std::sqrt(CGAL::to_double(CGAL::squared_distance(m.point(vs[k]), shared[c][k]))) << " from mesh "
-              << name << ", too far for its resolution there (edges from " << shortest
-              << "): moving the mesh onto it would fold a face";
-          throw FoldError(msg.str());
-        }
-        st.max_curve_move = std::max(
-            st.max_curve_move, std::sqrt(CGAL::to_double(CGAL::squared_distance(m.point(vs[k]), shared[c][k]))));
-        m.point(vs[k]) = shared[c][k];
-      }
+      for (std::size_t k = 0; k < vs.size(); ++k) target.emplace(vs[k], shared[c][k]);
     }
+    const auto moved = move_onto_curves<K>(m, target);
+    if (!moved.folded.empty()) {
+      std::ostringstream msg;
+      msg << "a given curve lies " << moved.fold_distance << " from mesh " << name << " at "
+          << moved.folded << ", too far for the mesh's resolution there: moving the mesh onto it would fold a face";
+      throw FoldError(msg.str());
+    }
+    st.max_curve_move = std::max(st.max_curve_move, moved.max_move);
     r->curves = shared;
   }
   st.stage_seconds["move"] = seconds_since(t);
@@ -484,24 +572,148 @@ PairResult<K> pair_given_once(Mesh<K>& a, Mesh<K>& b, const std::vector<Polyline
 
 }  // namespace
 
+/// The given curves as the shape of the computed intersection (the first method): the meshes'
+/// exact intersection curves are embedded by seam::pair (with its snapping and remeshing as the
+/// options say), then every curve vertex moves, in both meshes alike, to the closest point of the
+/// given curves (its segment parameter rounded to a double: exactly on the given segment), and
+/// the faces along with it (move_onto_curves). Both meshes share the moved curve by
+/// construction; they met only along it before the move. Empty, with `why`, where a curve point
+/// is farther than max_distance from the given curves, two consecutive ones go to the same point,
+/// a face would fold, or the meshes do not intersect.
+template <class K>
+std::optional<PairResult<K>> pair_onto_given(Mesh<K>& a, Mesh<K>& b, const std::vector<Polyline<K>>& given,
+                                             const PairOptions& options, std::string& why) {
+  using FT = typename K::FT;
+  using Point = typename K::Point_3;
+  using FS = Filtered::Segment_3;
+  PairOptions o = options;
+  o.verify_output = false;  // (the caller verifies the moved result)
+  PairResult<K> r = pair<K>(a, b, o);
+  if (r.curves.empty()) {
+    why = "the meshes do not intersect";
+    return std::nullopt;
+  }
+  const double max_distance = options.embed.max_distance >= 0
+                                  ? options.embed.max_distance
+                                  : std::min(mean_edge_length<K>(a), mean_edge_length<K>(b));
+  std::vector<FS> segments;
+  std::vector<std::pair<std::size_t, std::size_t>> which;
+  for (std::size_t c = 0; c < given.size(); ++c)
+    for (std::size_t i = 0; i + 1 < given[c].size(); ++i) {
+      const auto p = to_filtered(given[c][i]), q = to_filtered(given[c][i + 1]);
+      if (p == q) continue;
+      segments.emplace_back(p, q);
+      which.emplace_back(c, i);
+    }
+  if (segments.empty()) {
+    why = "no given curve has a segment";
+    return std::nullopt;
+  }
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Filtered, CGAL::AABB_segment_primitive<Filtered, std::vector<FS>::const_iterator>>>;
+  Tree tree(segments.begin(), segments.end());
+  tree.accelerate_distance_queries();
+  std::vector<Polyline<K>> moved(r.curves.size());
+  for (std::size_t c = 0; c < r.curves.size(); ++c) {
+    const bool closed = is_closed(r.curves[c]);
+    for (std::size_t k = 0; k < r.curves[c].size(); ++k) {
+      if (closed && k + 1 == r.curves[c].size()) {
+        moved[c].push_back(moved[c].front());
+        break;
+      }
+      const Point& p = r.curves[c][k];
+      const auto [closest, id] = tree.closest_point_and_primitive(to_filtered(p));
+      const auto [gc, gi] = which[std::size_t(id - segments.cbegin())];
+      const Point &q0 = given[gc][gi], &q1 = given[gc][gi + 1];
+      // The parameter of the closest point of segment q0 q1, rounded to a double, clamped.
+      const auto d = q1 - q0;
+      const double t = std::clamp(CGAL::to_double(((p - q0) * d) / (d * d)), 0.0, 1.0);
+      Point target = t == 0 ? q0 : t == 1 ? q1 : q0 + d * FT(t);
+      make_exact(target);
+      const double distance = std::sqrt(CGAL::to_double(CGAL::squared_distance(p, target)));
+      if (distance > max_distance) {
+        why = say("the computed intersection passes ", distance, " from the given curves (more than ", max_distance,
+                  ")");
+        return std::nullopt;
+      }
+      if (!moved[c].empty() && moved[c].back() == target) {
+        why = "two consecutive points of the computed intersection have the same closest point on the given curves";
+        return std::nullopt;
+      }
+      moved[c].push_back(target);
+    }
+  }
+  auto& st = r.stats;
+  for (auto* e : {&r.a, &r.b}) {
+    Mesh<K>& m = e == &r.a ? a : b;
+    std::map<typename Mesh<K>::Vertex_index, Point> target;
+    for (std::size_t c = 0; c < moved.size(); ++c)
+      for (std::size_t k = 0; k < moved[c].size(); ++k) target.emplace(e->curve_vertices[c][k], moved[c][k]);
+    const auto how = move_onto_curves<K>(m, target);
+    if (!how.folded.empty()) {
+      why = say("moving mesh ", e == &r.a ? "A" : "B", " onto the given curves would fold a face at ", how.folded);
+      return std::nullopt;
+    }
+    st.max_curve_move = std::max(st.max_curve_move, how.max_move);
+    e->curves = moved;
+  }
+  r.curves = moved;
+  st.given_curves = true;
+  return r;
+}
+
 template <class K>
 PairResult<K> pair_with_curves(Mesh<K>& a, Mesh<K>& b, const std::vector<Polyline<K>>& curves,
                                const PairOptions& options) {
-  if (options.embed.snap_tol == 0) return pair_given_once<K>(a, b, curves, options);
-  // Snapping bends each surface towards the curve nodes only, and the curve vertices between them
-  // can then lie too far from a small face to move onto the curve: without snapping, then.
+  for (std::size_t c = 0; c < curves.size(); ++c)
+    if (curves[c].size() < 2) {
+      std::ostringstream msg;
+      msg << "curve " << c << " has fewer than 2 points";
+      throw InvalidInput(msg.str());
+    }
   const Mesh<K> a0 = a, b0 = b;
-  try {
-    return pair_given_once<K>(a, b, curves, options);
-  } catch (const FoldError& e) {
+  std::string problem, tried;
+  auto passes = [&](PairResult<K>& result) {
+    return !options.verify_output || internal::verify_outputs<K>(a0, b0, a, b, result, problem);
+  };
+  auto restore = [&]() {
     a = a0;
     b = b0;
-    PairOptions no_snap = options;
-    no_snap.embed.snap_tol = 0;
-    PairResult<K> result = pair_given_once<K>(a, b, curves, no_snap);
-    result.stats.note = std::string("snapping undone (") + e.what() + ")";
-    return result;
+  };
+  // 1. The computed intersection moved onto the given curves: with the options' snapping, then
+  //    without.
+  PairOptions no_snap = options;
+  no_snap.embed.snap_tol = 0;
+  const bool snapping = options.embed.snap_tol != 0;
+  for (const PairOptions* o : snapping ? std::vector<const PairOptions*>{&options, &no_snap}
+                                       : std::vector<const PairOptions*>{&options}) {
+    std::string why;
+    if (auto r = pair_onto_given<K>(a, b, curves, *o, why)) {
+      if (passes(*r)) {
+        if (!tried.empty()) r->stats.note = tried + (r->stats.note.empty() ? "" : "; " + r->stats.note);
+        return std::move(*r);
+      }
+      why = problem;
+    }
+    tried += (tried.empty() ? "" : "; ") + std::string(o == &options && snapping ? "with snapping, " : "") +
+             "the computed intersection moved onto the given curves failed (" + why + ")";
+    restore();
   }
+  // 2. The given curves followed on each mesh (see the top of this file), with snapping, then
+  //    without where a face would fold.
+  std::optional<PairResult<K>> result;
+  try {
+    result = pair_given_once<K>(a, b, curves, options);
+  } catch (const FoldError& e) {
+    if (!snapping) throw;
+    restore();
+    result = pair_given_once<K>(a, b, curves, no_snap);
+    result->stats.note = std::string("snapping undone (") + e.what() + ")";
+  }
+  result->stats.note = tried + (result->stats.note.empty() ? "" : "; " + result->stats.note);
+  if (passes(*result)) return std::move(*result);
+  restore();
+  throw InternalError("pair: the outputs fail seam check's tests, so none is given (" + problem + "; before: " +
+                      tried + ")");
 }
 
 #define SEAM_INSTANTIATE(K)                                                                                \

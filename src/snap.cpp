@@ -115,7 +115,8 @@ SnapReport<K> snap_vertices(Mesh<K>& mesh, const std::vector<Polyline<K>>& curve
 
 
 template <class K>
-SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, double tolerance) {
+SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, double tolerance,
+                                        bool round_to_doubles) {
   SnapReport<K> report;
   if (!(tolerance > 0)) return report;
   using Point = typename K::Point_3;
@@ -154,6 +155,8 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
     const double t = std::clamp(std::round(closest * 65536.0) / 65536.0, 0.0, 1.0);
     Point target = t == 0 ? p : t == 1 ? q : p + pq * typename K::FT(t);
     make_exact(target);
+    if (round_to_doubles)
+      target = Point(CGAL::to_double(target.x()), CGAL::to_double(target.y()), CGAL::to_double(target.z()));
     if (!move_keeps_faces<K>(mesh, v, target)) {
       ++report.refused;
       continue;
@@ -260,15 +263,15 @@ EdgeSnapReport<K> snap_edges_to_points(Mesh<K>& mesh, const std::vector<Polyline
 }
 
 template SnapReport<Exact> snap_vertices<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double);
-template SnapReport<Exact> snap_vertices_to_segments<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double);
+template SnapReport<Exact> snap_vertices_to_segments<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double, bool);
 template EdgeSnapReport<Exact> snap_edges_to_points<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double);
 template bool move_keeps_faces<Exact>(const Mesh<Exact>&, typename MeshTypes<Exact>::V, const Exact::Point_3&);
 template SnapReport<Filtered> snap_vertices<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double);
-template SnapReport<Filtered> snap_vertices_to_segments<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double);
+template SnapReport<Filtered> snap_vertices_to_segments<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double, bool);
 template EdgeSnapReport<Filtered> snap_edges_to_points<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double);
 template bool move_keeps_faces<Filtered>(const Mesh<Filtered>&, typename MeshTypes<Filtered>::V, const Filtered::Point_3&);
 template SnapReport<Float> snap_vertices<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double);
-template SnapReport<Float> snap_vertices_to_segments<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double);
+template SnapReport<Float> snap_vertices_to_segments<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double, bool);
 template EdgeSnapReport<Float> snap_edges_to_points<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double);
 template bool move_keeps_faces<Float>(const Mesh<Float>&, typename MeshTypes<Float>::V, const Float::Point_3&);
 

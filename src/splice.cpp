@@ -11,8 +11,6 @@
 
 namespace seam::internal {
 
-namespace {
-
 /// Adds oriented triangles to a mesh that has its vertices and no face yet, face i = triangles[i],
 /// in time linear in their number. Surface_mesh::add_face looks for an existing halfedge by
 /// walking around a vertex, so a vertex of degree d costs O(d^2): a curve zig-zagging 100,000
@@ -82,8 +80,6 @@ template <class K> std::size_t add_triangles(Mesh<K>& m, const std::vector<std::
   return triangles.size();
 }
 
-}  // namespace
-
 template <class K>
 Mesh<K> splice_patches(const Mesh<K>& mesh, const std::vector<typename K::Point_3>& new_points,
                        const std::map<typename MeshTypes<K>::F, FacePatch<K>>& patches) {
@@ -147,6 +143,9 @@ Mesh<K> splice_patches(const Mesh<K>& mesh, const std::vector<typename K::Point_
   return out;
 }
 
+template std::size_t add_triangles<Exact>(Mesh<Exact>&, const std::vector<std::array<MeshTypes<Exact>::V, 3>>&);
+template std::size_t add_triangles<Filtered>(Mesh<Filtered>&, const std::vector<std::array<MeshTypes<Filtered>::V, 3>>&);
+template std::size_t add_triangles<Float>(Mesh<Float>&, const std::vector<std::array<MeshTypes<Float>::V, 3>>&);
 template Mesh<Exact> splice_patches<Exact>(const Mesh<Exact>&, const std::vector<Exact::Point_3>&,
                                            const std::map<MeshTypes<Exact>::F, FacePatch<Exact>>&);
 template Mesh<Filtered> splice_patches<Filtered>(const Mesh<Filtered>&, const std::vector<Filtered::Point_3>&,

@@ -4,8 +4,11 @@
 
 #include <CGAL/boost/graph/helpers.h>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <map>
+#include <utility>
 #include <seam/internal/message.h>
 
 #include <sstream>
@@ -83,18 +86,42 @@ template <class K> std::vector<std::string> check_same_surface(const Mesh<K>& in
       problems.push_back(say("output face ", std::size_t(f), " is not oriented like input face ", s));
     sum[s] = sum[s] + n_out;
   }
-  for (auto f : input.faces()) {
-    const Vector n = vector_area(corners(input, f));
-    const Vector& s = sum[std::size_t(f)];
-    bool same;
+  auto same = [](const Vector& s, const Vector& n) {
     if constexpr (kernel_traits<K>::exact_constructions) {
-      same = (s == n);
+      return s == n;
     } else {
       const double err = std::sqrt(CGAL::to_double((s - n).squared_length()));
-      same = err <= 1e-9 * std::sqrt(CGAL::to_double(n.squared_length())) + 1e-300;
+      return err <= 1e-9 * std::sqrt(CGAL::to_double(n.squared_length())) + 1e-300;
     }
-    if (!same) problems.push_back(say("the new faces of input face ", std::size_t(f), " do not add up to its area"));
+  };
+  // Per input face; where a flat contact's common triangulation spans several input faces of one
+  // plane (its faces name the one holding their centroid), per plane: the input faces that do
+  // not add up on their own are grouped by coplanarity (exact predicates), and each group's
+  // output faces must add up to the group's area.
+  std::vector<typename Mesh<K>::Face_index> unmatched;
+  for (auto f : input.faces())
+    if (!same(sum[std::size_t(f)], vector_area(corners(input, f)))) unmatched.push_back(f);
+  std::vector<std::size_t> group(unmatched.size());
+  for (std::size_t i = 0; i < unmatched.size(); ++i) {
+    group[i] = i;
+    const auto c = corners(input, unmatched[i]);
+    for (std::size_t j = 0; j < i && group[i] == i; ++j) {
+      const auto d = corners(input, unmatched[j]);
+      if (CGAL::coplanar(c[0], c[1], c[2], d[0]) && CGAL::coplanar(c[0], c[1], c[2], d[1]) &&
+          CGAL::coplanar(c[0], c[1], c[2], d[2]))
+        group[i] = group[j];
+    }
   }
+  std::map<std::size_t, std::pair<Vector, Vector>> sums;  // group -> (output sum, input sum)
+  for (std::size_t i = 0; i < unmatched.size(); ++i) {
+    auto& [out_sum, in_sum] = sums.try_emplace(group[i], CGAL::NULL_VECTOR, CGAL::NULL_VECTOR).first->second;
+    out_sum = out_sum + sum[std::size_t(unmatched[i])];
+    in_sum = in_sum + vector_area(corners(input, unmatched[i]));
+  }
+  for (const auto& [g, s] : sums)
+    if (!same(s.first, s.second))
+      problems.push_back(say("the new faces of input face ", std::size_t(unmatched[g]),
+                             " (and of the faces in its plane that do not add up on their own) do not add up to its area"));
   return problems;
 }
 

@@ -255,7 +255,8 @@ TEST_CASE("check_pair: a self-intersecting output fails", "[check]") {
 namespace {
 
 /// How a pair of triangles should be classified, from CGAL::intersection under the exact kernel:
-/// 0 apart, 1 meeting exactly in their common points (a common vertex or edge), 2 anything else.
+/// 0 apart, 1 meeting exactly in their common points (a common vertex or edge), 2 anything else,
+/// 3 the same triangle (a shared face: allowed).
 int reference_meet(const std::array<E::Point_3, 3>& t, const std::array<E::Point_3, 3>& u) {
   const E::Triangle_3 tt(t[0], t[1], t[2]), tu(u[0], u[1], u[2]);
   const auto result = CGAL::intersection(tt, tu);
@@ -264,6 +265,7 @@ int reference_meet(const std::array<E::Point_3, 3>& t, const std::array<E::Point
   for (const auto& p : t)
     for (const auto& q : u)
       if (p == q) common.push_back(p);
+  if (common.size() == 3) return 3;
   if (const auto* p = boost::get<E::Point_3>(&*result)) return common.size() == 1 && *p == common[0] ? 1 : 2;
   if (const auto* s = boost::get<E::Segment_3>(&*result))
     return common.size() == 2 && ((s->source() == common[0] && s->target() == common[1]) ||
@@ -288,7 +290,7 @@ template <class K> seam::Mesh<K> one_triangle(const std::array<E::Point_3, 3>& t
 
 /// Runs check_pair on the two triangles with their common points (and the edge between two) as
 /// the curve, and compares with reference_meet: 0 -> no intersection found, 1 -> one pair on the
-/// curve, 2 -> one pair off the curve.
+/// curve, 2 -> one pair off the curve, 3 -> a shared face.
 template <class K> void compare_with_reference(const std::array<E::Point_3, 3>& t, const std::array<E::Point_3, 3>& u) {
   const int expected = reference_meet(t, u);
   std::vector<seam::Polyline<K>> curves(1);
@@ -305,6 +307,7 @@ template <class K> void compare_with_reference(const std::array<E::Point_3, 3>& 
               << "\nexpected " << expected << "\n" << all(r));
   CHECK(r.face_pairs_on_curve == (expected == 1 ? 1u : 0u));
   CHECK(r.intersecting_face_pairs_off_curve == (expected == 2 ? 1u : 0u));
+  CHECK(r.shared_faces == (expected == 3 ? 1u : 0u));
   CHECK(r.ok() == (expected != 2));
 }
 

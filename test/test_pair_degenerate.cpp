@@ -165,11 +165,13 @@ template <class K> seam::PairResult<K> pair_and_check(const seam::Mesh<K>& a, co
 
 // ------------------------------------------------------------------------------ tangency
 
-TEMPLATE_TEST_CASE("pair degenerate: surfaces touching at one vertex give no curve, unchanged meshes and a note",
+TEMPLATE_TEST_CASE("pair degenerate: surfaces touching at one vertex stop with an internal error, the meshes unchanged",
                    "[pair][degenerate]", seam::Exact, seam::Filtered) {
   using K = TestType;
   // A: [0, 2]^3 in 4 x 4 x 4 squares per side. B: an octahedron standing on A's top face (z = 2)
-  // on its lowest vertex; every other point of B is above z = 2.
+  // on its lowest vertex; every other point of B is above z = 2. An isolated point of contact is
+  // not embedded (no curve of one point): the outputs would meet off the curves, which seam check
+  // rejects, so pair gives none (exit 3 in the CLI) and leaves the meshes as they were.
   const auto a = mesh<K>(grid_box({0, 0, 0}, {2, 2, 2}, {4, 4, 4}));
   struct Case {
     const char* name;
@@ -180,36 +182,36 @@ TEMPLATE_TEST_CASE("pair degenerate: surfaces touching at one vertex give no cur
     INFO("B touches A " << cs.name);
     const double r = 0.25;
     const auto b = mesh<K>(octahedron({cs.touch[0], cs.touch[1], cs.touch[2] + r}, r));
+    // Unpaired, seam check flags the contact (a meeting off the curves, a point of the
+    // intersection no curve covers) and nothing else.
+    const auto report = seam::check_pair<K>(a, b, a, b, {}, 0);
+    for (const auto& p : report.problems) UNSCOPED_INFO(p);
+    REQUIRE(report.problems.size() == 2);
+    CHECK(report.problems[0].find("intersect off the curves") != std::string::npos);
+    CHECK(report.problems[1].find("points of the intersection of A and B") != std::string::npos);
     for (double snap : {0.0, -1.0}) {
       INFO("snap_tol " << snap);
       auto a2 = a, b2 = b;
       seam::PairOptions o;
       o.embed.snap_tol = snap;
-      const auto res = seam::pair<K>(a2, b2, o);
-      CHECK(res.curves.empty());
-      CHECK(res.stats.curves == 0);
-      CHECK(res.stats.touching_only);
-      CHECK_FALSE(res.stats.note.empty());
-      CHECK(a2.number_of_faces() == a.number_of_faces());
-      CHECK(b2.number_of_faces() == b.number_of_faces());
-      CHECK(seam::check_same_surface<K>(a, a2).empty());
-      CHECK(seam::check_same_surface<K>(b, b2).empty());
-      // `seam check` flags the contact and nothing else: the outputs are valid and unmoved, but
-      // they meet at a point that is on no curve.
-      const auto report = seam::check_pair<K>(a, b, a2, b2, res.curves, 0);
-      for (const auto& p : report.problems) UNSCOPED_INFO(p);
-      REQUIRE(report.problems.size() == 1);
-      CHECK(report.problems.front().find("intersect off the curves") != std::string::npos);
-      CHECK(report.intersecting_face_pairs_off_curve > 0);
+      CHECK_THROWS_AS(seam::pair<K>(a2, b2, o), seam::InternalError);
+      const auto sa = seam::soup_from_mesh<K>(a), sa2 = seam::soup_from_mesh<K>(a2);
+      const auto sb = seam::soup_from_mesh<K>(b), sb2 = seam::soup_from_mesh<K>(b2);
+      CHECK(sa.points == sa2.points);
+      CHECK(sa.triangles == sa2.triangles);
+      CHECK(sb.points == sb2.points);
+      CHECK(sb.triangles == sb2.triangles);
     }
   }
 }
 
-TEMPLATE_TEST_CASE("pair degenerate: surfaces touching along one edge give no curve, unchanged meshes and a note",
-                   "[pair][degenerate]", seam::Exact, seam::Filtered) {
+TEMPLATE_TEST_CASE("pair degenerate: surfaces touching along one edge share that edge as a curve", "[pair][degenerate]",
+                   seam::Exact, seam::Filtered) {
   using K = TestType;
   // A: [0, 2]^3 in 4 x 4 x 4 squares per side. B: a tetrahedron whose lowest edge lies in A's top
-  // face (z = 2); its two other vertices are above.
+  // face (z = 2); its two other vertices are above. The outputs meet along that edge, so it is a
+  // curve of both (open: the surfaces only touch there), and the merged outputs are a valid
+  // complex: seam check passes, the curve is the edge.
   const auto a = mesh<K>(grid_box({0, 0, 0}, {2, 2, 2}, {4, 4, 4}));
   struct Case {
     const char* name;
@@ -224,25 +226,18 @@ TEMPLATE_TEST_CASE("pair degenerate: surfaces touching along one edge give no cu
     const Point3d d = {cs.p[1] - cs.q[1], cs.q[0] - cs.p[0], 0};  // perpendicular to pq in z = 2
     const auto b = mesh<K>(tetrahedron(cs.p, cs.q, {m[0] + d[0] / 2, m[1] + d[1] / 2, 2.5},
                                        {m[0] - d[0] / 2, m[1] - d[1] / 2, 2.5}));
+    // Unpaired, seam check flags the contact.
+    CHECK_FALSE(seam::check_pair<K>(a, b, a, b, {}, 0).ok());
     for (double snap : {0.0, -1.0}) {
       INFO("snap_tol " << snap);
-      auto a2 = a, b2 = b;
-      seam::PairOptions o;
-      o.embed.snap_tol = snap;
-      const auto res = seam::pair<K>(a2, b2, o);
-      CHECK(res.curves.empty());
-      CHECK(res.stats.curves == 0);
-      CHECK(res.stats.touching_only);
-      CHECK_FALSE(res.stats.note.empty());
-      CHECK(a2.number_of_faces() == a.number_of_faces());
-      CHECK(b2.number_of_faces() == b.number_of_faces());
-      CHECK(seam::check_same_surface<K>(a, a2).empty());
-      CHECK(seam::check_same_surface<K>(b, b2).empty());
-      const auto report = seam::check_pair<K>(a, b, a2, b2, res.curves, 0);
-      for (const auto& p : report.problems) UNSCOPED_INFO(p);
-      REQUIRE(report.problems.size() == 1);
-      CHECK(report.problems.front().find("intersect off the curves") != std::string::npos);
-      CHECK(report.intersecting_face_pairs_off_curve > 0);
+      const auto res = pair_and_check<K>(a, b, snap);
+      REQUIRE(res.curves.size() == 1);
+      CHECK_FALSE(seam::is_closed(res.curves.front()));
+      // Every curve point lies on the edge pq, and both of its ends are curve points.
+      const typename K::Segment_3 pq(point<K>(cs.p), point<K>(cs.q));
+      for (const auto& x : res.curves.front()) CHECK(pq.has_on(x));
+      CHECK(std::find(res.curves.front().begin(), res.curves.front().end(), point<K>(cs.p)) != res.curves.front().end());
+      CHECK(std::find(res.curves.front().begin(), res.curves.front().end(), point<K>(cs.q)) != res.curves.front().end());
     }
   }
 }

@@ -11,22 +11,25 @@
 //   2. Every curve point is a vertex of A2 and of B2 with identical coordinates (looked up by
 //      exact comparison, so a point off by one unit in the last place is missing), and every
 //      curve segment (two consecutive points) is an edge of both.
-//   3. A2 and B2 intersect nowhere but along the curves. Candidate face pairs come from
-//      CGAL::box_intersection_d on the face bounding boxes; each is tested with
-//      CGAL::do_intersect(Triangle_3, Triangle_3). An intersecting pair is allowed only when
-//        - the two faces share exactly one vertex (same coordinates), that vertex is a curve
-//          point, and neither face's opposite edge meets the other face (then the intersection
-//          is exactly that vertex), or
-//        - the two faces share two vertices, the edge between them is a curve segment, and the
-//          faces do not overlap in a common plane (then the intersection is exactly that edge), or
-//        - the two faces lie in one plane (flat contact, common in compressed textile models):
-//          accepted except at an open border; the contact region's boundary is where faces leave
-//          the plane, and those pairs are tested as above, so it must be a curve.
-//      Given 1 and 2 this accepts exactly the pairs whose intersection lies on the curves. With
-//      no curves, any intersection (touching at a point included) is a problem. Only predicates
-//      are used, no constructed intersection: the test is exact under the exact and filtered
-//      kernels (on the coordinates as given) and rounded under the float kernel; the exact
-//      kernel is the reference.
+//   3. A2 and B2 intersect nowhere but along the curves and their shared faces: merged into one
+//      surface (common vertices merged), they are a valid piecewise-linear complex, as a volume
+//      mesher needs. A shared face is a face of A2 whose three corners are those of a face of B2
+//      (where the surfaces coincide, a flat contact, both hold one common triangulation).
+//      Candidate face pairs come from CGAL::box_intersection_d on the face bounding boxes; each
+//      is tested exactly. An intersecting pair (A2 face, B2 face) is allowed only when
+//        - it is the same triangle (a shared face), or
+//        - the two faces share exactly one vertex (same coordinates), neither face's opposite edge
+//          meets the other face (the intersection is exactly that vertex), and that vertex is a
+//          curve point or both faces are shared faces, or
+//        - the two faces share two vertices, they do not overlap in a common plane (the
+//          intersection is exactly that edge), and the edge is a curve segment or both faces are
+//          shared faces.
+//      Anything else fails: crossing, touching off the curves, and two different triangles
+//      overlapping in one plane (the interior of a flat contact left as two triangulations).
+//      With no curves, any intersection (touching at a point included) is a problem. Only
+//      predicates are used, no constructed intersection: the test is exact under the exact and
+//      filtered kernels (on the coordinates as given) and rounded under the float kernel; the
+//      exact kernel is the reference. `tetgen -d` on the merged outputs agrees (tested).
 //   Speed: each face pair is first decided, where possible, by interval arithmetic that is
 //   certified to agree with the exact answer (separating axes, plane sides, axis projections);
 //   only the rest goes to the kernel's predicates. Near the curves the configurations are
@@ -39,6 +42,16 @@
 //      again in the kernel to the closest face, so that points exactly on the surface pass with
 //      tol = 0 under the exact kernel), and the same for B2 and B. With snapping, vertices
 //      moved by up to the snap tolerance, so `tol` must be at least that.
+//   5. Distinct vertices of A2 and B2, rounded to doubles, are at least min_vertex_separation x
+//      the diagonal of their bounding box apart: TetGen merges closer points (its -T tolerance,
+//      1e-8 of that diagonal) and then rejects the faces between them. Two vertices of the
+//      inputs that close (A's and B's) are counted, not a problem: the outputs keep them.
+//   6. The curves cover the intersection of the inputs: every face pair of A and B that meets is
+//      intersected (Epick: exact predicates, the points rounded to doubles) and sampled (a point;
+//      a segment's ends and middle; a coplanar overlap's corners and centroid), and every sample
+//      must lie within `tol` of a curve or of a shared face. A touching contact left out of the
+//      curves, or a piece of curve lost, fails here. This uses none of the curve computation of
+//      seam::pair (CGAL's triangle-triangle intersection on the inputs only).
 // And the figures: sizes, the largest distances of 4, the smallest angle over all faces of A2
 // and B2, and the number of faces of A2 (B2) below 10 and 20 degrees that are not faces of A (B)
 // (faces compared by their three vertex coordinates, exactly).
@@ -54,6 +67,10 @@
 #include <vector>
 
 namespace seam {
+
+/// Check 5: distinct output vertices closer than this fraction of the diagonal of the outputs'
+/// bounding box fail (twice TetGen's default tolerance, -T 1e-8, under which it merges points).
+inline constexpr double min_vertex_separation = 2e-8;
 
 struct PairCheckReport {
   /// Empty when every check holds; otherwise one one-line description per problem found.
@@ -76,7 +93,20 @@ struct PairCheckReport {
   /// Faces of A2 / B2 that are not faces of A / B.
   std::size_t new_faces_a = 0, new_faces_b = 0;
   std::size_t vertices_a2 = 0, faces_a2 = 0, vertices_b2 = 0, faces_b2 = 0;
-  double tolerance = 0;  ///< the tolerance of check 4
+  double tolerance = 0;  ///< the tolerance of checks 4 and 6
+  /// Faces of A2 that are also faces of B2 (same three corners): the common triangulation of flat
+  /// contacts, written once in a merged surface.
+  std::size_t shared_faces = 0;
+  /// Check 5: the separation required (min_vertex_separation x the diagonal), and the pairs of
+  /// distinct vertices closer than it.
+  double min_separation = 0;
+  std::size_t close_vertex_pairs = 0;
+  /// Pairs that close which are both vertices of the inputs (not a problem of the outputs).
+  std::size_t close_vertex_pairs_in_inputs = 0;
+  /// Check 6: points sampled on the intersection of A and B, those farther than the tolerance
+  /// from the curves and the shared faces, and the largest such distance.
+  std::size_t intersection_samples = 0, uncovered_samples = 0;
+  double max_uncovered_distance = 0;
   /// Faces of A2 / B2 that fail check 1 or 3 (degenerate, in a self-intersection, or meeting the
   /// other mesh off the curves), by face index, sorted, each once: where a repair must look.
   std::vector<std::size_t> conflict_faces_a, conflict_faces_b;
@@ -89,14 +119,19 @@ struct PairCheckReport {
 /// Restricts a check to the faces that changed (seam::pair checks the faces it remeshed this
 /// way): degenerate faces and face pairs (checks 1 and 3) are tested only where at least one face
 /// is marked (faces_a / faces_b, indexed by face index of A2 / B2), and check 4 and the quality
-/// figures are skipped. The rest of checks 1 and 2 runs on the whole meshes. An empty focus (no
-/// face marked in either mesh) restricts nothing: checks 1-3 on the whole meshes, 4 skipped.
+/// figures are skipped, and checks 5 and 6. The rest of checks 1 and 2 runs on the whole meshes.
+/// An empty focus (no face marked in either mesh) restricts nothing: checks 1-3 on the whole
+/// meshes, 4-6 skipped.
 struct CheckFocus {
   std::vector<char> faces_a, faces_b;
 };
 
+/// `separation` false skips check 5, which is about outputs as written to a file: for meshes
+/// whose inputs are exact values that are not doubles (made in memory; a file cannot hold them
+/// either), whose outputs are used as they are.
 template <class K>
 PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2, const Mesh<K>& b2,
-                           const std::vector<Polyline<K>>& curves, double tol, const CheckFocus* focus = nullptr);
+                           const std::vector<Polyline<K>>& curves, double tol, const CheckFocus* focus = nullptr,
+                           bool separation = true);
 
 }  // namespace seam

@@ -49,6 +49,15 @@ struct TowOptions {
 /// sizes, segments_along < 1, segments_around < 3, non-finite values).
 TriangleSoup make_tow(const TowOptions& options);
 
+/// Points of the intersection of the smooth surfaces of two tows (not of their meshes), one near
+/// each point of `near` (points of the meshes' intersection, say): Gauss-Newton on the surface
+/// parameters (s, phi) of both tows from the parameters of the seed, to a point on both surfaces
+/// within 1e-13 of the section size. The curve through them lies off both meshes by up to their
+/// chordal error: what a NURBS/NURBS intersection (SISL) gives for faceted tows, the given curves
+/// of the report. Throws InvalidInput when a point does not converge.
+std::vector<Point3d> smooth_intersection_points(const TowOptions& a, const TowOptions& b,
+                                                const std::vector<Point3d>& near);
+
 /// One crossover of a plain weave, the pair the tests and benchmarks use: an elliptical weft
 /// along x (the default tow, its path from x = -5 to 5) and a warp along y (turned by pi/2,
 /// crimped the other way, amplitude -0.3) whose path is lifted to `warp_height`: the weft is 0.7

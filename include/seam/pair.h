@@ -62,6 +62,12 @@ struct PairOptions {
   /// where that improves the angles (see internal/collapse.h). Edges below 1e-9 of the pair's
   /// size are collapsed even when this is off: written in doubles, their faces would be flat.
   bool collapse_short_segments = true;
+  /// Check the outputs as they will be written (rounded to doubles) with seam::check_pair under
+  /// the exact kernel, at PairStats::verify_tolerance. If they fail and vertices were snapped,
+  /// the pair is done again without snapping and checked again; if that fails too, the meshes
+  /// are restored and InternalError says what failed. So a result is always one `seam check`
+  /// accepts. (Off only for measurements.)
+  bool verify_output = true;
 };
 
 struct PairStats {
@@ -84,8 +90,15 @@ struct PairStats {
   /// Remeshing: the largest distance of a remeshed face from its input surface (sampled at
   /// corners, edge midpoints and centroid; at most snap_tol).
   double remesh_max_deviation = 0;
+  /// Flat contacts (see internal/flat_contacts.h): planar patches where both surfaces coincide,
+  /// made one common triangulation; its faces (each a face of both outputs); patches that could
+  /// not be (their borders differ in the two meshes: seam check then fails).
+  std::size_t contact_patches = 0, shared_faces = 0, contact_patches_left = 0;
   bool given_curves = false;      ///< the curves were given (seam::pair_with_curves)
   double max_curve_move = 0;   ///< given curves: the largest move of a curve vertex (onto the given curve)
+  /// The outputs passed seam::check_pair as written (PairOptions::verify_output), at this tolerance.
+  bool verified = false;
+  double verify_tolerance = 0;
   std::string note;  ///< a sentence for the report (e.g. "the meshes do not intersect")
   std::map<std::string, double> stage_seconds;  ///< snap, intersect (or trace, merge), embed_a, embed_b, move
 };

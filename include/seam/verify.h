@@ -23,6 +23,8 @@ std::vector<std::string> check_curves_embedded(const Mesh<K>& output, const Embe
 /// Without snapping the output is the input surface: for every input face, the new faces that
 /// came from it lie in its plane, have its orientation, and their vector areas add up to its
 /// vector area (exactly under the exact kernel, which also makes the total area exactly equal).
+/// Where a flat contact's common triangulation spans several input faces of one plane, the
+/// input faces that do not add up on their own are grouped by plane and each group must.
 template <class K> std::vector<std::string> check_same_surface(const Mesh<K>& input, const Mesh<K>& output);
 
 /// Input vertices moved at most `tolerance` (vertex i of the input is vertex i of the output).

@@ -51,6 +51,10 @@ struct CurveCollapseReport {
 /// must not be an input vertex nor on two curves, nor, on an open curve, its end.
 /// Optional (`only_next_to_faces_below`, degrees): only segments whose merged end is a corner of a
 /// face with a smaller angle, in either mesh, are tried (and tiny ones).
+/// Optional (`merge_onto_curves`): a tiny edge from a vertex off the curves (an input vertex too)
+/// to a curve vertex is collapsed into the curve vertex, in that mesh alone: the vertex moves by
+/// at most tiny_length onto the curve, as snapping would (the last pass of seam::pair, so that no
+/// two output vertices are closer than a volume mesher's tolerance).
 using MergedFaceTest = std::function<bool(int mesh, const Filtered::Point_3&, const Filtered::Point_3&,
                                           const Filtered::Point_3&)>;
 template <class K>
@@ -60,7 +64,7 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
                                                   double max_length, double tiny_length,
                                                   std::size_t input_vertices_a, std::size_t input_vertices_b,
                                                   const MergedFaceTest& accept_face = {},
-                                                  double only_next_to_faces_below = 0);
+                                                  double only_next_to_faces_below = 0, bool merge_onto_curves = false);
 
 /// Removes `m`'s garbage (removed elements) and maps the vertex lists to the vertices' new
 /// indices; throws InternalError if a listed vertex was removed.

@@ -71,20 +71,27 @@ inline bool is_cap(const Filtered::Point_3& a, const Filtered::Point_3& b, const
 /// the property has none.
 inline constexpr const char* frozen_face_property = "f:seam_frozen";
 
-/// Which faces of a mesh are frozen (see frozen_face_property).
+/// Face property (bool) of both meshes of a pair: a face of the common triangulation of a flat
+/// contact (see seam/internal/flat_contacts.h). The same triangle is in both meshes; no step
+/// changes it, so that it stays so: it counts as frozen.
+inline constexpr const char* shared_face_property = "f:seam_shared";
+
+/// Which faces of a mesh are frozen (see frozen_face_property), shared faces included.
 template <class K> struct FrozenFaces {
   using M = seam::Mesh<K>;
   using F = typename M::Face_index;
   using V = typename M::Vertex_index;
-  typename M::template Property_map<F, bool> map;
-  bool any = false;  ///< whether the mesh has the property
+  typename M::template Property_map<F, bool> map, shared;
+  bool any = false;         ///< whether the mesh has the frozen property
+  bool any_shared = false;  ///< whether it has the shared property
   explicit FrozenFaces(const M& mesh) {
     std::tie(map, any) = mesh.template property_map<F, bool>(frozen_face_property);
+    std::tie(shared, any_shared) = mesh.template property_map<F, bool>(shared_face_property);
   }
-  bool face(F f) const { return any && f != M::null_face() && map[f]; }
+  bool face(F f) const { return f != M::null_face() && ((any && map[f]) || (any_shared && shared[f])); }
   /// Whether a face around v is frozen: moving, merging or splitting at v would change it.
   bool around(const M& mesh, V v) const {
-    if (!any) return false;
+    if (!any && !any_shared) return false;
     for (auto h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh))
       if (face(mesh.face(h))) return true;
     return false;

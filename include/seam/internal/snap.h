@@ -25,7 +25,8 @@ SnapReport<K> snap_vertices(Mesh<K>& mesh, const std::vector<Polyline<K>>& curve
 /// Snaps mesh vertices onto the closest point of the curves' segments (not only their nodes):
 /// for curves that lie on the surface, such as intersection curves, whose nodes are sparse.
 template <class K>
-SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, double tolerance);
+SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, double tolerance,
+                                        bool round_to_doubles = false);
 
 /// Would moving v to `target` keep every incident face non-degenerate, with its orientation?
 /// Exact under the exact kernel.

@@ -10,9 +10,16 @@
 
 #include <seam/internal/retriangulate.h>
 
+#include <array>
 #include <map>
 
 namespace seam::internal {
+
+/// Adds oriented triangles to a mesh that has its vertices and no face yet, face i =
+/// triangles[i], in time linear in their number. Returns triangles.size() on success, else the
+/// index of the first triangle that makes the surface non-manifold (the mesh is then unusable).
+template <class K>
+std::size_t add_triangles(Mesh<K>& mesh, const std::vector<std::array<typename MeshTypes<K>::V, 3>>& triangles);
 
 /// Builds the output mesh. `new_points` are the coordinates of output vertices number
 /// mesh.number_of_vertices() + i; `patches` maps a replaced input face to its patch. Sets the

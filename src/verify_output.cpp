@@ -1,0 +1,111 @@
+// seam: the outputs checked as written. See seam/internal/verify_output.h.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/errors.h>
+#include <seam/internal/splice.h>
+#include <seam/internal/verify_output.h>
+
+#include <CGAL/Polygon_mesh_processing/bbox.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace seam::internal {
+
+namespace {
+
+/// The mesh with its coordinates rounded to doubles, as an exact-kernel mesh (the same
+/// connectivity, vertices and faces in the same order).
+template <class K> Mesh<Exact> rounded(const Mesh<K>& mesh) {
+  Mesh<Exact> out;
+  std::vector<MeshTypes<Exact>::V> index(mesh.number_of_vertices() + mesh.number_of_removed_vertices());
+  for (auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    index[std::size_t(v)] = out.add_vertex(Exact::Point_3(CGAL::to_double(p.x()), CGAL::to_double(p.y()),
+                                                          CGAL::to_double(p.z())));
+  }
+  std::vector<std::array<MeshTypes<Exact>::V, 3>> triangles;
+  triangles.reserve(mesh.number_of_faces());
+  for (auto f : mesh.faces()) {
+    const auto h = mesh.halfedge(f);
+    triangles.push_back({index[std::size_t(mesh.source(h))], index[std::size_t(mesh.target(h))],
+                         index[std::size_t(mesh.target(mesh.next(h)))]});
+  }
+  if (add_triangles<Exact>(out, triangles) != triangles.size())
+    throw InternalError("check as written: a mesh could not be copied");
+  return out;
+}
+
+}  // namespace
+
+template <class K>
+PairCheckReport check_as_written(const Mesh<K>& a, const Mesh<K>& b, Mesh<K>& a2, Mesh<K>& b2,
+                                 std::vector<Polyline<K>>& curves, double tol) {
+  // Inputs whose coordinates are not all doubles (exact ones made in memory, not read from a
+  // file) cannot be written as given either: then the outputs are checked as they are.
+  if constexpr (kernel_traits<K>::exact_constructions) {
+    for (const Mesh<K>* m : {&a, &b})
+      for (auto v : m->vertices()) {
+        const auto& p = m->point(v);
+        if (!(typename K::Point_3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())) == p))
+          return check_pair<K>(a, b, a2, b2, curves, tol, nullptr, false);
+      }
+  }
+  for (Mesh<K>* m : {&a2, &b2})
+    for (auto v : m->vertices()) make_exact(m->point(v));
+  const Mesh<Exact> ra = rounded<K>(a), rb = rounded<K>(b), ra2 = rounded<K>(a2), rb2 = rounded<K>(b2);
+  std::vector<Polyline<Exact>> rc;
+  for (auto& c : curves) {
+    rc.emplace_back();
+    for (auto& p : c) {
+      make_exact(p);
+      rc.back().emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+    }
+  }
+  return check_pair<Exact>(ra, rb, ra2, rb2, rc, tol);
+}
+
+/// The tolerance seam::pair's outputs are verified at: the snapping tolerance (vertices moved by
+/// up to it; 1e-9 of the pair's size without snapping), or the given curves' largest move.
+template <class K> double verification_tolerance(const Mesh<K>& a, const Mesh<K>& b, const PairStats& st) {
+  const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(a) + CGAL::Polygon_mesh_processing::bbox(b);
+  const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                    CGAL::square(box.zmax() - box.zmin()));
+  return std::max(st.snap_tol + st.max_curve_move, 1e-9 * diagonal) * (1 + 1e-9);
+}
+
+template <class K>
+bool verify_outputs(const Mesh<K>& a, const Mesh<K>& b, Mesh<K>& a2, Mesh<K>& b2, PairResult<K>& result,
+                    std::string& problem) {
+  const auto t = std::chrono::steady_clock::now();
+  auto& st = result.stats;
+  st.verify_tolerance = verification_tolerance<K>(a, b, st);
+  PairCheckReport report;
+  try {
+    report = check_as_written<K>(a, b, a2, b2, result.curves, st.verify_tolerance);
+  } catch (const InternalError& e) {
+    report.problems.push_back(e.what());
+  }
+  st.stage_seconds["verify_output"] += std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  st.verified = report.ok();
+  if (!report.ok()) problem = report.problems.front();
+  return report.ok();
+}
+
+template PairCheckReport check_as_written<Exact>(const Mesh<Exact>&, const Mesh<Exact>&, Mesh<Exact>&, Mesh<Exact>&,
+                                                 std::vector<Polyline<Exact>>&, double);
+template PairCheckReport check_as_written<Filtered>(const Mesh<Filtered>&, const Mesh<Filtered>&, Mesh<Filtered>&,
+                                                    Mesh<Filtered>&, std::vector<Polyline<Filtered>>&, double);
+template PairCheckReport check_as_written<Float>(const Mesh<Float>&, const Mesh<Float>&, Mesh<Float>&, Mesh<Float>&,
+                                                 std::vector<Polyline<Float>>&, double);
+#define SEAM_INSTANTIATE(K)                                                                                    \
+  template bool verify_outputs<K>(const Mesh<K>&, const Mesh<K>&, Mesh<K>&, Mesh<K>&, PairResult<K>&, std::string&);
+SEAM_INSTANTIATE(Exact)
+SEAM_INSTANTIATE(Filtered)
+SEAM_INSTANTIATE(Float)
+#undef SEAM_INSTANTIATE
+
+}  // namespace seam::internal
