@@ -317,13 +317,15 @@ struct CurveMove {
   double fold_distance = 0;
 };
 
-/// Moves the curve vertices of `m` onto their `target`s (exactly), and the other vertices of the
-/// faces new from the embedding within three rings of them by a blend of those moves (inverse
-/// distance weights over the neighbours one ring closer to the curve; rounded): so the faces
-/// along the curve move with it instead of folding where the embedding made them thin. A move
-/// is made only when no face around a moved vertex folds or flattens (exact tests).
+/// Moves the curve vertices of `m` onto their `target`s (exactly), and the other vertices within
+/// `rings` rings of them (along faces new from the embedding, then any: the second and later
+/// rings) by a blend of those moves (inverse distance weights over the neighbours one ring closer
+/// to the curve; rounded): so the faces along the curve move with it instead of folding where the
+/// embedding made them thin. A move is made only when no face around a moved vertex folds or
+/// flattens (exact tests).
 template <class K>
-CurveMove move_onto_curves(Mesh<K>& m, const std::map<typename Mesh<K>::Vertex_index, typename K::Point_3>& target) {
+CurveMove move_onto_curves(Mesh<K>& m, const std::map<typename Mesh<K>::Vertex_index, typename K::Point_3>& target,
+                           int rings) {
   using V = typename Mesh<K>::Vertex_index;
   using Vec = Filtered::Vector_3;
   CurveMove report;
@@ -332,7 +334,7 @@ CurveMove move_onto_curves(Mesh<K>& m, const std::map<typename Mesh<K>::Vertex_i
   std::map<V, Vec> layer;  // the moves of the last ring
   for (const auto& [v, p] : target) layer.emplace(v, to_filtered(p) - to_filtered(m.point(v)));
   std::map<V, Vec> all = layer;
-  for (int ring = 0; ring < 3; ++ring) {
+  for (int ring = 0; ring < rings; ++ring) {
     std::map<V, std::pair<Vec, double>> next;
     for (const auto& [v, d] : layer)
       for (auto h : CGAL::halfedges_around_target(m.halfedge(v), m)) {
@@ -340,7 +342,9 @@ CurveMove move_onto_curves(Mesh<K>& m, const std::map<typename Mesh<K>::Vertex_i
         if (all.count(w)) continue;
         // only along faces new from the embedding
         const auto f = m.face(h), g = m.face(m.opposite(h));
-        if (!has_new || !((f != Mesh<K>::null_face() && is_new[f]) || (g != Mesh<K>::null_face() && is_new[g]))) continue;
+        if (ring == 0 &&
+            (!has_new || !((f != Mesh<K>::null_face() && is_new[f]) || (g != Mesh<K>::null_face() && is_new[g]))))
+          continue;
         const double l2 = CGAL::squared_distance(to_filtered(m.point(v)), to_filtered(m.point(w)));
         const double weight = 1.0 / std::max(l2, 1e-300);
         auto& [sum, weights] = next.try_emplace(w, Vec(0, 0, 0), 0.0).first->second;
@@ -547,7 +551,7 @@ PairResult<K> pair_given_once(Mesh<K>& a, Mesh<K>& b, const std::vector<Polyline
       }
       for (std::size_t k = 0; k < vs.size(); ++k) target.emplace(vs[k], shared[c][k]);
     }
-    const auto moved = move_onto_curves<K>(m, target);
+    const auto moved = move_onto_curves<K>(m, target, 3);
     if (!moved.folded.empty()) {
       std::ostringstream msg;
       msg << "a given curve lies " << moved.fold_distance << " from mesh " << name << " at "
@@ -648,7 +652,10 @@ std::optional<PairResult<K>> pair_onto_given(Mesh<K>& a, Mesh<K>& b, const std::
     std::map<typename Mesh<K>::Vertex_index, Point> target;
     for (std::size_t c = 0; c < moved.size(); ++c)
       for (std::size_t k = 0; k < moved[c].size(); ++k) target.emplace(e->curve_vertices[c][k], moved[c][k]);
-    const auto how = move_onto_curves<K>(m, target);
+    // The move spread over more rings where it would fold a face (three, then six, then ten).
+    CurveMove how;
+    for (int rings : {3, 6, 10})
+      if ((how = move_onto_curves<K>(m, target, rings)).folded.empty()) break;
     if (!how.folded.empty()) {
       why = say("moving mesh ", e == &r.a ? "A" : "B", " onto the given curves would fold a face at ", how.folded);
       return std::nullopt;
@@ -680,12 +687,14 @@ PairResult<K> pair_with_curves(Mesh<K>& a, Mesh<K>& b, const std::vector<Polylin
     b = b0;
   };
   // 1. The computed intersection moved onto the given curves: with the options' snapping, then
-  //    without.
-  PairOptions no_snap = options;
+  //    without it (or, asked for none, with the default snapping: the given curves move the
+  //    surfaces by more than that anyway, and its collapses of short curve segments remove the
+  //    slivers the move would fold).
+  PairOptions no_snap = options, default_snap = options;
   no_snap.embed.snap_tol = 0;
+  default_snap.embed.snap_tol = -1;
   const bool snapping = options.embed.snap_tol != 0;
-  for (const PairOptions* o : snapping ? std::vector<const PairOptions*>{&options, &no_snap}
-                                       : std::vector<const PairOptions*>{&options}) {
+  for (const PairOptions* o : std::vector<const PairOptions*>{&options, snapping ? &no_snap : &default_snap}) {
     std::string why;
     if (auto r = pair_onto_given<K>(a, b, curves, *o, why)) {
       if (passes(*r)) {
@@ -694,7 +703,8 @@ PairResult<K> pair_with_curves(Mesh<K>& a, Mesh<K>& b, const std::vector<Polylin
       }
       why = problem;
     }
-    tried += (tried.empty() ? "" : "; ") + std::string(o == &options && snapping ? "with snapping, " : "") +
+    tried += (tried.empty() ? "" : "; ") +
+             std::string(o->embed.snap_tol == 0 ? "without snapping, " : "with snapping, ") +
              "the computed intersection moved onto the given curves failed (" + why + ")";
     restore();
   }
@@ -702,12 +712,17 @@ PairResult<K> pair_with_curves(Mesh<K>& a, Mesh<K>& b, const std::vector<Polylin
   //    without where a face would fold.
   std::optional<PairResult<K>> result;
   try {
-    result = pair_given_once<K>(a, b, curves, options);
+    try {
+      result = pair_given_once<K>(a, b, curves, options);
+    } catch (const FoldError& e) {
+      if (!snapping) throw;
+      restore();
+      result = pair_given_once<K>(a, b, curves, no_snap);
+      result->stats.note = std::string("snapping undone (") + e.what() + ")";
+    }
   } catch (const FoldError& e) {
-    if (!snapping) throw;
     restore();
-    result = pair_given_once<K>(a, b, curves, no_snap);
-    result->stats.note = std::string("snapping undone (") + e.what() + ")";
+    throw FoldError(std::string(e.what()) + " (before: " + tried + ")");
   }
   result->stats.note = tried + (result->stats.note.empty() ? "" : "; " + result->stats.note);
   if (passes(*result)) return std::move(*result);

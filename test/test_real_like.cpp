@@ -1,0 +1,241 @@
+// Tests on tows like those the project did not generate (issue 20): tows with facets on grid
+// planes (as voxel-derived CT tows have) against turned and shifted copies of themselves, so that
+// the two surfaces coincide over flat areas; and seam check cross-validated against the real
+// `tetgen -d` on many pairs, passing and failing.
+#include <catch2/catch.hpp>
+
+#include <seam/check.h>
+#include <seam/generate.h>
+#include <seam/io.h>
+#include <seam/pair.h>
+
+#include <CGAL/boost/graph/Euler_operations.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "test_support.h"
+
+namespace {
+
+using K = seam::Exact;
+using Mesh = seam::Mesh<K>;
+
+/// A generated tow whose vertex heights are rounded to multiples of `step` (a terraced tow): its
+/// top and bottom are made of facets in the planes z = k step, like a tow reconstructed from a
+/// voxel scan (../shared/data/polytex: planes z = k x 0.022).
+seam::TriangleSoup terraced(const seam::TowOptions& o, double step) {
+  auto s = seam::make_tow(o);
+  for (auto& p : s.points) p[2] = step * std::round(p[2] / step);
+  return s;
+}
+
+/// Turned about the z axis through (cx, cy) by `degrees`, then moved: heights are unchanged, so
+/// the grid planes z = k step are kept.
+seam::TriangleSoup turned_copy(seam::TriangleSoup s, double degrees, double cx, double cy, const seam::Point3d& move) {
+  const double t = degrees * M_PI / 180, c = std::cos(t), d = std::sin(t);
+  for (auto& p : s.points) {
+    const double x = p[0] - cx, y = p[1] - cy;
+    p = {cx + c * x - d * y + move[0], cy + d * x + c * y + move[1], p[2] + move[2]};
+  }
+  return s;
+}
+
+/// Both meshes as one OFF surface as a volume mesher gets them: vertices with the same
+/// coordinates merged, a face of both (a shared face of a flat contact) written once.
+void write_merged(const std::vector<seam::TriangleSoup>& soups, const std::string& path) {
+  seam::TriangleSoup merged;
+  std::map<seam::Point3d, std::size_t> index;
+  std::set<std::array<std::size_t, 3>> seen;
+  for (const auto& s : soups) {
+    std::vector<std::size_t> map(s.points.size());
+    for (std::size_t i = 0; i < s.points.size(); ++i) {
+      auto [it, inserted] = index.try_emplace(s.points[i], merged.points.size());
+      if (inserted) merged.points.push_back(s.points[i]);
+      map[i] = it->second;
+    }
+    for (const auto& t : s.triangles) {
+      std::array<std::size_t, 3> tri = {map[t[0]], map[t[1]], map[t[2]]}, key = tri;
+      std::sort(key.begin(), key.end());
+      if (seen.insert(key).second) merged.triangles.push_back(tri);
+    }
+  }
+  seam::write_triangle_mesh(merged, path);
+}
+
+/// `tetgen -d` on the two meshes merged: the number of intersecting face pairs it reports.
+long tetgen_pairs(const Mesh& a, const Mesh& b, const seam_test::TempDir& dir) {
+  write_merged({seam::soup_from_mesh<K>(a), seam::soup_from_mesh<K>(b)}, dir.file("merged.off"));
+  const std::string log = dir.file("tetgen.log");
+  const std::string cmd = "cd '" + dir.path.string() + "' && tetgen -d merged.off > '" + log + "' 2>&1";
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  const std::string text = seam_test::read_bytes(log);
+  if (text.find("No faces are intersecting.") != std::string::npos) return 0;
+  const auto at = text.find("!! Found ");
+  REQUIRE(at != std::string::npos);
+  return std::strtol(text.c_str() + at + 9, nullptr, 10);
+}
+
+/// The meshes as they are written and read back (doubles), the form seam check and TetGen see.
+Mesh as_written(const Mesh& m) { return seam::mesh_from_soup<K>(seam::soup_from_mesh<K>(m), "mesh"); }
+std::vector<seam::Polyline<K>> as_written(const std::vector<seam::Polyline<K>>& curves) {
+  return seam::to_kernel<K>(seam::to_doubles<K>(curves));
+}
+
+/// seam check's verdict on what TetGen -d judges: a self-intersection, or A2 and B2 meeting
+/// other than in common vertices, edges and faces along the curves.
+bool check_finds_intersections(const seam::PairCheckReport& r) {
+  return std::any_of(r.problems.begin(), r.problems.end(), [](const std::string& p) {
+    return p.find("self-intersects") != std::string::npos || p.find("intersect off the curves") != std::string::npos;
+  });
+}
+
+struct Pair {
+  std::string name;
+  seam::TriangleSoup a, b;
+};
+
+seam::TowOptions small_tow() {
+  seam::TowOptions t;
+  t.length = 4;
+  t.half_width = 0.8;
+  t.half_height = 0.3;
+  t.crimp_amplitude = 0.15;
+  t.crimp_wavelength = 4;
+  t.segments_along = 20;
+  t.segments_around = 18;
+  t.translate = {-2, 0, 0};
+  return t;
+}
+
+std::vector<Pair> cross_validation_pairs() {
+  std::vector<Pair> pairs;
+  const auto tow = small_tow();
+  const auto t = terraced(tow, 0.05);
+  pairs.push_back({"terraced tow x turned 5 degrees", t, turned_copy(t, 5, 0, 0, {0, 0, 0})});
+  pairs.push_back({"terraced tow x turned 30 degrees, raised one step", t, turned_copy(t, 30, 0, 0, {0, 0, 0.05})});
+  pairs.push_back({"terraced tow x shifted along x", t, turned_copy(t, 0, 0, 0, {0.3, 0, 0})});
+  pairs.push_back({"terraced tow x shifted off the grid", t, turned_copy(t, 0, 0, 0, {0.3, 0.11, 0.033})});
+  pairs.push_back({"tow x turned 90 degrees", seam::make_tow(tow), turned_copy(seam::make_tow(tow), 90, 0, 0, {0, 0, 0.2})});
+  auto c = seam::make_crossover(30, 14, 23, 12, seam::Section::lenticular, 0.45);
+  pairs.push_back({"crossover", seam::make_tow(c.weft), seam::make_tow(c.warp)});
+  return pairs;
+}
+
+}  // namespace
+
+TEST_CASE("real-like: a terraced tow against turned and shifted copies comes out conforming, flat contacts shared",
+          "[pair][real]") {
+  seam_test::TempDir dir("seam_test_real_like");
+  const auto tow = small_tow();
+  const auto t = terraced(tow, 0.05);
+  struct Case {
+    const char* name;
+    seam::TriangleSoup b;
+    bool flat;  // the copy keeps the grid planes: the two coincide over flat areas
+  };
+  const std::vector<Case> cases = {{"turned 5 degrees about z", turned_copy(t, 5, 0, 0, {0, 0, 0}), true},
+                                   {"shifted along x", turned_copy(t, 0, 0, 0, {0.3, 0, 0}), true},
+                                   {"turned 30 degrees and raised one step", turned_copy(t, 30, 0, 0, {0, 0, 0.05}), false}};
+  for (const auto& cs : cases) {
+    INFO(cs.name);
+    const Mesh a = seam::mesh_from_soup<K>(t, "a"), b = seam::mesh_from_soup<K>(cs.b, "b");
+    // The inputs overlap in common planes: both seam check and TetGen reject them as they are.
+    CHECK(tetgen_pairs(a, b, dir) > 0);
+    for (double snap : {0.0, -1.0}) {
+      INFO("snap_tol " << snap);
+      Mesh a2 = a, b2 = b;
+      seam::PairOptions o;
+      o.embed.snap_tol = snap;
+      const auto r = seam::pair<K>(a2, b2, o);
+      INFO(r.stats.note);
+      CHECK(r.stats.verified);
+      if (cs.flat) CHECK(r.stats.shared_faces > 0);
+      // As written: seam check passes (the shared faces are the same triangles in both), and the
+      // real volume mesher finds no intersecting faces in the merged surface.
+      const Mesh wa = as_written(a2), wb = as_written(b2);
+      const auto report = seam::check_pair<K>(a, b, wa, wb, as_written(r.curves), r.stats.verify_tolerance);
+      for (const auto& p : report.problems) UNSCOPED_INFO(p);
+      CHECK(report.ok());
+      if (cs.flat) CHECK(report.shared_faces > 0);
+      CHECK(tetgen_pairs(wa, wb, dir) == 0);
+    }
+  }
+}
+
+TEST_CASE("real-like: seam check and tetgen -d agree on every pair, passing or failing", "[check][tetgen][real]") {
+  // For each pair: the inputs themselves (they interpenetrate: both must reject them), the
+  // outputs of seam pair (both must accept them), and the outputs with one edge flipped inside a
+  // flat contact in A2 only (A2's faces there then overlap B2's in their common plane: both must
+  // reject them).
+  seam_test::TempDir dir("seam_test_agree");
+  std::size_t flipped_cases = 0;
+  for (const auto& p : cross_validation_pairs()) {
+    INFO(p.name);
+    const Mesh a = seam::mesh_from_soup<K>(p.a, "a"), b = seam::mesh_from_soup<K>(p.b, "b");
+    {
+      const auto report = seam::check_pair<K>(a, b, a, b, {}, 1e-9);
+      CHECK(check_finds_intersections(report) == (tetgen_pairs(a, b, dir) > 0));
+      CHECK(check_finds_intersections(report));
+    }
+    Mesh a2 = a, b2 = b;
+    const auto r = seam::pair<K>(a2, b2);
+    const Mesh wa = as_written(a2), wb = as_written(b2);
+    const auto curves = as_written(r.curves);
+    const auto report = seam::check_pair<K>(a, b, wa, wb, curves, r.stats.verify_tolerance);
+    for (const auto& problem : report.problems) UNSCOPED_INFO(problem);
+    const long found = tetgen_pairs(wa, wb, dir);
+    CHECK(check_finds_intersections(report) == (found > 0));
+    CHECK(found == 0);
+    // One edge between two shared faces of A2, flipped where the quad is convex.
+    Mesh fa = wa;
+    std::set<std::array<K::Point_3, 3>, bool (*)(const std::array<K::Point_3, 3>&, const std::array<K::Point_3, 3>&)>
+        faces_of_b([](const std::array<K::Point_3, 3>& x, const std::array<K::Point_3, 3>& y) {
+          for (int k = 0; k < 3; ++k) {
+            const auto c = CGAL::compare_xyz(x[k], y[k]);
+            if (c != CGAL::EQUAL) return c == CGAL::SMALLER;
+          }
+          return false;
+        });
+    auto sorted_corners = [](const Mesh& m, Mesh::Face_index f) {
+      std::array<K::Point_3, 3> c;
+      int i = 0;
+      for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) c[i++] = m.point(v);
+      std::sort(c.begin(), c.end(), [](const K::Point_3& x, const K::Point_3& y) { return CGAL::compare_xyz(x, y) == CGAL::SMALLER; });
+      return c;
+    };
+    for (auto f : wb.faces()) faces_of_b.insert(sorted_corners(wb, f));
+    bool flipped = false;
+    for (auto e : fa.edges()) {
+      if (fa.is_border(e)) continue;
+      const auto h = fa.halfedge(e), o = fa.opposite(h);
+      if (!faces_of_b.count(sorted_corners(fa, fa.face(h))) || !faces_of_b.count(sorted_corners(fa, fa.face(o)))) continue;
+      const auto &p0 = fa.point(fa.source(h)), &p1 = fa.point(fa.target(h));
+      const auto &r0 = fa.point(fa.target(fa.next(h))), &r1 = fa.point(fa.target(fa.next(o)));
+      // convex: the new diagonal r0 r1 crosses p0 p1 strictly (coplanar faces)
+      if (!CGAL::coplanar(p0, p1, r0, r1)) continue;
+      const K::Vector_3 n = CGAL::cross_product(p1 - p0, r0 - p0);
+      auto side = [&](const K::Point_3& x, const K::Point_3& y, const K::Point_3& z) {
+        return CGAL::sign(CGAL::cross_product(y - x, z - x) * n);
+      };
+      if (side(p0, p1, r0) * side(p0, p1, r1) >= 0 || side(r0, r1, p0) * side(r0, r1, p1) >= 0) continue;
+      if (fa.halfedge(fa.target(fa.next(h)), fa.target(fa.next(o))) != Mesh::null_halfedge()) continue;
+      CGAL::Euler::flip_edge(h, fa);
+      flipped = true;
+      break;
+    }
+    if (!flipped) continue;
+    ++flipped_cases;
+    const auto bad = seam::check_pair<K>(a, b, fa, wb, curves, r.stats.verify_tolerance);
+    const long bad_found = tetgen_pairs(fa, wb, dir);
+    CHECK(check_finds_intersections(bad));
+    CHECK(check_finds_intersections(bad) == (bad_found > 0));
+  }
+  CHECK(flipped_cases >= 2);  // the flat contacts of the terraced pairs
+}
