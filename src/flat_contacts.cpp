@@ -313,10 +313,11 @@ Mesh<K> rebuilt(const Mesh<K>& mesh, const FaceCorners<K>& fc, const std::vector
       std::sort(key.begin(), key.end());
       existing.emplace(key, g);
     }
-    const auto [u, w] = kept_coordinates(patch.axis);
+    // Not a structured binding: C++17 lambdas cannot capture those (Clang refuses).
+    const auto kept = kept_coordinates(patch.axis);
     auto projected = [&](const typename K::Point_3& q) {
       const auto d = to_filtered(q);
-      return std::array<double, 2>{d[u], d[w]};
+      return std::array<double, 2>{d[kept[0]], d[kept[1]]};
     };
     for (const auto& t : patch.triangles) {
       std::array<V, 3> tri = {vs[t[0]], vs[t[1]], vs[t[2]]};

@@ -1092,7 +1092,7 @@ std::vector<std::vector<Point3d>> parse_polylines(std::string_view data, const s
         invalid(path, where + "the point count " + quote(tok[0]) + " is not a non-negative integer");
       invalid(path, where + quote(tok[0]) + " is not a number");
     }
-    if (n < 2) invalid(path, where + "polyline needs at least 2 points");
+    if (n < 1) invalid(path, where + "polyline needs at least 1 point (one point: an isolated point of contact)");
     const std::size_t found = tok.size() - 1;
     if (n > found || 3 * n != found) {
       const unsigned long long max = std::numeric_limits<unsigned long long>::max();

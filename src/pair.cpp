@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/internal/flat_contacts.h>
 #include <seam/internal/collapse.h>
+#include <seam/internal/contact_points.h>
 #include <seam/internal/embed_known_sites.h>
 #include <seam/internal/general_position_curves.h>
 #include <seam/internal/improve.h>
@@ -195,10 +196,13 @@ template <class K> void orient_curves(const Mesh<K>& a, const Mesh<K>& b, std::v
 }  // namespace
 
 /// intersection_curves; when the direct path computed them (exact kernel), also where each curve
-/// point lies in each mesh (`sites_a`, `sites_b`, may be null; left empty otherwise).
+/// point lies in each mesh (`sites_a`, `sites_b`, may be null; left empty otherwise), and the
+/// isolated points of contact (`contacts`, may be null).
 template <class K>
 std::vector<Polyline<K>> curves_and_sites(const Mesh<K>& a, const Mesh<K>& b, std::size_t* touching_points,
-                                          internal::KnownSites<K>* sites_a, internal::KnownSites<K>* sites_b) {
+                                          internal::KnownSites<K>* sites_a, internal::KnownSites<K>* sites_b,
+                                          std::vector<typename K::Point_3>* contacts = nullptr) {
+  if (contacts) contacts->clear();
   if constexpr (std::is_same_v<K, Float>) {
     // CGAL's surface_intersection (its coplanar corefinement in particular) needs exact
     // predicates: with plain doubles it fails assertions or runs into undefined behaviour on
@@ -219,7 +223,11 @@ std::vector<Polyline<K>> curves_and_sites(const Mesh<K>& a, const Mesh<K>& b, st
       }
       return r;
     };
-    const auto curves = intersection_curves<Filtered>(to_filtered_mesh(a), to_filtered_mesh(b), touching_points);
+    std::vector<Filtered::Point_3> filtered_contacts;
+    const auto curves = curves_and_sites<Filtered>(to_filtered_mesh(a), to_filtered_mesh(b), touching_points, nullptr,
+                                                   nullptr, contacts ? &filtered_contacts : nullptr);
+    if (contacts)
+      for (const auto& p : filtered_contacts) contacts->emplace_back(p.x(), p.y(), p.z());
     std::vector<Polyline<K>> result;
     for (const auto& c : curves) {
       result.emplace_back();
@@ -241,7 +249,11 @@ std::vector<Polyline<K>> curves_and_sites(const Mesh<K>& a, const Mesh<K>& b, st
   std::size_t touching = 0;
   for (auto& piece : pieces) {
     for (auto& p : piece) make_exact(p);  // kept points: cut the expression trees once
-    if (std::all_of(piece.begin(), piece.end(), [&](const Point& p) { return p == piece.front(); })) ++touching;
+    if (std::all_of(piece.begin(), piece.end(), [&](const Point& p) { return p == piece.front(); })) {
+      ++touching;
+      if (contacts && std::find(contacts->begin(), contacts->end(), piece.front()) == contacts->end())
+        contacts->push_back(piece.front());
+    }
   }
 
   // surface_intersection returns every common point: also where the surfaces only touch, and the
@@ -445,7 +457,8 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
 template <class K>
 std::vector<Polyline<K>> intersection_curves_near(const Mesh<K>& a, const Mesh<K>& b,
                                                   const std::vector<Polyline<K>>& old_curves, double tol,
-                                                  std::size_t* touching_points) {
+                                                  std::size_t* touching_points,
+                                                  std::vector<typename K::Point_3>* contacts) {
   using M = Mesh<K>;
   std::vector<CGAL::Bbox_3> boxes;
   for (const auto& c : old_curves) {
@@ -492,7 +505,7 @@ std::vector<Polyline<K>> intersection_curves_near(const Mesh<K>& a, const Mesh<K
     return part;
   };
   const auto part_a = faces_near(a), part_b = faces_near(b);
-  if (!part_a || !part_b) return intersection_curves<K>(a, b, touching_points);
+  if (!part_a || !part_b) return curves_and_sites<K>(a, b, touching_points, nullptr, nullptr, contacts);
   std::size_t touching = 0;
   auto curves = intersection_curves<K>(*part_a, *part_b, &touching);
   // Contacts (touching, or flat) are not local: one near the curves may run on past the parts'
@@ -502,8 +515,9 @@ std::vector<Polyline<K>> intersection_curves_near(const Mesh<K>& a, const Mesh<K
   const bool all_inside = std::all_of(curves.begin(), curves.end(), [&](const Polyline<K>& c) {
     return std::all_of(c.begin(), c.end(), [&](const typename K::Point_3& p) { return overlaps(reach, p.bbox()); });
   });
-  if (touching > 0 || !all_inside) return intersection_curves<K>(a, b, touching_points);
+  if (touching > 0 || !all_inside) return curves_and_sites<K>(a, b, touching_points, nullptr, nullptr, contacts);
   if (touching_points) *touching_points = 0;
+  if (contacts) contacts->clear();
   return curves;
 }
 
@@ -539,7 +553,8 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
   std::size_t touching = 0;
   // Where the curve points lie in each mesh, when the direct path knows (until a mesh changes).
   internal::KnownSites<K> sites_a, sites_b;
-  std::vector<Polyline<K>> curves = curves_and_sites<K>(a, b, &touching, &sites_a, &sites_b);
+  std::vector<typename K::Point_3> contacts;  // isolated points of contact: embedded after the curves
+  std::vector<Polyline<K>> curves = curves_and_sites<K>(a, b, &touching, &sites_a, &sites_b, &contacts);
   st.stage_seconds["intersect"] = seconds_since(t);
 
   // Snapping can turn a crossing into a touching contact (a vertex a few units in the last place
@@ -552,6 +567,7 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     std::vector<Polyline<K>> curves;
     std::size_t touching;
     internal::KnownSites<K> sites_a, sites_b;
+    std::vector<typename K::Point_3> contacts;
   };
   std::optional<Unsnapped> unsnapped;
   auto undo_snapping = [&](const char* why) {
@@ -561,6 +577,7 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     prov_b = unsnapped->prov_b;
     curves = unsnapped->curves;
     touching = unsnapped->touching;
+    contacts = unsnapped->contacts;
     sites_a = std::move(unsnapped->sites_a);
     sites_b = std::move(unsnapped->sites_b);
     st.vertices_snapped_a = st.vertices_snapped_b = st.edges_snapped_a = st.edges_snapped_b = 0;
@@ -569,7 +586,7 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     unsnapped.reset();
   };
   if (snap_vertices && snap_tol > 0 && !curves.empty()) {
-    unsnapped.emplace(Unsnapped{a, b, prov_a, prov_b, curves, touching, sites_a, sites_b});
+    unsnapped.emplace(Unsnapped{a, b, prov_a, prov_b, curves, touching, sites_a, sites_b, contacts});
     // Report step 1 on both meshes, against the exact intersection points; then the curves of
     // the moved surfaces.
     t = Clock::now();
@@ -587,7 +604,7 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
       sites_a.sites.clear();  // the meshes changed
       sites_b.sites.clear();
       t = Clock::now();
-      curves = intersection_curves_near<K>(a, b, curves, snap_tol, &touching);
+      curves = intersection_curves_near<K>(a, b, curves, snap_tol, &touching, &contacts);
       st.stage_seconds["intersect"] += seconds_since(t);
     }
     // Then curve points next to an edge of either mesh get a vertex of their own (see
@@ -615,12 +632,12 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
         sites_a.sites.clear();  // a mesh changed
         sites_b.sites.clear();
         t = Clock::now();
-        curves = intersection_curves_near<K>(a, b, curves, snap_tol, &touching);
+        curves = intersection_curves_near<K>(a, b, curves, snap_tol, &touching, &contacts);
         st.stage_seconds["intersect"] += seconds_since(t);
       }
     }
-    if (curves.empty() || touching > unsnapped->touching)
-      undo_snapping("it turned a crossing into a touching contact");
+    if (curves.empty())
+      undo_snapping("it turned the crossings into touching contacts");
     else if (st.vertices_snapped_a + st.vertices_snapped_b + st.edges_snapped_a + st.edges_snapped_b == 0)
       unsnapped.reset();  // nothing moved
   }
@@ -637,7 +654,7 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
   count_curves();
   if (curves.empty()) {
     st.touching_only = touching > 0;
-    st.note = touching > 0 ? "the meshes touch without crossing: nothing to embed"
+    st.note = touching > 0 ? "the meshes touch without crossing: the points of contact are made vertices of both"
                            : "the meshes do not intersect (disjoint, or one inside the other): nothing to embed";
   }
 
@@ -699,6 +716,30 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
 
   if (const std::string mismatch = embedding_mismatch(); !mismatch.empty()) throw InternalError("pair: " + mismatch);
   result.curves = result.a.curves;
+
+  // Isolated points of contact: a vertex of both, and a curve of one point (see
+  // internal/contact_points.h). Under the rounded kernels a point off the faces is left out
+  // (the verification then fails and says so).
+  if (!contacts.empty()) {
+    Mesh<K> a0 = a, b0 = b;
+    const auto va = internal::insert_points<K>(a, contacts);
+    const auto vb = va.empty() ? va : internal::insert_points<K>(b, contacts);
+    if (va.size() == contacts.size() && vb.size() == contacts.size()) {
+      for (std::size_t i = 0; i < contacts.size(); ++i) {
+        for (auto* r : {&result.a, &result.b}) {
+          r->curves.push_back({contacts[i]});
+          r->curve_vertices.push_back({r == &result.a ? va[i] : vb[i]});
+        }
+        result.curves.push_back({contacts[i]});
+      }
+      st.contact_points = contacts.size();
+      st.curves += contacts.size();
+      st.curve_vertices += contacts.size();
+    } else {
+      a = std::move(a0);
+      b = std::move(b0);
+    }
+  }
 
 
   // With a snapping tolerance, curve segments shorter than it are collapsed in both meshes at

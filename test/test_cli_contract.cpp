@@ -221,7 +221,7 @@ TEST_CASE("contract: bad polylines for pair --curves and check CURVES give exit 
   const std::vector<Case> cases = {
       {"wrong count", "3 0.2 0.2 0 0.5 0.2 0\n", "expected 9 coordinates"},
       {"NaN", "2 0.2 0.2 0 nan 0.2 0\n", "non-finite"},
-      {"no points", "0\n", "at least 2 points"},
+      {"no points", "0\n", "at least 1 point"},
       {"no polyline", "# nothing\n", "", false},  // seam check without curves is valid
       {"empty", "", "empty", false},
       {"far from the surfaces", "2 0.3 0.3 50 0.5 0.3 50\n", "", false},

@@ -715,8 +715,8 @@ TEST_CASE("read_polylines: errors name the file and the line") {
   const std::vector<Case> cases = {
       {"2 0 0 0 1 1 1\n\n4 0 0 0 1 1 1 2 2 2\n", "line 3: expected 12 coordinates after the count 4, found 9"},
       {"2 0 0 0 1 1 1 2 2 2\n", "line 1: expected 6 coordinates after the count 2, found 9"},
-      {"2 0 0 0 1 1 1\n1 0 0 0\n", "line 2: polyline needs at least 2 points"},
-      {"0\n", "line 1: polyline needs at least 2 points"},
+      {"2 0 0 0 1 1 1\n0\n", "line 2: polyline needs at least 1 point"},
+      {"0\n", "line 1: polyline needs at least 1 point"},
       {"2 0 0 nan 1 1 1\n", "line 1: non-finite coordinate"},
       {"2 0 0 0 1 1 1e400\n", "line 1: non-finite coordinate"},
       {"2 0 0 abc 1 1 1\n", "line 1: 'abc' is not a number"},

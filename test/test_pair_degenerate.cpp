@@ -165,13 +165,13 @@ template <class K> seam::PairResult<K> pair_and_check(const seam::Mesh<K>& a, co
 
 // ------------------------------------------------------------------------------ tangency
 
-TEMPLATE_TEST_CASE("pair degenerate: surfaces touching at one vertex stop with an internal error, the meshes unchanged",
+TEMPLATE_TEST_CASE("pair degenerate: surfaces touching at one point share a vertex there, a curve of one point",
                    "[pair][degenerate]", seam::Exact, seam::Filtered) {
   using K = TestType;
   // A: [0, 2]^3 in 4 x 4 x 4 squares per side. B: an octahedron standing on A's top face (z = 2)
-  // on its lowest vertex; every other point of B is above z = 2. An isolated point of contact is
-  // not embedded (no curve of one point): the outputs would meet off the curves, which seam check
-  // rejects, so pair gives none (exit 3 in the CLI) and leaves the meshes as they were.
+  // on its lowest vertex; every other point of B is above z = 2. The point of contact becomes a
+  // vertex of A too (the vertex there, or a split of the edge or face holding it: A's surface is
+  // unchanged), and a curve of one point: the outputs meet exactly in that common vertex.
   const auto a = mesh<K>(grid_box({0, 0, 0}, {2, 2, 2}, {4, 4, 4}));
   struct Case {
     const char* name;
@@ -191,16 +191,12 @@ TEMPLATE_TEST_CASE("pair degenerate: surfaces touching at one vertex stop with a
     CHECK(report.problems[1].find("points of the intersection of A and B") != std::string::npos);
     for (double snap : {0.0, -1.0}) {
       INFO("snap_tol " << snap);
-      auto a2 = a, b2 = b;
-      seam::PairOptions o;
-      o.embed.snap_tol = snap;
-      CHECK_THROWS_AS(seam::pair<K>(a2, b2, o), seam::InternalError);
-      const auto sa = seam::soup_from_mesh<K>(a), sa2 = seam::soup_from_mesh<K>(a2);
-      const auto sb = seam::soup_from_mesh<K>(b), sb2 = seam::soup_from_mesh<K>(b2);
-      CHECK(sa.points == sa2.points);
-      CHECK(sa.triangles == sa2.triangles);
-      CHECK(sb.points == sb2.points);
-      CHECK(sb.triangles == sb2.triangles);
+      const auto res = pair_and_check<K>(a, b, snap);
+      CHECK(res.stats.touching_only);
+      CHECK(res.stats.contact_points == 1);
+      REQUIRE(res.curves.size() == 1);
+      REQUIRE(res.curves.front().size() == 1);
+      CHECK(res.curves.front().front() == point<K>(cs.touch));
     }
   }
 }

@@ -47,11 +47,14 @@
 //      1e-8 of that diagonal) and then rejects the faces between them. Two vertices of the
 //      inputs that close (A's and B's) are counted, not a problem: the outputs keep them.
 //   6. The curves cover the intersection of the inputs: every face pair of A and B that meets is
-//      intersected (Epick: exact predicates, the points rounded to doubles) and sampled (a point;
-//      a segment's ends and middle; a coplanar overlap's corners and centroid), and every sample
-//      must lie within `tol` of a curve or of a shared face. A touching contact left out of the
-//      curves, or a piece of curve lost, fails here. This uses none of the curve computation of
-//      seam::pair (CGAL's triangle-triangle intersection on the inputs only).
+//      intersected exactly (Epeck on the input coordinates) and sampled (a point; a segment's
+//      ends and middle; a coplanar overlap's corners and centroid), the samples rounded to
+//      doubles; every sample must lie within `tol` of a curve or of a shared face where the two
+//      faces are coplanar (a flat contact does not move), and within 2 tol / sin(angle between the
+//      faces) where they cross: how far their line of intersection moves when each face moves by
+//      tol (snapping moves a grazing crossing far along the surfaces). A touching contact left
+//      out of the curves, or a piece of curve lost, fails here. This uses none of the curve
+//      computation of seam::pair (CGAL's triangle-triangle intersection on the inputs only).
 // And the figures: sizes, the largest distances of 4, the smallest angle over all faces of A2
 // and B2, and the number of faces of A2 (B2) below 10 and 20 degrees that are not faces of A (B)
 // (faces compared by their three vertex coordinates, exactly).

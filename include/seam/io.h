@@ -58,7 +58,8 @@ void check_no_self_intersection(const TriangleSoup& soup, const std::string& nam
 
 /// Reads polylines in CGAL's text format: one polyline per non-empty line,
 /// "n x1 y1 z1 ... xn yn zn". Lines starting with '#' are comments. Errors (naming the file
-/// and line): wrong count, fewer than 2 points, non-numeric or non-finite values, no polyline.
+/// and line): wrong count, no point, non-numeric or non-finite values, no polyline. A polyline of
+/// one point is an isolated point of contact (seam pair writes them).
 std::vector<std::vector<Point3d>> read_polylines(const std::string& path);
 
 /// The same on a file's content held in memory; `name` starts every message.

@@ -11,11 +11,25 @@
 // surfaces, so embedding keeps all of them (they are the crossing points of one mesh or the
 // other) and both meshes receive the identical curve. Each piece is classified from the faces of
 // each mesh that contain it (exact tests): where the surfaces cross it is kept; where they only
-// touch (at a point or along an edge) it is dropped and counted (PairStats::touching_only), unless
-// it meets a kept curve (an edge of one lying in a face of the other next to a crossing: the
-// outputs meet along it, so it is kept); of a flat contact (coplanar faces overlapping) only the
-// boundary of the contact region is kept, and the ridges where it bends (where two flat contacts
-// meet at an angle).
+// touch along an edge (an edge of one lying in a face of the other) it is kept too: the outputs
+// meet along it, so it must be a curve of both; isolated points of contact are counted
+// (PairStats::touching_only when there is nothing else), not embedded; of a flat contact (coplanar
+// faces overlapping) the boundary of the contact region is kept, and the ridges where it bends
+// (where two flat contacts meet at an angle). Pieces are chained into closed curves through
+// points where an even number of them meet (two curves touching); a curve ends only where an odd
+// number meet (the corner of a flat contact, say).
+//
+// Flat contacts: after the embedding, the faces of both meshes in each planar contact patch are
+// replaced by one common constrained Delaunay triangulation (internal/flat_contacts.h), so that
+// the two outputs hold the same triangles there (shared faces, bit-identical) and the merged
+// outputs are a valid piecewise-linear complex. No later step changes a shared face.
+//
+// Verification (PairOptions::verify_output): the outputs, rounded to doubles as they are
+// written, are checked with seam::check_pair under the exact kernel at
+// PairStats::verify_tolerance. If they fail, the pair is done again without snapping (still
+// remeshed), then without snapping or remeshing, then snapped onto doubles at the vertex
+// separation of seam check (check 5); if every run fails, the meshes are restored and
+// InternalError says what failed. A result is therefore always one that `seam check` accepts.
 //
 // Snapping (report step 1), when snap_tol > 0: vertices of either mesh within snap_tol of a curve
 // point move onto it (a move that would flip or flatten a face is refused), and the curves are
@@ -94,8 +108,11 @@ struct PairStats {
   /// made one common triangulation; its faces (each a face of both outputs); patches that could
   /// not be (their borders differ in the two meshes: seam check then fails).
   std::size_t contact_patches = 0, shared_faces = 0, contact_patches_left = 0;
+  /// Isolated points of contact made a vertex of both (curves of one point).
+  std::size_t contact_points = 0;
   bool given_curves = false;      ///< the curves were given (seam::pair_with_curves)
-  double max_curve_move = 0;   ///< given curves: the largest move of a curve vertex (onto the given curve)
+  /// Given curves: the largest move of a vertex onto (or along with) the given curves.
+  double max_curve_move = 0;
   /// The outputs passed seam::check_pair as written (PairOptions::verify_output), at this tolerance.
   bool verified = false;
   double verify_tolerance = 0;
@@ -120,17 +137,21 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
 /// \pre both are valid closed or open triangle meshes without self-intersections.
 template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions& options = {});
 
-/// Given curves (from another tool, lying only near both surfaces; src/pair_given.cpp): snaps
-/// both meshes onto the curve nodes, follows the curves on each, collects the crossing points of
-/// both meshes in curve order, and embeds that common coarsened curve into both. Every curve
-/// vertex of both outputs then moves onto the given curve, so both share bit-identical
-/// coordinates (PairStats::max_curve_move says how far vertices moved). When
-/// snapping leaves a curve vertex too far from a small face to move, the run is redone without
-/// snapping (PairStats::note says so). The outputs meet along the curves; unlike computed
-/// curves, nothing keeps them from also crossing next to a curve that is not their intersection:
-/// run seam::check_pair. Throws InvalidInput when a curve is farther than
+/// Given curves (from another tool, lying only near both surfaces, such as the intersection of
+/// the smooth tow surfaces, 0.001-0.01 off the facets; src/pair_given.cpp). First method: the
+/// meshes' exact intersection is embedded by seam::pair (snapping and remeshing as the options
+/// say), then every curve vertex moves, in both meshes alike, to the closest point of the given
+/// curves (exactly on a given segment), and the vertices around it by a blend of those moves,
+/// so that the faces move with the curve instead of folding. Both outputs share the moved curve
+/// by construction, bit for bit. Tried with the options' snapping, then without it (or, asked for
+/// none, with the default snapping). Second method, where the first fails (the meshes do not
+/// intersect near the curves, say): both meshes are snapped onto the curve nodes, the curves are
+/// followed on each, the crossing points of both collected in curve order and embedded into both,
+/// and the curve vertices moved onto the given curves. Every result is verified as for seam::pair
+/// (PairOptions::verify_output) at PairStats::verify_tolerance: the snapping tolerance plus the
+/// largest move (PairStats::max_curve_move). Throws InvalidInput when a curve is farther than
 /// options.embed.max_distance (default: the mesh's mean edge length) from a mesh, or so far that
-/// moving a mesh onto it would fold a face.
+/// moving a mesh onto it would fold a face; InternalError when no result passes.
 template <class K>
 PairResult<K> pair_with_curves(Mesh<K>& a, Mesh<K>& b, const std::vector<Polyline<K>>& curves,
                                const PairOptions& options = {});

@@ -2,8 +2,10 @@
 //
 //   1. Candidates: CGAL::box_intersection_d on the tows' bounding boxes.
 //   2. Pairs (concurrently): the intersection curves of each candidate pair, exactly as
-//      seam::intersection_curves computes them for `seam pair` (touching-only contact dropped,
-//      flat contact reduced to its boundary). A candidate with no curve is no pair.
+//      seam::intersection_curves computes them for `seam pair` (touching runs kept as curves,
+//      isolated touching points dropped, flat contact reduced to its boundary: unlike seam::pair,
+//      textile does not yet make the inside of a flat contact one common triangulation, nor
+//      verify its outputs). A candidate with no curve is no pair.
 //   3. Triple overlaps: where the curves of tow A with B and of A with C meet on A, the three tows
 //      overlap in one place, and the meeting point lies exactly on the three surfaces. Under the
 //      exact kernel it is made a vertex of all three tows (the face or edge holding it is cut;
