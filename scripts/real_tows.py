@@ -158,18 +158,37 @@ def tetgen_verdict(a2, b2, merged, workdir):
 
 
 def curve_counts(path):
+    """(closed, open, loose ends): a curve is closed when its first point is its last. Where a
+    crossing meets the border of a flat contact three curve pieces meet, so curves end there;
+    a loose end is an end point no other curve reaches (a piece of the intersection lost). A
+    one-point curve (the tows touch at a point) is counted as closed."""
     closed = open_ = 0
+    degree = {}
     for line in open(path):
         t = line.split()
         if not t or t[0].startswith('#'):
             continue
         n = int(t[0])
-        first, last = t[1:4], t[3 * n - 2:3 * n + 1]
-        if n > 2 and first == last:
+        first, last = tuple(t[1:4]), tuple(t[3 * n - 2:3 * n + 1])
+        if n == 1 or (n > 2 and first == last):
             closed += 1
-        else:
-            open_ += 1
-    return closed, open_
+            continue
+        open_ += 1
+        for end in (first, last):
+            degree[end] = degree.get(end, 0) + 1
+    # an end may also lie inside another curve (or a closed one): two more pieces there
+    points = set(degree)
+    for line in open(path):
+        t = line.split()
+        if not t or t[0].startswith('#'):
+            continue
+        n = int(t[0])
+        for k in range(n):
+            q = tuple(t[1 + 3 * k:4 + 3 * k])
+            if q in points and 0 < k < n - 1:
+                degree[q] += 2
+    loose = sum(1 for d in degree.values() if d == 1)
+    return closed, open_, loose
 
 
 def main():
@@ -189,7 +208,7 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     tows = {name: read_stl(os.path.join(args.data, f)) for name, f in FILES.items()}
     only = [int(x) for x in args.only.split(',') if x]
-    header = '| # | configuration | exit | time (s) | seam check | tetgen -d | curves closed / open | shared faces | new faces | below 10 deg | below 20 deg |'
+    header = '| # | configuration | exit | time (s) | seam check | tetgen -d | curves closed / open / loose ends | shared faces | new faces | below 10 deg | below 20 deg |'
     rows = [header, '|' + '---|' * 11]
     print(header)
     print(rows[1])
@@ -216,7 +235,7 @@ def main():
             code, message = 'timeout', ''
         seconds = time.time() - t0
         verdict = tet = 'n/a'
-        closed = open_ = shared = new = b10 = b20 = '-'
+        closed = open_ = loose = shared = new = b10 = b20 = '-'
         if code == 0:
             tol = json.load(open(report))['verify_tolerance']
             c = subprocess.run([args.seam, 'check', a, b, a2, b2, curves, '--tol', repr(tol), '--report', check],
@@ -231,9 +250,9 @@ def main():
                 b10 = '%d (%.1f%%)' % (nb10, 100.0 * nb10 / max(new, 1))
                 b20 = '%d (%.1f%%)' % (nb20, 100.0 * nb20 / max(new, 1))
             tet = tetgen_verdict(a2, b2, os.path.join(d, 'merged.off'), d)
-            closed, open_ = curve_counts(curves)
-        row = '| %d | %s | %s | %.1f | %s | %s | %s / %s | %s | %s | %s | %s |' % (
-            k, name, code, seconds, verdict, tet, closed, open_, shared, new, b10, b20)
+            closed, open_, loose = curve_counts(curves)
+        row = '| %d | %s | %s | %.1f | %s | %s | %s / %s / %s | %s | %s | %s | %s |' % (
+            k, name, code, seconds, verdict, tet, closed, open_, loose, shared, new, b10, b20)
         if code != 0 and message:
             row += ' ' + message[:200]
         print(row, flush=True)

@@ -176,6 +176,11 @@ std::vector<char> crossing_faces(const Mesh<K>& m, const std::vector<typename Me
     if (CGAL::do_overlap(box.bbox(), around)) theirs.push_back(box);
   }
   std::vector<char> bad(faces.size(), 0);
+  // Two shared faces (a flat contact's common triangulation, in both meshes) may be one face, or
+  // meet in any common vertex or edge, as in seam check.
+  // (std::pair, not structured bindings: the lambda below captures them.)
+  const auto shared_in_m = m.template property_map<F, bool>(shared_face_property);
+  const auto shared_in_other = other.template property_map<F, bool>(shared_face_property);
   auto corners = [](const Mesh<K>& mesh, F f) {
     std::array<V, 3> c;
     int k = 0;
@@ -188,7 +193,10 @@ std::vector<char> crossing_faces(const Mesh<K>& m, const std::vector<typename Me
     const std::size_t i = bm.info();
     if (bad[i]) return;
     const auto cm = corners(m, faces[i]);
-    const auto co = corners(other, F(typename F::size_type(bo.info())));
+    const F fo(typename F::size_type(bo.info()));
+    const auto co = corners(other, fo);
+    const bool both_shared = shared_in_m.second && shared_in_other.second && shared_in_m.first[faces[i]] &&
+                             shared_in_other.first[fo];
     std::array<typename K::Point_3, 3> pm, po;
     for (int k = 0; k < 3; ++k) pm[k] = m.point(cm[k]), po[k] = other.point(co[k]);
     int shared = 0, jm[3] = {-1, -1, -1};  // jm[k]: corner of the face of m at corner k of the other's
@@ -207,7 +215,7 @@ std::vector<char> crossing_faces(const Mesh<K>& m, const std::vector<typename Me
       int k = 0;
       while (jm[k] < 0) ++k;
       const int j = jm[k];
-      if (!on_curve_other[std::size_t(co[k])]) {
+      if (!on_curve_other[std::size_t(co[k])] && !both_shared) {
         crossing = true;
       } else if (const auto only = certified::surely_only_vertex(im[j], im[(j + 1) % 3], im[(j + 2) % 3],
                                                                   io[(k + 1) % 3], io[(k + 2) % 3])) {
@@ -224,11 +232,11 @@ std::vector<char> crossing_faces(const Mesh<K>& m, const std::vector<typename Me
       const int j = 3 - jm[(k + 1) % 3] - jm[(k + 2) % 3];
       const auto &p = po[(k + 1) % 3], &q = po[(k + 2) % 3];
       // Faces with a common edge overlap iff they are coplanar and on the same side of it.
-      crossing = !curve_edges_other.count({std::min(u, w), std::max(u, w)}) ||
+      crossing = (!curve_edges_other.count({std::min(u, w), std::max(u, w)}) && !both_shared) ||
                  (!certified::surely_only_edge(io[(k + 1) % 3], io[(k + 2) % 3], io[k], im[j]) &&
                   CGAL::coplanar(p, q, po[k], pm[j]) && CGAL::coplanar_orientation(p, q, po[k], pm[j]) == CGAL::POSITIVE);
     } else {
-      crossing = true;
+      crossing = !both_shared;
     }
     if (crossing) bad[i] = 1;
   };
@@ -386,19 +394,22 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
     for (int m = 0; m < 2; ++m) locked[m].assign(uses[m].size(), 0);
     std::vector<Op> chosen;
     std::vector<V> near[2];
-    // (Faces next to a frozen stretch of curve stay as they are: see frozen_face_property.)
+    // (Faces next to a frozen stretch of curve stay as they are: see frozen_face_property. A
+    // tiny curve segment collapsed in both meshes may touch shared faces: it changes them the
+    // same way in both, and left it would be two vertices a volume mesher cannot tell apart.)
     const internal::FrozenFaces<K> frozen[2] = {internal::FrozenFaces<K>(a), internal::FrozenFaces<K>(b)};
     for (const auto& op : ops) {
       if (excluded.count(key(op))) continue;
       if (op.mask == 3 && (uses[0][std::size_t(op.p[0])] != 1 || uses[1][std::size_t(op.p[1])] != 1)) continue;
       if (op.to && (uses[0][std::size_t(op.q[0])] != 1 || uses[1][std::size_t(op.q[1])] != 1)) continue;  // Q moves
       bool free = true;
+      const bool both_tiny = op.tiny && op.mask == 3 && !op.to;
       for (int m = 0; m < 2 && free; ++m) {
         near[m].clear();
         if (!(op.mask & (1 << m))) continue;
         ring<K>(*meshes[m], op.p[m], near[m]), ring<K>(*meshes[m], op.q[m], near[m]);
         free = std::none_of(near[m].begin(), near[m].end(), [&](V v) { return locked[m][std::size_t(v)]; }) &&
-               !frozen[m].around(*meshes[m], op.p[m]) && !frozen[m].around(*meshes[m], op.q[m]);
+               !frozen[m].around(*meshes[m], op.p[m], !both_tiny) && !frozen[m].around(*meshes[m], op.q[m], !both_tiny);
       }
       if (!free) continue;
       Angles before, after;

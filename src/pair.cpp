@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <new>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -636,7 +637,9 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
         st.stage_seconds["intersect"] += seconds_since(t);
       }
     }
-    if (curves.empty())
+    // A crossing that snapping turned into isolated points of contact is kept (those points
+    // become vertices of both, below); one that it removed altogether is not.
+    if (curves.empty() && contacts.empty())
       undo_snapping("it turned the crossings into touching contacts");
     else if (st.vertices_snapped_a + st.vertices_snapped_b + st.edges_snapped_a + st.edges_snapped_b == 0)
       unsnapped.reset();  // nothing moved
@@ -1261,7 +1264,15 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     tried += (tried.empty() ? "" : "; then ") + problem;
     a = a0;
     b = b0;
-    PairResult<K> again = pair_collapsing<K>(a, b, redo.options, true, redo.snap_vertices, redo.to_doubles);
+    PairResult<K> again;
+    try {  // the inputs passed the first run's checks: any error now is the redo's own
+      again = pair_collapsing<K>(a, b, redo.options, true, redo.snap_vertices, redo.to_doubles);
+    } catch (const std::bad_alloc&) {
+      throw;
+    } catch (const std::exception& e) {  // seam's errors and CGAL's failures alike
+      problem = std::string(redo.what) + ": " + e.what();
+      continue;
+    }
     again.stats.note = std::string(redo.what) + ": the result failed seam check's tests (" + tried + ")" +
                        (again.stats.note.empty() ? "" : "; " + again.stats.note);
     again.stats.stage_seconds["verify_output"] = result.stats.stage_seconds["verify_output"];
@@ -1269,7 +1280,8 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   }
   a = a0;
   b = b0;
-  throw InternalError("pair: the outputs fail seam check's tests, so none is given (" + problem + ")");
+  tried += (tried.empty() ? "" : "; then ") + problem;
+  throw InternalError("pair: the outputs fail seam check's tests, so none is given (" + tried + ")");
 }
 
 #define SEAM_INSTANTIATE(K)                                                                       \

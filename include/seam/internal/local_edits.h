@@ -88,12 +88,16 @@ template <class K> struct FrozenFaces {
     std::tie(map, any) = mesh.template property_map<F, bool>(frozen_face_property);
     std::tie(shared, any_shared) = mesh.template property_map<F, bool>(shared_face_property);
   }
-  bool face(F f) const { return f != M::null_face() && ((any && map[f]) || (any_shared && shared[f])); }
+  bool face(F f, bool count_shared = true) const {
+    return f != M::null_face() && ((any && map[f]) || (count_shared && any_shared && shared[f]));
+  }
   /// Whether a face around v is frozen: moving, merging or splitting at v would change it.
-  bool around(const M& mesh, V v) const {
-    if (!any && !any_shared) return false;
+  /// `count_shared` false: shared faces do not count (an edit made identically in both meshes,
+  /// at vertices both have at the same point, keeps them shared).
+  bool around(const M& mesh, V v, bool count_shared = true) const {
+    if (!any && !(count_shared && any_shared)) return false;
     for (auto h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh))
-      if (face(mesh.face(h))) return true;
+      if (face(mesh.face(h), count_shared)) return true;
     return false;
   }
 };
