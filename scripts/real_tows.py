@@ -231,6 +231,7 @@ def main():
                                  timeout=args.timeout)
             code = run.returncode
             message = (run.stderr.strip().splitlines() or [''])[-1]
+            open(os.path.join(d, 'pair.stderr'), 'w').write(run.stderr)  # the whole message
         except subprocess.TimeoutExpired:
             code, message = 'timeout', ''
         seconds = time.time() - t0

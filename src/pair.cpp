@@ -1237,8 +1237,10 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   // the tolerance), then without either (the outputs are then the input surfaces, cut along the
   // exact curves). An exact result can still fail once rounded to doubles (a sliver of crossing
   // thinner than a unit in the last place): last, snapped at the vertex separation of check 5
-  // (TetGen's tolerance, twice over), which no volume mesher resolves anyway. At most three runs
-  // more, so this ends.
+  // (TetGen's tolerance, twice over), which no volume mesher resolves anyway: first onto the
+  // exact points of the curves, then onto those points rounded to doubles (which can leave a
+  // vertex a unit in the last place off the other surface, and the curve beside it). At most
+  // four runs more, so this ends.
   const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(a0) + CGAL::Polygon_mesh_processing::bbox(b0);
   const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
                                     CGAL::square(box.zmax() - box.zmin()));
@@ -1257,8 +1259,10 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     redos.push_back({options, false, "done again without snapping"});
     redos.push_back({unsnapped, true, "done again without snapping or remeshing"});
   }
-  if (result.stats.snap_tol != minimal.embed.snap_tol)
+  if (result.stats.snap_tol != minimal.embed.snap_tol) {
+    redos.push_back({minimal, true, "done again snapped at the vertex separation only"});
     redos.push_back({minimal, true, "done again snapped at the vertex separation only, onto doubles", true});
+  }
   std::string tried;
   for (const Redo& redo : redos) {
     tried += (tried.empty() ? "" : "; then ") + problem;
