@@ -27,9 +27,10 @@
 // Verification (PairOptions::verify_output): the outputs, rounded to doubles as they are
 // written, are checked with seam::check_pair under the exact kernel at
 // PairStats::verify_tolerance. If they fail, the pair is done again without snapping (still
-// remeshed), then without snapping or remeshing, then snapped onto doubles at the vertex
-// separation of seam check (check 5); if every run fails, the meshes are restored and
-// InternalError says what failed. A result is therefore always one that `seam check` accepts.
+// remeshed), then without snapping or remeshing, then snapped at the vertex separation of
+// seam check (check 5) onto the curves' exact points, then onto those points rounded to
+// doubles; if every run fails, the meshes are restored and InternalError says what each run
+// failed. A result is therefore always one that `seam check` accepts.
 //
 // Snapping (report step 1), when snap_tol > 0: vertices of either mesh within snap_tol of a curve
 // point move onto it (a move that would flip or flatten a face is refused), and the curves are
