@@ -160,35 +160,28 @@ def tetgen_verdict(a2, b2, merged, workdir):
 def curve_counts(path):
     """(closed, open, loose ends): a curve is closed when its first point is its last. Where a
     crossing meets the border of a flat contact three curve pieces meet, so curves end there;
-    a loose end is an end point no other curve reaches (a piece of the intersection lost). A
-    one-point curve (the tows touch at a point) is counted as closed."""
-    closed = open_ = 0
-    degree = {}
+    a loose end is an end point no other curve reaches (a touching contact that stops, or a
+    piece of the intersection lost). A one-point curve (the tows touch at a point) is counted as
+    closed."""
+    curves = []
     for line in open(path):
         t = line.split()
         if not t or t[0].startswith('#'):
             continue
         n = int(t[0])
-        first, last = tuple(t[1:4]), tuple(t[3 * n - 2:3 * n + 1])
-        if n == 1 or (n > 2 and first == last):
-            closed += 1
-            continue
-        open_ += 1
-        for end in (first, last):
-            degree[end] = degree.get(end, 0) + 1
-    # an end may also lie inside another curve (or a closed one): two more pieces there
-    points = set(degree)
-    for line in open(path):
-        t = line.split()
-        if not t or t[0].startswith('#'):
-            continue
-        n = int(t[0])
-        for k in range(n):
-            q = tuple(t[1 + 3 * k:4 + 3 * k])
-            if q in points and 0 < k < n - 1:
-                degree[q] += 2
-    loose = sum(1 for d in degree.values() if d == 1)
-    return closed, open_, loose
+        curves.append([tuple(t[1 + 3 * k:4 + 3 * k]) for k in range(n)])
+    is_closed = [len(c) == 1 or (len(c) > 2 and c[0] == c[-1]) for c in curves]
+    degree = {}  # pieces of curve meeting at each point: 1 per open end, 2 per pass through
+    for c, closed in zip(curves, is_closed):
+        if closed:
+            for q in set(c):
+                degree[q] = degree.get(q, 0) + 2
+        else:
+            for k, q in enumerate(c):
+                degree[q] = degree.get(q, 0) + (1 if k in (0, len(c) - 1) else 2)
+    ends = set(q for c, closed in zip(curves, is_closed) if not closed for q in (c[0], c[-1]))
+    loose = sum(1 for q in ends if degree[q] == 1)
+    return sum(is_closed), len(curves) - sum(is_closed), loose
 
 
 def main():

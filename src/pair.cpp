@@ -467,6 +467,10 @@ std::vector<Polyline<K>> intersection_curves_near(const Mesh<K>& a, const Mesh<K
     for (const auto& p : c) box += p.bbox();
     boxes.push_back(box);
   }
+  // The points of contact found before, wherever they are: one away from every curve would
+  // otherwise be lost (it is then found as touching, and the whole meshes decide, below).
+  if (contacts)
+    for (const auto& p : *contacts) boxes.push_back(p.bbox());
   auto grown = [](const CGAL::Bbox_3& box, double by) {
     return CGAL::Bbox_3(box.xmin() - by, box.ymin() - by, box.zmin() - by, box.xmax() + by, box.ymax() + by,
                         box.zmax() + by);
@@ -656,9 +660,11 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
   };
   count_curves();
   if (curves.empty()) {
-    st.touching_only = touching > 0;
-    st.note = touching > 0 ? "the meshes touch without crossing: the points of contact are made vertices of both"
-                           : "the meshes do not intersect (disjoint, or one inside the other): nothing to embed";
+    const bool snapped = unsnapped.has_value();  // kept: the snapped surfaces only touch
+    st.touching_only = touching > 0 && !snapped;
+    st.note = snapped ? "snapping turned the crossings into points of contact: they are made vertices of both"
+              : touching > 0 ? "the meshes touch without crossing: the points of contact are made vertices of both"
+                             : "the meshes do not intersect (disjoint, or one inside the other): nothing to embed";
   }
 
   // Embed the same curves into both meshes, keeping every curve point.
@@ -1269,18 +1275,23 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     a = a0;
     b = b0;
     PairResult<K> again;
+    bool verified = false;
     try {  // the inputs passed the first run's checks: any error now is the redo's own
       again = pair_collapsing<K>(a, b, redo.options, true, redo.snap_vertices, redo.to_doubles);
+      again.stats.note = std::string(redo.what) + ": the result failed seam check's tests (" + tried + ")" +
+                         (again.stats.note.empty() ? "" : "; " + again.stats.note);
+      again.stats.stage_seconds["verify_output"] = result.stats.stage_seconds["verify_output"];
+      verified = internal::verify_outputs<K>(a0, b0, a, b, again, problem);
     } catch (const std::bad_alloc&) {
+      a = a0;
+      b = b0;
       throw;
     } catch (const std::exception& e) {  // seam's errors and CGAL's failures alike
       problem = std::string(redo.what) + ": " + e.what();
       continue;
     }
-    again.stats.note = std::string(redo.what) + ": the result failed seam check's tests (" + tried + ")" +
-                       (again.stats.note.empty() ? "" : "; " + again.stats.note);
-    again.stats.stage_seconds["verify_output"] = result.stats.stage_seconds["verify_output"];
-    if (internal::verify_outputs<K>(a0, b0, a, b, again, problem)) return again;
+    if (verified) return again;
+    problem = std::string(redo.what) + ": " + problem;
   }
   a = a0;
   b = b0;

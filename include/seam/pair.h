@@ -12,8 +12,9 @@
 // other) and both meshes receive the identical curve. Each piece is classified from the faces of
 // each mesh that contain it (exact tests): where the surfaces cross it is kept; where they only
 // touch along an edge (an edge of one lying in a face of the other) it is kept too: the outputs
-// meet along it, so it must be a curve of both; isolated points of contact are counted
-// (PairStats::touching_only when there is nothing else), not embedded; of a flat contact (coplanar
+// meet along it, so it must be a curve of both; an isolated point of contact is a curve of one
+// point, inserted into both meshes as a vertex (PairStats::touching_only when the inputs only
+// touch, PairStats::contact_points); of a flat contact (coplanar
 // faces overlapping) the boundary of the contact region is kept, and the ridges where it bends
 // (where two flat contacts meet at an angle). Pieces are chained into closed curves through
 // points where an even number of them meet (two curves touching); a curve ends only where an odd
@@ -96,7 +97,8 @@ struct PairStats {
   /// New vertices off the curves merged over an edge below 1e-9 of the pair's size (with snapping).
   std::size_t tiny_edges_collapsed = 0;
   double snap_tol = 0;  ///< the snapping tolerance in effect (pass at least this to `seam check --tol`)
-  /// True when the surfaces touch (a common point) without crossing: nothing to embed.
+  /// True when the input surfaces touch (at points) without crossing; the points of contact are
+  /// then the only curves (false when it is snapping that turned a slight crossing into them).
   bool touching_only = false;
   bool remeshed = false;  ///< the curves were coarsened and the meshes remeshed next to them
   /// Remeshing: attempts made, and curve points left as embedded (frozen) because remeshing next
