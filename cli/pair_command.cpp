@@ -117,7 +117,8 @@ int run_pair(const PairArgs& args) {
                        {"max_deviation", st.remesh_max_deviation}};
         j["contact"] = {{"patches", st.contact_patches},
                         {"shared_faces", st.shared_faces},
-                        {"patches_left", st.contact_patches_left}};
+                        {"patches_left", st.contact_patches_left},
+                        {"points", st.contact_points}};
         j["verified"] = st.verified;
         j["verify_tolerance"] = st.verify_tolerance;
         j["note"] = st.note;
