@@ -751,6 +751,18 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
   }
 
 
+  // After collapses of curve segments: both meshes' curves, the curve vertex count and the sizes.
+  auto recount_after_collapses = [&]() {
+    result.a.curves = result.b.curves = result.curves;
+    st.curve_vertices = 0;
+    for (const auto& c : result.curves) st.curve_vertices += is_closed(c) ? c.size() - 1 : c.size();
+    for (auto* r : {&result.a, &result.b}) {
+      const auto& m = r == &result.a ? a : b;
+      r->stats.output_vertices = m.number_of_vertices();
+      r->stats.output_faces = m.number_of_faces();
+      r->stats.curve_nodes_out = st.curve_vertices;
+    }
+  };
   // With a snapping tolerance, curve segments shorter than it are collapsed in both meshes at
   // once where that improves the angles and the meshes still meet only along the curves (see
   // internal/collapse.h): a crossing of A's edge next to a crossing of B's edge otherwise leaves
@@ -771,15 +783,7 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     st.tiny_edges_collapsed = cr.tiny_edges_collapsed;
     st.short_segments_left = cr.refused;
     if (cr.collapsed + cr.tiny_edges_collapsed > 0) {
-      result.a.curves = result.b.curves = result.curves;
-      st.curve_vertices = 0;
-      for (const auto& c : result.curves) st.curve_vertices += is_closed(c) ? c.size() - 1 : c.size();
-      for (auto* r : {&result.a, &result.b}) {
-        const auto& m = r == &result.a ? a : b;
-        r->stats.output_vertices = m.number_of_vertices();
-        r->stats.output_faces = m.number_of_faces();
-        r->stats.curve_nodes_out = st.curve_vertices;
-      }
+      recount_after_collapses();
     }
     st.stage_seconds["collapse"] = seconds_since(t);
     // Faces mapped back to the input faces, quality measured against the input's own angles.
@@ -1163,15 +1167,7 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     if (cr.collapsed + cr.tiny_edges_collapsed > 0) {
       st.tiny_edges_collapsed += cr.tiny_edges_collapsed;
       st.curve_vertices_collapsed += cr.collapsed;
-      result.a.curves = result.b.curves = result.curves;
-      st.curve_vertices = 0;
-      for (const auto& c : result.curves) st.curve_vertices += is_closed(c) ? c.size() - 1 : c.size();
-      for (auto* r : {&result.a, &result.b}) {
-        const auto& m = r == &result.a ? a : b;
-        r->stats.output_vertices = m.number_of_vertices();
-        r->stats.output_faces = m.number_of_faces();
-        r->stats.curve_nodes_out = st.curve_vertices;
-      }
+      recount_after_collapses();
     }
     st.stage_seconds["separate"] = seconds_since(t);
   }
