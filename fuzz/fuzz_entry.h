@@ -57,7 +57,7 @@ inline void polyline_reader(const std::uint8_t* data, std::size_t size) {
     const auto polylines = seam::parse_polylines(text, "fuzz");
     if (polylines.empty()) throw ContractViolation("parse_polylines returned no polyline");
     for (const auto& p : polylines)
-      if (p.size() < 2) throw ContractViolation("parse_polylines returned a polyline of fewer than 2 points");
+      if (p.empty()) throw ContractViolation("parse_polylines returned a polyline without points");
   } catch (const seam::Error&) {
   }
 }
