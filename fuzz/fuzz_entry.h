@@ -9,10 +9,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <seam/check.h>
 #include <seam/io.h>
 #include <seam/pair.h>
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <stdexcept>
@@ -95,8 +97,12 @@ inline bool decode_mesh(const std::uint8_t*& p, const std::uint8_t* end, seam::T
 
 /// The pair pipeline on two small meshes decoded from `data`: byte 0 the kernel (exact, filtered,
 /// float), byte 1 options (bit 0: automatic snapping, else none; bit 1: refinement to 20 degrees,
-/// else none), then the two meshes (see decode_mesh). Inputs that are not valid meshes (zero-area
-/// faces, self-intersections) are refused by the validation the CLI runs, as the CLI would.
+/// else none; bit 2: two more bytes follow, a scale 2^(3 s) and an offset +-2^(3 |o|) applied to
+/// both meshes, signed bytes, reaching 1e-115..1e115), then the two meshes (see decode_mesh).
+/// Inputs that are not valid meshes (zero-area faces, self-intersections) are refused by the
+/// validation the CLI runs, as the CLI would; meshes outside seam::SupportedCoordinates must be
+/// refused by seam::pair itself (InvalidInput, never a signal). A result must pass seam check
+/// as written (rounded to doubles, exact kernel) at the tolerance pair verified it at.
 inline void pair_pipeline(const std::uint8_t* data, std::size_t size) {
   const std::uint8_t* p = data;
   const std::uint8_t* end = data + size;
@@ -104,8 +110,45 @@ inline void pair_pipeline(const std::uint8_t* data, std::size_t size) {
   const int kernel = p[0] % 3;
   const std::uint8_t flags = p[1];
   p += 2;
+  double scale = 1, offset = 0;
+  if (flags & 4) {
+    if (end - p < 2) return;
+    scale = std::ldexp(1.0, 3 * int(static_cast<std::int8_t>(p[0])));
+    const int o = static_cast<std::int8_t>(p[1]);
+    offset = o == 0 ? 0.0 : std::copysign(std::ldexp(1.0, 3 * std::abs(o)), double(o));
+    p += 2;
+  }
   seam::TriangleSoup sa, sb;
   if (!decode_mesh(p, end, sa) || !decode_mesh(p, end, sb)) return;
+  for (auto* s : {&sa, &sb})
+    for (auto& point : s->points)
+      for (double& c : point) c = c * scale + offset;
+  bool in_range = true;
+  try {
+    for (const auto* s : {&sa, &sb}) seam::check_coordinate_range(s->points, "fuzz");
+  } catch (const seam::InvalidInput&) {
+    in_range = false;
+  }
+  if (!in_range) {  // refused by the library itself, before any arithmetic
+    seam::with_kernel(seam::KernelKind::exact, [&](auto k) {
+      using K = decltype(k);
+      // mesh_from_soup converts doubles exactly and checks only the connectivity.
+      seam::Mesh<K> a, b;
+      try {
+        a = seam::mesh_from_soup<K>(sa, "a");
+        b = seam::mesh_from_soup<K>(sb, "b");
+      } catch (const seam::InvalidInput&) {
+        return 0;
+      }
+      try {
+        seam::pair<K>(a, b, seam::PairOptions{});
+      } catch (const seam::InvalidInput&) {
+        return 0;
+      }
+      throw ContractViolation("pair accepted meshes outside the supported coordinates");
+    });
+    return;
+  }
   try {
     for (const auto* s : {&sa, &sb}) {
       seam::validate_triangle_mesh(*s, "fuzz");
@@ -124,7 +167,12 @@ inline void pair_pipeline(const std::uint8_t* data, std::size_t size) {
       auto a = seam::mesh_from_soup<K>(sa, "a");
       auto b = seam::mesh_from_soup<K>(sb, "b");
       const auto result = seam::pair<K>(a, b, options);
-      (void)result;
+      if (!result.stats.verified) throw ContractViolation("pair returned an unverified result");
+      const auto exact = [](const seam::TriangleSoup& s) { return seam::mesh_from_soup<seam::Exact>(s, "x"); };
+      const auto report = seam::check_pair<seam::Exact>(
+          exact(sa), exact(sb), exact(seam::soup_from_mesh<K>(a)), exact(seam::soup_from_mesh<K>(b)),
+          seam::to_kernel<seam::Exact>(seam::to_doubles<K>(result.curves)), result.stats.verify_tolerance);
+      if (!report.ok()) throw ContractViolation("pair's outputs, as written, fail seam check: " + report.problems.front());
     } catch (const seam::Error&) {
     }
     return 0;

@@ -311,7 +311,11 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
     tree.accelerate_distance_queries();
     const double scale = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
                                    CGAL::square(box.zmax() - box.zmin()));
-    const double slack = 1e-12 * (scale + 1.0);  // rounding of the double distance
+    // Rounding of the double distance: relative to the size, and a few units in the last place
+    // of the coordinates (which dominate for a small mesh far from the origin).
+    const double magnitude = std::max({std::abs(box.xmin()), std::abs(box.xmax()), std::abs(box.ymin()),
+                                       std::abs(box.ymax()), std::abs(box.zmin()), std::abs(box.zmax())});
+    const double slack = 1e-12 * scale + 64 * std::numeric_limits<double>::epsilon() * magnitude;
     std::size_t far = 0;
     std::size_t first_far = 0;
     double first_far_distance = 0;

@@ -1,5 +1,6 @@
 // seam::embed: the pipeline, step by step. See seam/embed.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/io.h>
 #include <seam/embed.h>
 #include <seam/internal/coarsen.h>
 #include <seam/internal/embed_known_sites.h>
@@ -337,6 +338,8 @@ EmbedResult<K> embed_with_known_sites(Mesh<K>& mesh, const std::vector<Polyline<
 
 template <class K>
 EmbedResult<K> embed(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, const EmbedOptions& options) {
+  check_coordinate_range<K>(mesh, "the mesh");
+  check_coordinate_range<K>(curves, "the curves");
   return internal::embed_with_known_sites<K>(mesh, curves, options, nullptr);
 }
 

@@ -27,6 +27,7 @@
 #include <iomanip>
 #include <limits>
 #include <locale>
+#include <sstream>
 #include <string_view>
 #include <system_error>
 #include <unordered_map>
@@ -992,12 +993,46 @@ TriangleSoup parse_triangle_mesh(std::string_view data, const std::string& forma
   return soup;
 }
 
+void check_coordinate_range(const std::vector<Point3d>& points, const std::string& name, bool whole_mesh) {
+  using R = SupportedCoordinates;
+  const auto text = [](double x) {
+    std::ostringstream os;
+    os.imbue(std::locale::classic());
+    os << std::setprecision(3) << x;
+    return os.str();
+  };
+  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, magnitude = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Point3d& p = points[i];
+    for (int c = 0; c < 3; ++c) {
+      if (!(std::abs(p[c]) <= R::max_magnitude))  // also NaN
+        invalid(name, (whole_mesh ? "vertex " : "point ") + std::to_string(i) + " has a coordinate " + text(p[c]) +
+                          ", beyond the supported magnitude " + text(R::max_magnitude) + " (scale the input down)");
+      lo[c] = i == 0 ? p[c] : std::min(lo[c], p[c]);
+      hi[c] = i == 0 ? p[c] : std::max(hi[c], p[c]);
+      magnitude = std::max(magnitude, std::abs(p[c]));
+    }
+  }
+  if (!whole_mesh || points.empty()) return;
+  // Rounded, as a size: the thresholds are many orders of magnitude from any rounding here.
+  const double extent = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                  (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  if (extent < R::min_extent)
+    invalid(name, "the mesh is " + text(extent) + " across, below the supported size " + text(R::min_extent) +
+                      " (scale the input up)");
+  if (extent < R::min_extent_to_position * magnitude)
+    invalid(name, "the mesh is " + text(extent) + " across but lies " + text(magnitude) +
+                      " from the origin: doubles cannot resolve it there (size below " +
+                      text(R::min_extent_to_position) + " of the position; translate it nearer the origin)");
+}
+
 void validate_triangle_mesh(const TriangleSoup& soup, const std::string& name) {
   const std::size_t nv = soup.points.size();
   const std::size_t nf = soup.triangles.size();
   if (nf == 0) invalid(name, "mesh has no triangles");
   for (std::size_t i = 0; i < nv; ++i)
     if (!finite3(soup.points[i])) invalid(name, "vertex " + std::to_string(i) + " has a non-finite coordinate");
+  check_coordinate_range(soup.points, name);
 
   // Per face: indices in range, no repeated vertex, non-zero area (exact test).
   for (std::size_t f = 0; f < nf; ++f) {
@@ -1106,6 +1141,7 @@ std::vector<std::vector<Point3d>> parse_polylines(std::string_view data, const s
         if (!parse_double(t, polyline[i][c])) invalid(path, where + quote(t) + " is not a number");
         if (!std::isfinite(polyline[i][c])) invalid(path, where + "non-finite coordinate");
       }
+    check_coordinate_range(polyline, path + ": " + where.substr(0, where.size() - 2), false);
     result.push_back(std::move(polyline));
   }
   if (result.empty()) invalid(path, "no polyline found");
@@ -1204,6 +1240,24 @@ template <class K> Mesh<K> mesh_from_soup(const TriangleSoup& soup, const std::s
   return mesh;
 }
 
+template <class K> void check_coordinate_range(const Mesh<K>& mesh, const std::string& name) {
+  std::vector<Point3d> points;
+  points.reserve(mesh.number_of_vertices());
+  for (auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    points.push_back({CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())});
+  }
+  check_coordinate_range(points, name);
+}
+
+template <class K> void check_coordinate_range(const std::vector<Polyline<K>>& curves, const std::string& name) {
+  for (std::size_t i = 0; i < curves.size(); ++i) {
+    std::vector<Point3d> points;
+    for (const auto& p : curves[i]) points.push_back({CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())});
+    check_coordinate_range(points, name + ": curve " + std::to_string(i), false);
+  }
+}
+
 template <class K> TriangleSoup soup_from_mesh(const Mesh<K>& mesh) {
   TriangleSoup soup;
   constexpr std::size_t none = std::numeric_limits<std::size_t>::max();
@@ -1258,7 +1312,9 @@ template <class K> std::vector<std::vector<Point3d>> to_doubles(const std::vecto
 }
 
 #define SEAM_INSTANTIATE_IO(K)                                                                     \
-  template Mesh<K> mesh_from_soup<K>(const TriangleSoup&, const std::string&);                     \
+  template Mesh<K> mesh_from_soup<K>(const TriangleSoup&, const std::string&); \
+  template void check_coordinate_range<K>(const Mesh<K>&, const std::string&);                      \
+  template void check_coordinate_range<K>(const std::vector<Polyline<K>>&, const std::string&);                     \
   template TriangleSoup soup_from_mesh<K>(const Mesh<K>&);                                         \
   template std::vector<Polyline<K>> to_kernel<K>(const std::vector<std::vector<Point3d>>&);        \
   template std::vector<std::vector<Point3d>> to_doubles<K>(const std::vector<Polyline<K>>&);

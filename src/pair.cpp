@@ -1,5 +1,6 @@
 // seam::pair: two tows, one interface. See seam/pair.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/io.h>
 #include <seam/internal/flat_contacts.h>
 #include <seam/internal/collapse.h>
 #include <seam/internal/contact_points.h>
@@ -547,7 +548,9 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
   st.snap_tol = snap_tol;
   // With snapping, the inputs are kept: the snapped result is checked against them (and done again
   // without snapping if it fails), and remeshing must stay within the snapping tolerance of them.
-  const bool remesh = options.remesh_near_curves && snap_tol > 0;
+  // The remeshing works to an edge length, not to an area: with --max-area the faces are left as
+  // the re-triangulation bounded them (checking and redoing a remeshing it undoes took minutes).
+  const bool remesh = options.remesh_near_curves && snap_tol > 0 && !(options.embed.max_area > 0);
   std::optional<Mesh<K>> input_a, input_b;
   if (snap_tol > 0) {
     input_a = a;
@@ -1230,6 +1233,8 @@ PairResult<K> pair_collapsing(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
 }  // namespace
 
 template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions& options) {
+  check_coordinate_range<K>(a, "A");
+  check_coordinate_range<K>(b, "B");
   if (!options.verify_output) return pair_collapsing<K>(a, b, options, true);
   const Mesh<K> a0 = a, b0 = b;
   PairResult<K> result = pair_collapsing<K>(a, b, options, true);

@@ -20,6 +20,7 @@
 //    the mesh's resolution there).
 //
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/io.h>
 #include <seam/internal/coarsen.h>
 #include <seam/internal/snap.h>
 #include <seam/internal/trace.h>
@@ -671,6 +672,9 @@ std::optional<PairResult<K>> pair_onto_given(Mesh<K>& a, Mesh<K>& b, const std::
 template <class K>
 PairResult<K> pair_with_curves(Mesh<K>& a, Mesh<K>& b, const std::vector<Polyline<K>>& curves,
                                const PairOptions& options) {
+  check_coordinate_range<K>(a, "A");
+  check_coordinate_range<K>(b, "B");
+  check_coordinate_range<K>(curves, "the given curves");
   for (std::size_t c = 0; c < curves.size(); ++c)
     if (curves[c].size() < 2) {
       std::ostringstream msg;

@@ -124,6 +124,23 @@ double constrained_wedge_deg(const CDT& cdt, typename CDT::Face_handle f, int i,
   return total;
 }
 
+/// Whether `point` (in face `hint`) lies in the closed diametral disk of a constrained edge on the
+/// boundary of its conflict zone (the edges it would see after insertion). Rounded, as the
+/// candidate points are.
+template <class CDT> bool encroaches_constraint(const CDT& cdt, const typename CDT::Point& point,
+                                                typename CDT::Face_handle hint) {
+  std::vector<typename CDT::Face_handle> zone;
+  std::vector<typename CDT::Edge> boundary;
+  cdt.get_conflicts_and_boundary(point, std::back_inserter(zone), std::back_inserter(boundary), hint);
+  const auto p = xy(point);
+  for (const auto& [f, i] : boundary) {
+    if (!f->is_constrained(i)) continue;
+    const auto a = xy(f->vertex(cdt.cw(i))->point()), b = xy(f->vertex(cdt.ccw(i))->point());
+    if ((a[0] - p[0]) * (b[0] - p[0]) + (a[1] - p[1]) * (b[1] - p[1]) <= 0) return true;
+  }
+  return false;
+}
+
 /// Delaunay refinement that never splits a constrained edge (the face's edges and the curve).
 /// CGAL's Delaunay_mesher_no_edge_refinement_2 rejects every point that encroaches on a
 /// constrained edge, and in a face bounded by constraints on all sides every circumcenter does,
@@ -251,6 +268,12 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
       }
     }
     if (!found) continue;  // give this one up
+    // A point inserted for the area bound alone must not encroach on a constrained edge (lie in
+    // its diametral disk, seeing it at 90 degrees or more): that edge cannot be split here, and
+    // such points are what made slivers of 1e-14 degrees against the curve under --max-area.
+    // So the area bound holds wherever no unsplittable edge forces a larger triangle, and each
+    // such point stays at least half an edge's length from every constraint it sees.
+    if (!angle_bad && encroaches_constraint(cdt, P, fh)) continue;
     const VH vh = cdt.insert(P, fh);
     ++inserted;
     auto fc = cdt.incident_faces(vh), done = fc;

@@ -1,5 +1,6 @@
 // seam::textile: all pairs of a unit cell, in parallel. See seam/textile.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/io.h>
 #include <seam/internal/provenance.h>
 #include <seam/internal/snap.h>
 #include <seam/pair.h>
@@ -315,6 +316,7 @@ TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::st
   for (std::size_t i = 0; i < meshes.size(); ++i)
     if (!CGAL::is_triangle_mesh(meshes[i]) || meshes[i].is_empty())
       throw InvalidInput(names[i] + ": not a triangle mesh");
+  for (std::size_t i = 0; i < meshes.size(); ++i) check_coordinate_range<K>(meshes[i], names[i]);
 
   TextileResult<K> result;
   TextileStats& st = result.stats;

@@ -125,6 +125,17 @@ std::vector<BadMesh> bad_meshes() {
        "non-manifold"},
       {"zero-area face", "flat.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0.5 0 0\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",
        "zero area"},
+      // Outside seam::SupportedCoordinates (GMP was handed an infinity there: SIGFPE).
+      {"coordinates beyond 1e30", "huge.off",
+       "OFF\n4 4 0\n0 0 0\n1e80 0 0\n0 1e80 0\n0 0 1e80\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",
+       "beyond the supported magnitude"},
+      {"a mesh below 1e-30 across", "tiny.off",
+       "OFF\n4 4 0\n0 0 0\n1e-150 0 0\n0 1e-150 0\n0 0 1e-150\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",
+       "below the supported size"},
+      {"a small mesh far from the origin", "far.off",
+       "OFF\n4 4 0\n1e15 1e15 1e15\n1000000000000001 1e15 1e15\n1e15 1000000000000001 1e15\n"
+       "1e15 1e15 1000000000000001\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",
+       "translate it nearer the origin"},
   };
 }
 
@@ -222,6 +233,7 @@ TEST_CASE("contract: bad polylines for pair --curves and check CURVES give exit 
       {"wrong count", "3 0.2 0.2 0 0.5 0.2 0\n", "expected 9 coordinates"},
       {"NaN", "2 0.2 0.2 0 nan 0.2 0\n", "non-finite"},
       {"no points", "0\n", "at least 1 point"},
+      {"a point beyond 1e30", "2 0.2 0.2 0 1e308 0.2 0\n", "beyond the supported magnitude"},
       {"no polyline", "# nothing\n", "", false},  // seam check without curves is valid
       {"empty", "", "empty", false},
       {"far from the surfaces", "2 0.3 0.3 50 0.5 0.3 50\n", "", false},

@@ -144,11 +144,14 @@ TEST_CASE("real-like: a terraced tow against turned and shifted copies comes out
                                    {"shifted along x", turned_copy(t, 0, 0, 0, {0.3, 0, 0}), true},
                                    {"turned 30 degrees and raised one step", turned_copy(t, 30, 0, 0, {0, 0, 0.05}), false}};
   for (const auto& cs : cases) {
+    // Sanitized: the first two cases, default snapping only (600 s otherwise).
+    if (seam_test::sanitized_build && &cs - cases.data() >= 2) break;
     INFO(cs.name);
     const Mesh a = seam::mesh_from_soup<K>(t, "a"), b = seam::mesh_from_soup<K>(cs.b, "b");
     // The inputs overlap in common planes: both seam check and TetGen reject them as they are.
     CHECK(tetgen_pairs(a, b, dir) > 0);
     for (double snap : {0.0, -1.0}) {
+      if (seam_test::sanitized_build && snap == 0.0) continue;
       INFO("snap_tol " << snap);
       Mesh a2 = a, b2 = b;
       seam::PairOptions o;
@@ -176,7 +179,10 @@ TEST_CASE("real-like: seam check and tetgen -d agree on every pair, passing or f
   // reject them).
   seam_test::TempDir dir("seam_test_agree");
   std::size_t flipped_cases = 0;
-  for (const auto& p : cross_validation_pairs()) {
+  const auto pairs = cross_validation_pairs();
+  for (const auto& p : pairs) {
+    // Sanitized: two flat contacts and the turned smooth tow (580 s for all six).
+    if (seam_test::sanitized_build && (&p - pairs.data()) % 2 == 1) continue;
     INFO(p.name);
     const Mesh a = seam::mesh_from_soup<K>(p.a, "a"), b = seam::mesh_from_soup<K>(p.b, "b");
     {

@@ -15,6 +15,23 @@
 
 namespace seam_test {
 
+/// True in the AddressSanitizer build (scripts/test.sh --sanitize, clang), where the heaviest
+/// end-to-end tests run a subset of their cases to stay within ctest's timeout; the Release
+/// build runs them all.
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define SEAM_TEST_SANITIZED 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define SEAM_TEST_SANITIZED 1
+#endif
+#ifdef SEAM_TEST_SANITIZED
+inline constexpr bool sanitized_build = true;
+#else
+inline constexpr bool sanitized_build = false;
+#endif
+
 namespace fs = std::filesystem;
 
 inline std::string read_bytes(const std::string& path) {

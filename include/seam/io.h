@@ -40,8 +40,30 @@ TriangleSoup read_triangle_mesh(const std::string& path);
 /// case-insensitive), `name` starts every message. Parses and validates; never reads a file.
 TriangleSoup parse_triangle_mesh(std::string_view data, const std::string& format, const std::string& name);
 
+/// The coordinates seam computes with (README, "Supported coordinates"). Exact predicates and
+/// constructions start from interval arithmetic on doubles; products of up to about ten
+/// coordinate differences must stay finite and normal there, or GMP is handed an infinity.
+/// So: no coordinate beyond 1e30 in magnitude, no mesh smaller than 1e-30 across, and no mesh
+/// smaller than 1e-7 of its distance from the origin (there a double's unit in the last place
+/// is above 1e-9 of the mesh's size: rounding the outputs to doubles could move a vertex by
+/// more than half the vertex separation of seam check).
+struct SupportedCoordinates {
+  static constexpr double max_magnitude = 1e30;
+  static constexpr double min_extent = 1e-30;
+  static constexpr double min_extent_to_position = 1e-7;
+};
+
+/// Throws InvalidInput naming `name` when `points` lie outside SupportedCoordinates: a
+/// coordinate beyond max_magnitude; when `whole_mesh`, also a bounding box diagonal below
+/// min_extent or below min_extent_to_position of the largest coordinate's magnitude.
+void check_coordinate_range(const std::vector<Point3d>& points, const std::string& name, bool whole_mesh = true);
+
+/// The same on a mesh (coordinates rounded to doubles), and on curves (magnitude only).
+template <class K> void check_coordinate_range(const Mesh<K>& mesh, const std::string& name);
+template <class K> void check_coordinate_range(const std::vector<Polyline<K>>& curves, const std::string& name);
+
 /// Checks that `soup` is a valid oriented 2-manifold triangle mesh (with or without boundary):
-/// at least one triangle; finite coordinates; indices in range; no repeated index in a
+/// at least one triangle; finite coordinates within SupportedCoordinates; indices in range; no repeated index in a
 /// triangle; no zero-area (collinear, exact test) triangle; every edge used by at most two
 /// triangles, in opposite directions (consistent orientation); every vertex's triangles form
 /// one fan (no non-manifold vertex); no unreferenced vertex is an error either (they are
