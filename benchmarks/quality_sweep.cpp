@@ -104,12 +104,12 @@ void run(const char* set, const std::vector<Case>& cases, double snap_factor) {
       const std::size_t nf = report.new_faces_a + report.new_faces_b;
       const std::size_t n10 = report.below_10_a + report.below_10_b, n20 = report.below_20_a + report.below_20_b;
       faces += nf, b10 += n10, b20 += n20;
-      verified += is_verified, remeshed += r.stats.remeshed;
+      verified += is_verified, remeshed += r.stats.improved;
       worst = std::min({worst, report.min_angle_deg_a, report.min_angle_deg_b});
-      std::printf("{\"set\": \"%s\", \"case\": \"%s\", \"ok\": %s, \"verified\": %s, \"remeshed\": %s, \"new_faces\": %zu, "
+      std::printf("{\"set\": \"%s\", \"case\": \"%s\", \"ok\": %s, \"verified\": %s, \"improved\": %s, \"shortfalls\": %zu, \"new_faces\": %zu, "
                   "\"below_10\": %zu, \"below_20\": %zu, \"curves\": %zu, \"closed\": %zu, \"seconds\": %.2f, \"note\": %s}\n",
                   set, c.name.c_str(), report.ok() ? "true" : "false", is_verified ? "true" : "false",
-                  r.stats.remeshed ? "true" : "false", nf, n10, n20, r.stats.curves, r.stats.closed_curves, seconds,
+                  r.stats.improved ? "true" : "false", r.stats.improve.shortfalls.size(), nf, n10, n20, r.stats.curves, r.stats.closed_curves, seconds,
                   quoted(r.stats.note).c_str());
     } catch (const std::exception& e) {
       ++failed;

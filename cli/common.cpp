@@ -52,6 +52,35 @@ void write_all_or_nothing(const std::function<void(std::vector<std::string>& wri
   }
 }
 
+nlohmann::json improve_json(const seam::ImproveStats& s, bool done, const std::vector<std::string>& mesh_names) {
+  nlohmann::json causes = nlohmann::json::object(), faces = nlohmann::json::array();
+  for (const auto& f : s.shortfalls) {
+    const std::string cause = seam::shortfall_cause_name(f.cause);
+    causes[cause] = causes.value(cause, 0) + 1;
+    faces.push_back({{"mesh", f.mesh < mesh_names.size() ? mesh_names[f.mesh] : std::to_string(f.mesh)},
+                     {"face", f.face},
+                     {"min_angle", f.min_angle_deg},
+                     {"cause", cause}});
+  }
+  return {{"done", done},
+          {"band_faces", s.band_faces},
+          {"flips", s.flips},
+          {"insertions", s.insertions},
+          {"curve_splits", s.curve_splits},
+          {"edge_splits", s.edge_splits},
+          {"merges", s.merges},
+          {"moves_onto_curves", s.moves_onto_curves},
+          {"faces_absorbed", s.faces_absorbed},
+          {"refused", {{"tolerance", s.refused_tolerance}, {"crossing", s.refused_crossing}, {"shape", s.refused_shape}}},
+          {"below_bound_before", s.below_bound_before},
+          {"below_bound_after", s.below_bound_after},
+          {"min_angle_before", s.min_angle_deg_before},
+          {"min_angle_after", s.min_angle_deg_after},
+          {"shortfalls", causes},
+          {"shortfall_faces", faces},
+          {"seconds", s.seconds}};
+}
+
 nlohmann::json stats_json(const seam::EmbedStats& s) {
   nlohmann::json j;
   j["kernel"] = s.kernel;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <seam/embed.h>
+#include <seam/improve.h>
 #include <seam/io.h>
 
 #include <CLI/CLI.hpp>
@@ -45,6 +46,11 @@ void write_all_or_nothing(const std::function<void(std::vector<std::string>& wri
 
 /// The JSON of an embedding's statistics (the keys documented in the README).
 nlohmann::json stats_json(const seam::EmbedStats& s);
+
+/// The JSON of the quality stage's report (the keys documented in the README): counts of edits
+/// and refusals, the band's angles before and after, and each face left below the bound with its
+/// cause (mesh names from `mesh_names`).
+nlohmann::json improve_json(const seam::ImproveStats& s, bool done, const std::vector<std::string>& mesh_names);
 
 /// Writes JSON atomically; file names need not be UTF-8 (invalid bytes are replaced).
 void write_json(const nlohmann::json& j, const std::string& path);

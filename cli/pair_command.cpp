@@ -98,23 +98,13 @@ int run_pair(const PairArgs& args) {
           curves.push_back({{"vertices", seam::is_closed(c) ? c.size() - 1 : c.size()}, {"closed", seam::is_closed(c)}});
         j["curves"] = {{"count", st.curves}, {"vertices", st.curve_vertices}, {"closed", st.closed_curves},
                        {"list", curves}};
-        j["snap"] = {{"snap_tol", st.snap_tol},
-                     {"vertices_snapped_a", st.vertices_snapped_a},
-                     {"vertices_snapped_b", st.vertices_snapped_b},
-                     {"edges_snapped_a", st.edges_snapped_a},
-                     {"edges_snapped_b", st.edges_snapped_b},
-                     {"curve_vertices_collapsed", st.curve_vertices_collapsed},
-                     {"short_segments_left", st.short_segments_left},
-                     {"tiny_edges_collapsed", st.tiny_edges_collapsed},
-                     {"snaps_refused", st.snaps_refused}};
+        j["tolerance"] = st.snap_tol;
+        j["separate"] = {{"curve_vertices_collapsed", st.curve_vertices_collapsed},
+                         {"tiny_edges_collapsed", st.tiny_edges_collapsed}};
         j["touching_only"] = st.touching_only;
         j["given_curves"] = st.given_curves;
         j["max_curve_move"] = st.max_curve_move;
-        j["remeshed"] = st.remeshed;
-        j["remesh"] = {{"done", st.remeshed},
-                       {"attempts", st.remesh_attempts},
-                       {"curve_vertices_frozen", st.curve_vertices_frozen},
-                       {"max_deviation", st.remesh_max_deviation}};
+        j["improve"] = improve_json(st.improve, st.improved, {"A", "B"});
         j["contact"] = {{"patches", st.contact_patches},
                         {"shared_faces", st.shared_faces},
                         {"patches_left", st.contact_patches_left},
@@ -131,11 +121,13 @@ int run_pair(const PairArgs& args) {
     const auto& qa = result.a.stats;
     const auto& qb = result.b.stats;
     std::cout << "seam pair: " << st.curves << " curve(s) (" << st.closed_curves << " closed), " << st.curve_vertices
-              << " shared vertices; " << (st.vertices_snapped_a + st.vertices_snapped_b + st.edges_snapped_a + st.edges_snapped_b)
-              << " vertices snapped (snap tolerance " << st.snap_tol << "); A: "
+              << " shared vertices; A: "
               << qa.faces_crossed << " faces -> " << qa.faces_added << " (min angle " << qa.min_angle_deg_new
               << "), B: " << qb.faces_crossed << " faces -> " << qb.faces_added << " (min angle "
               << qb.min_angle_deg_new << ")";
+    if (st.improved)
+      std::cout << "; quality stage (tolerance " << st.snap_tol << "): " << st.improve.below_bound_after << " of the band's faces below "
+                << args.options.embed.min_angle_deg << " degrees (" << st.improve.shortfalls.size() << " new ones)";
     if (st.shared_faces > 0)
       std::cout << "; " << st.shared_faces << " faces shared by both (" << st.contact_patches << " flat contacts)";
     if (st.verified) std::cout << "; verified (seam check --tol " << st.verify_tolerance << ")";
@@ -153,8 +145,8 @@ Command add_pair_command(CLI::App& app) {
   PairArgs& pa = *args;
   auto* cmd = app.add_subcommand(
       "pair",
-      "Make two interpenetrating triangle meshes conforming: compute their intersection curves exactly, snap nearby "
-      "vertices onto them, and embed the same curves into both, so that both outputs share every curve vertex "
+      "Make two interpenetrating triangle meshes conforming: compute their intersection curves exactly, embed the "
+      "same curves into both, refine the faces next to them to an angle bound, so that both outputs share every curve vertex "
       "(bit-identical coordinates) and every curve edge.");
   cmd->add_option("A", pa.a, "First input mesh (.off, .obj, .ply, .stl)")->required();
   cmd->add_option("B", pa.b, "Second input mesh")->required();
@@ -171,20 +163,16 @@ Command add_pair_command(CLI::App& app) {
   cmd->add_option("--kernel", pa.kernel, "exact (Epeck, default), filtered (Epick) or float (double)")
       ->check(CLI::IsMember({"exact", "filtered", "float"}));
   cmd->add_option("--snap-tol", pa.options.embed.snap_tol,
-                  "Move vertices of either mesh within this distance of an intersection point onto it, then compute "
-                  "the curves again; 0 disables (default: 0.1 x the smaller mean edge length)");
+                  "Tolerance of the quality stage: how far a changed face may lie from its input surface and a vertex "
+                  "may move (onto a curve, say); 0: only edits that keep the surfaces (default: 0.1 x the smaller mean "
+                  "edge length)");
   cmd->add_option("--min-angle", pa.options.embed.min_angle_deg,
-                  "Minimum angle (degrees, 0..60) refinement aims for in re-triangulated faces (default: 20)");
-  cmd->add_option("--max-area", pa.options.embed.max_area, "Largest area of a new triangle; 0: no bound");
+                  "The angle bound (degrees, 0..60): faces next to the curves below it are refined (default: 20)");
+  cmd->add_option("--max-area", pa.options.embed.max_area,
+                  "Largest area of a new triangle; 0: no bound (no quality stage then: it works to angles)");
   cmd->add_flag_callback(
-      "--no-collapse", [&pa] { pa.options.collapse_short_segments = false; },
-      "Keep curve segments shorter than the snapping tolerance (by default they are collapsed in both meshes "
-      "where that improves the angles)");
-  cmd->add_flag_callback(
-      "--no-remesh", [&pa] { pa.options.remesh_near_curves = false; },
-      "Keep the curves as embedded (by default, with snapping, they are coarsened to about the edge length and "
-      "both meshes remeshed next to them, wherever the result still meets only along the curves)");
-  cmd->add_flag("--remesh", pa.options.remesh_near_curves, "The default (kept for compatibility)");
+      "--no-improve,--no-remesh", [&pa] { pa.options.improve = false; },
+      "Keep the curves as embedded, without the quality stage");
   return {cmd, [args] { return run_pair(*args); }};
 }
 

@@ -422,12 +422,10 @@ PairResult<K> pair_given_once(Mesh<K>& a, Mesh<K>& b, const std::vector<Polyline
 
   // ---- 1. snap both meshes onto the curve nodes
   auto t = Clock::now();
+  std::size_t snapped_a = 0, snapped_b = 0;
   if (snap_tol > 0) {
-    const auto sa = internal::snap_vertices<K>(a, curves, snap_tol);
-    const auto sb = internal::snap_vertices<K>(b, curves, snap_tol);
-    st.vertices_snapped_a = sa.snapped;
-    st.vertices_snapped_b = sb.snapped;
-    st.snaps_refused = sa.refused + sb.refused;
+    snapped_a = internal::snap_vertices<K>(a, curves, snap_tol).snapped;
+    snapped_b = internal::snap_vertices<K>(b, curves, snap_tol).snapped;
   }
   st.stage_seconds["snap"] = seconds_since(t);
 
@@ -531,8 +529,8 @@ PairResult<K> pair_given_once(Mesh<K>& a, Mesh<K>& b, const std::vector<Polyline
     throw InvalidInput(std::string("mesh B: ") + e.what());
   }
   st.stage_seconds["embed_b"] = seconds_since(t);
-  result.a.stats.vertices_snapped = st.vertices_snapped_a;
-  result.b.stats.vertices_snapped = st.vertices_snapped_b;
+  result.a.stats.vertices_snapped = snapped_a;
+  result.b.stats.vertices_snapped = snapped_b;
 
   // ---- 5. both meshes' curve vertices onto the given curve, the faces around them along
   t = Clock::now();
@@ -587,12 +585,13 @@ PairResult<K> pair_given_once(Mesh<K>& a, Mesh<K>& b, const std::vector<Polyline
 /// a face would fold, or the meshes do not intersect.
 template <class K>
 std::optional<PairResult<K>> pair_onto_given(Mesh<K>& a, Mesh<K>& b, const std::vector<Polyline<K>>& given,
-                                             const PairOptions& options, std::string& why) {
+                                             const PairOptions& options, bool improve_before_move, std::string& why) {
   using FT = typename K::FT;
   using Point = typename K::Point_3;
   using FS = Filtered::Segment_3;
   PairOptions o = options;
   o.verify_output = false;  // (the caller verifies the moved result)
+  o.improve = improve_before_move;
   PairResult<K> r = pair<K>(a, b, o);
   if (r.curves.empty()) {
     why = "the meshes do not intersect";
@@ -666,6 +665,8 @@ std::optional<PairResult<K>> pair_onto_given(Mesh<K>& a, Mesh<K>& b, const std::
   }
   r.curves = moved;
   st.given_curves = true;
+  // The quality stage on the moved meshes (they are its input surfaces).
+  if (options.improve && !(options.embed.max_area > 0)) improve_pair<K>(a, b, r, options);
   return r;
 }
 
@@ -690,17 +691,12 @@ PairResult<K> pair_with_curves(Mesh<K>& a, Mesh<K>& b, const std::vector<Polylin
     a = a0;
     b = b0;
   };
-  // 1. The computed intersection moved onto the given curves: with the options' snapping, then
-  //    without it (or, asked for none, with the default snapping: the given curves move the
-  //    surfaces by more than that anyway, and its collapses of short curve segments remove the
-  //    slivers the move would fold).
-  PairOptions no_snap = options, default_snap = options;
-  no_snap.embed.snap_tol = 0;
-  default_snap.embed.snap_tol = -1;
-  const bool snapping = options.embed.snap_tol != 0;
-  for (const PairOptions* o : std::vector<const PairOptions*>{&options, snapping ? &no_snap : &default_snap}) {
+  // 1. The computed intersection moved onto the given curves: embedded and improved first (the
+  //    quality stage removes the slivers that the move would fold), then, failing that, as
+  //    embedded; the quality stage runs again after the move (as the options say).
+  for (const bool improve_first : {true, false}) {
     std::string why;
-    if (auto r = pair_onto_given<K>(a, b, curves, *o, why)) {
+    if (auto r = pair_onto_given<K>(a, b, curves, options, improve_first, why)) {
       if (passes(*r)) {
         if (!tried.empty()) r->stats.note = tried + (r->stats.note.empty() ? "" : "; " + r->stats.note);
         return std::move(*r);
@@ -708,12 +704,15 @@ PairResult<K> pair_with_curves(Mesh<K>& a, Mesh<K>& b, const std::vector<Polylin
       why = problem;
     }
     tried += (tried.empty() ? "" : "; ") +
-             std::string(o->embed.snap_tol == 0 ? "without snapping, " : "with snapping, ") +
+             std::string(improve_first ? "improved, then " : "as embedded, then ") +
              "the computed intersection moved onto the given curves failed (" + why + ")";
     restore();
   }
   // 2. The given curves followed on each mesh (see the top of this file), with snapping, then
   //    without where a face would fold.
+  PairOptions no_snap = options;
+  no_snap.embed.snap_tol = 0;
+  const bool snapping = options.embed.snap_tol != 0;
   std::optional<PairResult<K>> result;
   try {
     try {
@@ -728,6 +727,7 @@ PairResult<K> pair_with_curves(Mesh<K>& a, Mesh<K>& b, const std::vector<Polylin
     restore();
     throw FoldError(std::string(e.what()) + " (before: " + tried + ")");
   }
+  if (options.improve && !(options.embed.max_area > 0)) improve_pair<K>(a, b, *result, options);
   result->stats.note = tried + (result->stats.note.empty() ? "" : "; " + result->stats.note);
   if (passes(*result)) return std::move(*result);
   restore();

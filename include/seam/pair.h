@@ -20,34 +20,33 @@
 // points where an even number of them meet (two curves touching); a curve ends only where an odd
 // number meet (the corner of a flat contact, say).
 //
-// Flat contacts: after the embedding, the faces of both meshes in each planar contact patch are
-// replaced by one common constrained Delaunay triangulation (internal/flat_contacts.h), so that
-// the two outputs hold the same triangles there (shared faces, bit-identical) and the merged
-// outputs are a valid piecewise-linear complex. No later step changes a shared face.
-//
-// Verification (PairOptions::verify_output): the outputs, rounded to doubles as they are
-// written, are checked with seam::check_pair under the exact kernel at
-// PairStats::verify_tolerance. If they fail, the pair is done again without snapping (still
-// remeshed), then without snapping or remeshing, then snapped at the vertex separation of
-// seam check (check 5) onto the curves' exact points, then onto those points rounded to
-// doubles; if every run fails, the meshes are restored and InternalError says what each run
-// failed. A result is therefore always one that `seam check` accepts.
-//
-// Snapping (report step 1), when snap_tol > 0: vertices of either mesh within snap_tol of a curve
-// point move onto it (a move that would flip or flatten a face is refused), and the curves are
-// computed again on the moved surfaces; crossings next to vertices become curves through vertices.
-// Snapping is undone (PairStats::note says so) when it turns a crossing into a touching contact
-// (a vertex a few units in the last place inside the other surface), when the curves of the
-// snapped surfaces cannot be embedded, or when the snapped result fails seam check's tests
-// (a moved vertex can make a surface meet itself): the run is then done again without snapping
-// (first, when short curve segments were collapsed, with snapping but without the collapses).
-// With snapping, the curves are then coarsened and both meshes remeshed next to them
-// (PairOptions::remesh_near_curves).
+// The pipeline, one stage after the other (src/pair.cpp):
+//   1. intersect   the exact intersection curves (above);
+//   2. embed       into both meshes at once (seam::embed, every curve point kept), and the isolated
+//                  points of contact made vertices of both;
+//   3. contacts    each flat contact becomes one common constrained Delaunay triangulation in both
+//                  meshes (internal/flat_contacts.h): the same triangles there (shared faces,
+//                  bit-identical), so that the merged outputs are a valid piecewise-linear complex;
+//                  no later stage changes a shared face;
+//   4. improve     the quality stage (seam/improve.h) on both meshes at once, within the snapping
+//                  tolerance: Delaunay refinement of the band around the curves with a stated
+//                  bound, every edit checked by one acceptance predicate; curve segments split in
+//                  both meshes alike, vertices within the tolerance of a curve moved onto it (the
+//                  report's step 1, done where it mends a face), short edges merged;
+//   5. separate    edges shorter than min_vertex_separation of the pair's size collapse (TetGen
+//                  merges points that close);
+//   6. verify      the outputs, rounded to doubles as they are written, checked with
+//                  seam::check_pair under the exact kernel at PairStats::verify_tolerance. If they
+//                  fail, the meshes as they were before stage 4 are verified instead (the exact
+//                  embedding, no quality stage); if those fail too, the inputs are restored and
+//                  InternalError says what failed. A result is therefore always one that
+//                  `seam check` accepts.
 //
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
 #include <seam/embed.h>
+#include <seam/improve.h>
 
 #include <string>
 #include <vector>
@@ -55,59 +54,32 @@
 namespace seam {
 
 struct PairOptions {
-  /// Options of the embedding into each mesh. snap_tol < 0: automatic, 0.1 x the smaller of the
-  /// two mean edge lengths; 0 disables snapping. curve_tol and max_distance are not used with
+  /// Options of the embedding into each mesh: min_angle_deg (also the quality stage's bound),
+  /// max_area, max_steiner_per_face. snap_tol is the quality stage's tolerance (how far a changed
+  /// face may lie from its input surface): < 0 automatic, 0.1 x the smaller of the two mean edge
+  /// lengths; 0: only edits that keep the surfaces. curve_tol and max_distance are not used with
   /// computed curves.
   EmbedOptions embed;
-  /// With snapping (on by default): after embedding, coarsen the shared curves to about the
-  /// smaller mean edge length (chords within snap_tol of the curve) and remesh both meshes next to
-  /// them (see internal/improve.h). Remeshed faces that stray farther than snap_tol from their
-  /// input surface get their edges split, the new vertices on the input surface; then vertices
-  /// inside the band are smoothed and edges between remeshed faces flipped where that raises the
-  /// smallest angle (within the tolerance). Every attempt is
-  /// checked with seam::check_pair's own tests on the faces that changed (valid, no
-  /// self-intersection, meeting only along the curves) and against the inputs (no remeshed face
-  /// farther than snap_tol from its input surface, sampled). Where it fails, all embedded curve
-  /// points near the failing faces are kept, then, if it fails there again, the curve there is
-  /// frozen (left as embedded); up to 12 attempts, then the remeshing is undone altogether
-  /// (PairStats::note says so). Not done when EmbedOptions::max_area is set: the remeshing works
-  /// to an edge length and would undo the area bound. With the steps on thin faces that follow (see pair.cpp), measured
-  /// on 72 generated crossovers (resolutions 5-24): none of 43,358 new faces below 10 degrees and
-  /// 0.20% below 20, instead of 17.0% and 40.8% without remeshing (README, stop 17).
-  bool remesh_near_curves = true;
-  /// With snapping: collapse curve segments shorter than the snapping tolerance in both meshes
-  /// where that improves the angles (see internal/collapse.h). Edges below 1e-9 of the pair's
-  /// size are collapsed even when this is off: written in doubles, their faces would be flat.
-  bool collapse_short_segments = true;
-  /// Check the outputs as they will be written (rounded to doubles) with seam::check_pair under
-  /// the exact kernel, at PairStats::verify_tolerance. If they fail and vertices were snapped,
-  /// the pair is done again without snapping and checked again; if that fails too, the meshes
-  /// are restored and InternalError says what failed. So a result is always one `seam check`
-  /// accepts. (Off only for measurements.)
+  /// Run the quality stage (seam/improve.h). Not run when EmbedOptions::max_area is set: it works
+  /// to angles and would not keep the area bound.
+  bool improve = true;
+  /// The quality stage's other options (its tolerance and angle bound come from `embed`).
+  ImproveOptions quality;
+  /// Check the outputs as they will be written (stage 6). Off only for measurements.
   bool verify_output = true;
 };
 
 struct PairStats {
   std::size_t curves = 0, curve_vertices = 0, closed_curves = 0;
-  std::size_t vertices_snapped_a = 0, vertices_snapped_b = 0, snaps_refused = 0;
-  /// Edges split to give a curve point next to them a vertex (internal::snap_edges_to_points).
-  std::size_t edges_snapped_a = 0, edges_snapped_b = 0;
-  /// Curve vertices removed from both meshes by collapsing a short curve segment (shorter than
-  /// the snapping tolerance; internal/collapse.h), and the short segments left.
-  std::size_t curve_vertices_collapsed = 0, short_segments_left = 0;
-  /// New vertices off the curves merged over an edge below 1e-9 of the pair's size (with snapping).
-  std::size_t tiny_edges_collapsed = 0;
-  double snap_tol = 0;  ///< the snapping tolerance in effect (pass at least this to `seam check --tol`)
+  double snap_tol = 0;  ///< the quality stage's tolerance (pass at least this to `seam check --tol`)
+  /// Stage 5 (and edges below 1e-9 of the pair's size after the embedding): curve vertices
+  /// removed from both meshes, and vertices off the curves merged over such an edge.
+  std::size_t curve_vertices_collapsed = 0, tiny_edges_collapsed = 0;
   /// True when the input surfaces touch (at points) without crossing; the points of contact are
-  /// then the only curves (false when it is snapping that turned a slight crossing into them).
+  /// then the only curves.
   bool touching_only = false;
-  bool remeshed = false;  ///< the curves were coarsened and the meshes remeshed next to them
-  /// Remeshing: attempts made, and curve points left as embedded (frozen) because remeshing next
-  /// to them failed twice.
-  std::size_t remesh_attempts = 0, curve_vertices_frozen = 0;
-  /// Remeshing: the largest distance of a remeshed face from its input surface (sampled at
-  /// corners, edge midpoints and centroid; at most snap_tol).
-  double remesh_max_deviation = 0;
+  bool improved = false;  ///< the quality stage ran and its result is the one given
+  ImproveStats improve;   ///< what it did, and the faces below its bound with their causes
   /// Flat contacts (see internal/flat_contacts.h): planar patches where both surfaces coincide,
   /// made one common triangulation; its faces (each a face of both outputs); patches that could
   /// not be (their borders differ in the two meshes: seam check then fails).
@@ -121,7 +93,8 @@ struct PairStats {
   bool verified = false;
   double verify_tolerance = 0;
   std::string note;  ///< a sentence for the report (e.g. "the meshes do not intersect")
-  std::map<std::string, double> stage_seconds;  ///< snap, intersect (or trace, merge), embed_a, embed_b, move
+  /// intersect, embed_a, embed_b, flat_contacts, improve, separate, verify_output (and read, write)
+  std::map<std::string, double> stage_seconds;
 };
 
 template <class K> struct PairResult {
@@ -140,6 +113,15 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
 /// Makes `a` and `b` conforming along their intersection curves (modified in place).
 /// \pre both are valid closed or open triangle meshes without self-intersections.
 template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions& options = {});
+
+/// Stage 4 of seam::pair on meshes whose curves are embedded (result.curves, with their vertices
+/// in result.a and result.b): the quality stage at result.stats.snap_tol, the meshes as they are
+/// taken as the input surfaces. `input_a` and `input_b` (may be null), the meshes the faces'
+/// source_face_property refers to: a face is held to the bound or to its input face's smallest
+/// angle where that is less. Updates the curves and result.stats.improve.
+template <class K>
+void improve_pair(Mesh<K>& a, Mesh<K>& b, PairResult<K>& result, const PairOptions& options,
+                  const Mesh<K>* input_a = nullptr, const Mesh<K>* input_b = nullptr);
 
 /// Given curves (from another tool, lying only near both surfaces, such as the intersection of
 /// the smooth tow surfaces, 0.001-0.01 off the facets; src/pair_given.cpp). First method: the

@@ -1,0 +1,122 @@
+// seam::improve: the quality stage. One algorithm, one acceptance predicate, a stated bound.
+//
+// Input: meshes whose shared curves are embedded (every curve point a vertex of each mesh the
+// curve belongs to, every curve segment an edge of each). Output: the same invariant, every
+// changed face within `tolerance` of its input surface, and a report.
+//
+// The band. Faces that touch a curve vertex or were made by the embedding, minus faces shared by
+// two meshes (flat contacts) and frozen faces. It grows when a new point falls beyond its border
+// or encroaches it (the face there joins it, up to `band_radius` from the curves; farther out,
+// the border edge is split with the face beyond, whose halves join it). Every face the stage makes
+// is in the band. Constraints: curve
+// segments and the band's border (mesh borders included). Old mesh edges inside the band are not
+// constraints: grazing crossings stop being forced.
+//
+// The algorithm: Ruppert's Delaunay refinement, on the surface.
+//   0. Flips (max-min angle) over the band's edges.
+//   1. Each face below `min_angle_deg`, worst first:
+//      a. an edge of it shorter than `feature_size` is removed: a free vertex merges into the
+//         other end (or a curve segment's ends merge, in every mesh holding the curve);
+//      b. a free vertex within `tolerance` of the opposite curve segment, at an obtuse corner
+//         (it encroaches the segment), moves onto the segment (a new curve point there, in every
+//         mesh holding the curve);
+//      c. otherwise its circumcenter is found by walking over the surface (faces unfolded into
+//         its plane). If the walk meets a constraint, or the circumcenter encroaches one (lies in
+//         its diametral ball), that constraint is split at its middle (a curve segment in every
+//         mesh holding it: the middle lies on all of their surfaces; a border edge with the face
+//         beyond it). Otherwise the circumcenter is inserted in the face it lands in, then flips.
+//   Splits and insertions keep the surface (the new point lies on a face or edge); flips, merges
+//   and moves change it and pass the acceptance predicate first.
+//
+// The acceptance predicate (one, for every edit that changes the surface): the new faces are
+// not degenerate (exact), turn less than 80 degrees from their input surface (doubles), lie
+// within `tolerance` of it (corners, edge middles and centroid, doubles), and meet no face of any
+// mesh except where seam check allows it (exact under the exact and filtered kernels): a common
+// vertex or edge of the same mesh, or a curve point or curve segment of another mesh. An edit
+// that fails it is not made.
+//
+// Termination. Every point inserted or made by a split lies at least `feature_size` from every
+// vertex, and only curve segments at least twice that long are split; merges remove only edges
+// shorter than it, which splits and insertions never make. So the vertices inserted are bounded
+// by the band's area over feature_size^2 and the curve points by the curves' length over
+// feature_size, and between two changes of the vertices, flips strictly raise the sorted vector
+// of angles, of which there are finitely many. (`max_insertions` is a second, explicit bound.)
+//
+// The bound. In the plane, Ruppert's algorithm with diametral balls ends with every angle at
+// least arcsin(1/(2 sqrt 2)) = 20.7 degrees where the input's angles between constraints are at
+// least 60 degrees. A face is held to `min_angle_deg`, or to the smallest angle of the input face it
+// comes from where that is smaller (the input forces it). Every new face of the band below the
+// bound at the end is reported with its cause (ImproveStats::shortfalls):
+//   input_angle       it is no worse than the input face it comes from, which is below the bound;
+//   constraint_angle  its smallest angle lies between two constraints (two curve segments, a curve
+//                     segment and the band's border, two border edges): the input forces it;
+//   feature_size      the fix would put a point closer than feature_size to another, or split a
+//                     segment shorter than twice that (curves or vertices that close, which no
+//                     merge within the tolerance could remove);
+//   tolerance         the edit that would fix it leaves the tolerance;
+//   crossing          the edit would make a face meet another surface, or its own, off the curves;
+//   shape             the edit would make a degenerate or folded face;
+//   budget            max_insertions ran out.
+//
+// What is exact: decisions on intersections and degeneracy use the kernel's predicates (exact
+// under Exact and Filtered, on the coordinates as they are); curve splits and moves onto curves
+// use exact points of the segments (on both surfaces under Exact); inserted points are rounded
+// to doubles (the predicate checks them), or, if that fails, put exactly on their face. Angles,
+// distances and the walk are in doubles.
+//
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <seam/kernels.h>
+#include <seam/types.h>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace seam {
+
+struct ImproveOptions {
+  /// The angle bound: faces of the band below it are refined (degrees). 20 is the bound
+  /// Ruppert's algorithm guarantees in the plane (20.7); higher values need not end before
+  /// max_insertions.
+  double min_angle_deg = 20.0;
+  /// How far a changed face may lie from its input surface (sampled), and how far an edit may
+  /// move a vertex. 0: only edits that keep the surface (insertions, splits, coplanar flips).
+  double tolerance = 0.0;
+  /// Points closer than this are not made; edges shorter than it are merged where the tolerance
+  /// allows. Negative: the larger of `tolerance` and 1/64 of the mean edge length.
+  double feature_size = -1.0;
+  /// Faces of the meshes farther than this from the curves join the band only where an edit
+  /// changes them. Negative: 3 mean edge lengths of the coarser mesh.
+  double band_radius = -1.0;
+  /// At most this many insertions and splits per face of the initial band.
+  std::size_t max_insertions_per_face = 16;
+};
+
+/// Why a face of the band is still below the bound (see the header comment).
+enum class ShortfallCause { input_angle, constraint_angle, feature_size, tolerance, crossing, shape, budget };
+const char* shortfall_cause_name(ShortfallCause cause);
+
+/// A face of the band below the bound at the end.
+struct Shortfall {
+  std::size_t mesh = 0;  ///< index of the mesh (0: A, 1: B)
+  std::size_t face = 0;  ///< face index in the output mesh
+  double min_angle_deg = 0;
+  ShortfallCause cause = ShortfallCause::constraint_angle;
+};
+
+struct ImproveStats {
+  std::size_t band_faces = 0;  ///< faces in the band at the start (all meshes)
+  std::size_t flips = 0, insertions = 0, curve_splits = 0, edge_splits = 0, merges = 0, moves_onto_curves = 0;
+  /// Edits the acceptance predicate refused, by reason.
+  std::size_t refused_tolerance = 0, refused_crossing = 0, refused_shape = 0;
+  std::size_t faces_absorbed = 0;  ///< faces that joined the band
+  /// Faces of the band below the bound at the start and at the end.
+  std::size_t below_bound_before = 0, below_bound_after = 0;
+  double min_angle_deg_before = 0, min_angle_deg_after = 0;  ///< smallest angle in the band
+  std::vector<Shortfall> shortfalls;  ///< the faces below the bound at the end, with causes
+  double seconds = 0;
+};
+
+}  // namespace seam

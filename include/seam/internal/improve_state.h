@@ -1,0 +1,264 @@
+// seam internal: the state of the quality stage (seam/improve.h) and the steps that share it.
+//
+//   src/improve/state.cpp    the state from the meshes and curves; the curves written back
+//   src/improve/edit.cpp     edits: a disk of faces replaced by a fan from one point
+//   src/improve/accept.cpp   the acceptance predicate of every edit that changes the surface
+//   src/improve/refine.cpp   the refinement (flips, merges, moves onto curves, splits, insertions)
+//
+// Curve points are numbered across the meshes: the same point in two meshes is one point (its
+// vertex in each). A curve segment is an edge of every mesh that holds its curve.
+//
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <seam/improve.h>
+#include <seam/internal/surface_point.h>
+
+#include <CGAL/Bbox_3.h>
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace seam::internal {
+
+/// One mesh given to the quality stage, the input surface its tolerance refers to (null: the mesh
+/// as it is given), and the smallest angle of each input face by source_face_property (null: not
+/// known; then every face is held to the bound itself).
+template <class K> struct ImproveMesh {
+  Mesh<K>* mesh = nullptr;
+  const Mesh<K>* input = nullptr;
+  const std::vector<double>* source_min_angle = nullptr;
+};
+
+/// The curves the meshes share: for each curve its points (closed ones repeat the first) and,
+/// per mesh, its vertices there (vertices[m][c] is empty when mesh m does not hold curve c).
+template <class K> struct SharedCurves {
+  std::vector<Polyline<K>> curves;
+  std::vector<std::vector<std::vector<typename Mesh<K>::Vertex_index>>> vertices;
+};
+
+/// Runs the quality stage (seam/improve.h) on the meshes and updates `curves` (points added by
+/// splits and moves, removed by merges; the same in every mesh). Throws InternalError when an
+/// edit cannot be made (a bug, not an input property).
+template <class K>
+ImproveStats improve(std::vector<ImproveMesh<K>>& meshes, SharedCurves<K>& curves, const ImproveOptions& options);
+
+/// Distances to an input surface and its normals: an AABB tree on its faces, in doubles.
+class InputSurface {
+ public:
+  explicit InputSurface(std::vector<Filtered::Triangle_3> triangles);
+  ~InputSurface();
+  InputSurface(const InputSurface&) = delete;
+  InputSurface& operator=(const InputSurface&) = delete;
+  /// The closest point of the surface, and the unit normal of the face it lies on.
+  std::pair<Filtered::Point_3, Filtered::Vector_3> closest(const Filtered::Point_3& p) const;
+  /// The largest distance of the triangle's corners, edge middles and centroid from the surface
+  /// (a sampled bound, not the Hausdorff distance).
+  double sampled_distance(const Filtered::Point_3& p, const Filtered::Point_3& q, const Filtered::Point_3& r) const;
+
+ private:
+  struct Tree;
+  std::unique_ptr<Tree> tree_;
+};
+
+/// A uniform grid of face bounding boxes, for the predicate's search of faces near a new one.
+/// Entries are never removed: an entry whose face was removed or remade (another version) is
+/// skipped by the caller.
+class FaceGrid {
+ public:
+  struct Entry {
+    std::uint32_t mesh, face, version;
+  };
+  FaceGrid() = default;
+  explicit FaceGrid(double cell) : cell_(cell) {}
+  void insert(const Entry& entry, const CGAL::Bbox_3& box);
+  /// The entries whose cells meet `box` (each once).
+  std::vector<Entry> query(const CGAL::Bbox_3& box) const;
+
+ private:
+  double cell_ = 1;
+  std::unordered_map<std::uint64_t, std::vector<Entry>> cells_;
+  std::vector<std::pair<Entry, CGAL::Bbox_3>> oversized_;  ///< boxes over too many cells
+  bool cell_range(const CGAL::Bbox_3& box, std::array<long, 6>& range) const;
+};
+
+template <class K> struct ImproveState {
+  using M = Mesh<K>;
+  using V = typename M::Vertex_index;
+  using H = typename M::Halfedge_index;
+  using E = typename M::Edge_index;
+  using F = typename M::Face_index;
+  using Point = typename K::Point_3;
+
+  struct MeshState {
+    M* mesh = nullptr;
+    std::unique_ptr<InputSurface> input;
+    typename M::template Property_map<V, std::int32_t> point;  ///< curve point id, -1 for others
+    typename M::template Property_map<F, bool> band;
+    typename M::template Property_map<F, std::uint32_t> version;
+    typename M::template Property_map<F, std::uint8_t> cause;  ///< 1 + ShortfallCause, 0: none recorded
+    typename M::template Property_map<F, std::uint32_t> source;
+    typename M::template Property_map<F, bool> is_new;
+    typename M::template Property_map<F, bool> shared, frozen;  ///< valid when has_shared / has_frozen
+    bool has_shared = false, has_frozen = false;
+    const std::vector<double>* source_min_angle = nullptr;
+  };
+  struct CurvePoint {
+    Point p;
+    std::vector<V> vertex;  ///< per mesh; null where the mesh does not hold it (or it was merged away)
+    bool removed = false;
+  };
+  struct Curve {
+    std::vector<std::size_t> meshes;  ///< the meshes that hold it
+    int first = -1;                   ///< a point of it (its first point while that is kept)
+    bool closed = false;
+    std::unordered_map<int, int> next, prev;  ///< along the curve, by point id
+  };
+
+  std::vector<MeshState> meshes;
+  std::vector<CurvePoint> points;
+  std::vector<Curve> curves;
+  std::map<std::pair<int, int>, int> segment_curve;  ///< (smaller id, larger id) -> curve
+  FaceGrid grid;
+  ImproveOptions options;
+  double tolerance = 0, feature_size = 0, band_radius = 0, mean_edge = 0;
+  /// Cells (of size band_radius) holding a curve point at the start: faces may join the band
+  /// only within band_radius of one.
+  std::unordered_map<std::uint64_t, std::vector<Filtered::Point_3>> curve_cells;
+  ImproveStats stats;
+  std::size_t insertions_left = 0;
+  std::uint32_t last_version = 0;  ///< faces made by an edit are numbered on from it
+
+  // ---- queries (inline: they are used by every step)
+  M& mesh(std::size_t m) const { return *meshes[m].mesh; }
+  Filtered::Point_3 fpoint(std::size_t m, V v) const { return to_filtered(mesh(m).point(v)); }
+  std::array<V, 3> corners(std::size_t m, F f) const {
+    const auto h = mesh(m).halfedge(f);
+    return {mesh(m).source(h), mesh(m).target(h), mesh(m).target(mesh(m).next(h))};
+  }
+  /// The curve holding segment (a, b) of point ids, or -1.
+  int curve_of_segment(int a, int b) const {
+    if (a < 0 || b < 0) return -1;
+    const auto it = segment_curve.find({std::min(a, b), std::max(a, b)});
+    return it == segment_curve.end() ? -1 : it->second;
+  }
+  bool holds_curve(std::size_t m, int c) const {
+    for (std::size_t x : curves[std::size_t(c)].meshes)
+      if (x == m) return true;
+    return false;
+  }
+  /// Edge (u, v) of mesh m is a curve segment.
+  bool is_curve_edge(std::size_t m, V u, V v) const {
+    const int c = curve_of_segment(meshes[m].point[u], meshes[m].point[v]);
+    return c >= 0 && holds_curve(m, c);
+  }
+  bool face_in_band(std::size_t m, F f) const { return f != M::null_face() && meshes[m].band[f]; }
+  /// The edge of halfedge h may not be flipped: a curve segment, the band's border or the mesh's.
+  bool is_constraint(std::size_t m, H h) const {
+    const M& g = mesh(m);
+    return !face_in_band(m, g.face(h)) || !face_in_band(m, g.face(g.opposite(h))) ||
+           is_curve_edge(m, g.source(h), g.target(h));
+  }
+  /// A vertex every face of which is in the band, not a curve point: it may move or go.
+  bool is_free(std::size_t m, V v) const {
+    const M& g = mesh(m);
+    if (meshes[m].point[v] >= 0 || g.is_border(v)) return false;
+    for (auto f : CGAL::faces_around_target(g.halfedge(v), g))
+      if (!face_in_band(m, f)) return false;
+    return true;
+  }
+  /// Whether the face may join the band: not shared or frozen, and within band_radius of a curve.
+  bool may_join_band(std::size_t m, F f) const;
+  /// The angle a face is held to: the bound, or its input face's smallest angle where that is less
+  /// (the input forces it).
+  double target_angle(std::size_t m, F f) const {
+    const MeshState& ms = meshes[m];
+    const std::uint32_t source = ms.source[f];
+    if (ms.source_min_angle && source < ms.source_min_angle->size())
+      return std::min(options.min_angle_deg, (*ms.source_min_angle)[source]);
+    return options.min_angle_deg;
+  }
+};
+
+/// Smallest angle (degrees) of face f of mesh m, in doubles.
+template <class K> double face_min_angle(const ImproveState<K>& s, std::size_t m, typename ImproveState<K>::F f);
+
+/// Builds the state: numbers the curve points, marks the band, fills the grid.
+template <class K>
+void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const SharedCurves<K>& curves,
+                const ImproveOptions& options);
+
+/// Collects the meshes' garbage and writes the curves back from the state's points and links.
+template <class K> void finish_state(ImproveState<K>& s, SharedCurves<K>& curves);
+
+/// Removes the stage's own properties from the meshes.
+template <class K> void drop_state_properties(ImproveState<K>& s);
+
+// ---------------------------------------------------------------- edits (src/improve/edit.cpp)
+
+/// A corner of a new face: an existing vertex, or the new vertex of the edit (`fresh`).
+template <class K> struct EditCorner {
+  typename Mesh<K>::Vertex_index v;  ///< null for the fresh vertex
+  bool fresh = false;
+  typename K::Point_3 p = typename K::Point_3(0, 0, 0);
+};
+
+/// One mesh's part of an edit: the faces removed (a disk) and the fan that replaces them.
+template <class K> struct EditPart {
+  std::size_t mesh = 0;
+  std::vector<typename Mesh<K>::Face_index> removed;
+  std::vector<std::array<EditCorner<K>, 3>> added;
+  std::vector<typename Mesh<K>::Face_index> origin;  ///< per added face: the removed face it comes from
+};
+
+/// An edit of one or more meshes, made at once. `fresh_point` is the position of the fresh vertex
+/// (if any); `fresh_curve_point` true when it becomes a curve point (a split or move onto a curve
+/// segment (split_a, split_b), or `merged_point` merging into `merged_into` for a merge of curve
+/// points). `keeps_surface`: the new faces cover exactly the removed ones (no test of tolerance
+/// or crossings is needed, only of shape).
+template <class K> struct Edit {
+  std::vector<EditPart<K>> parts;
+  typename K::Point_3 fresh_point = typename K::Point_3(0, 0, 0);
+  bool has_fresh = false;
+  bool fresh_curve_point = false;
+  int split_a = -1, split_b = -1;        ///< the curve segment a fresh curve point splits
+  int merged_point = -1, merged_into = -1;  ///< a curve point merged into its neighbour
+  bool keeps_surface = false;
+};
+
+/// The part that replaces `region` (faces of mesh m forming a disk) by the fan from `apex` over
+/// the region's border. False (part untouched) when the region is not a disk, the apex is an
+/// existing vertex not on its border, or the fan would make an edge the mesh has elsewhere.
+/// `split` (for a fresh apex on an edge of the region's border: the mesh's border, say) names that
+/// edge's ends; the fan skips it.
+template <class K>
+bool make_fan(const ImproveState<K>& s, std::size_t m, const std::vector<typename Mesh<K>::Face_index>& region,
+              const EditCorner<K>& apex, EditPart<K>& part,
+              std::pair<typename Mesh<K>::Vertex_index, typename Mesh<K>::Vertex_index> split = {});
+
+/// What an edit made: the new faces (mesh, face), and per part the fresh vertex (or null).
+template <class K> struct Applied {
+  std::vector<std::pair<std::size_t, typename Mesh<K>::Face_index>> faces;
+  std::vector<typename Mesh<K>::Vertex_index> fresh;
+};
+
+/// Makes the edit: removes the faces, adds the fans (a fresh vertex in each mesh of a part),
+/// updates curve points and links, marks new faces (band as their origin, new, source of their
+/// origin) and puts them in the grid.
+template <class K> Applied<K> apply_edit(ImproveState<K>& s, const Edit<K>& edit);
+
+// ---------------------------------------------------------------- acceptance (src/improve/accept.cpp)
+
+enum class Verdict { accepted, tolerance, crossing, shape };
+
+/// The acceptance predicate (seam/improve.h). Counts refusals in s.stats.
+template <class K> Verdict accept_edit(ImproveState<K>& s, const Edit<K>& edit);
+
+// ---------------------------------------------------------------- refinement (src/improve/refine.cpp)
+
+}  // namespace seam::internal

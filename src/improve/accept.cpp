@@ -1,0 +1,214 @@
+// seam: the quality stage's acceptance predicate, the one test every edit that changes the
+// surface passes before it is made (see seam/improve.h).
+//
+// Shape and degeneracy are decided by the kernel's predicates; the turn from the input surface
+// and the distance to it in doubles (rounded); whether two faces meet, and where, by the kernel's
+// predicates after certified interval filters (exact under Exact and Filtered). Two faces may meet
+// as seam check allows: in one common vertex or edge of the same mesh, or, faces of two meshes,
+// in a common curve point or along a common curve segment.
+// SPDX-License-Identifier: GPL-3.0-or-later
+
+#include <seam/internal/certified.h>
+#include <seam/internal/improve_state.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace seam::internal {
+
+namespace {
+
+/// Who a corner is: a vertex of a mesh (or the edit's fresh vertex), and its curve point.
+template <class K> struct CornerId {
+  std::size_t mesh;
+  typename Mesh<K>::Vertex_index v;
+  bool fresh;
+  int point;  ///< curve point id, -1 for others
+};
+
+template <class K> bool same_corner(const CornerId<K>& a, const CornerId<K>& b) {
+  if (a.mesh == b.mesh) return a.fresh ? b.fresh : (!b.fresh && a.v == b.v);
+  return a.point >= 0 && a.point == b.point;
+}
+
+template <class K> struct Tri {
+  std::array<typename K::Point_3, 3> p;
+  std::array<CornerId<K>, 3> id;
+  std::array<certified::IP, 3> ip;
+  void intervals() {
+    for (int i = 0; i < 3; ++i) ip[std::size_t(i)] = certified::interval_point(p[std::size_t(i)]);
+  }
+};
+
+/// Whether (x, y) is a curve segment once the edit is made, held by meshes m1 and m2.
+template <class K>
+bool segment_after(const ImproveState<K>& s, const Edit<K>& edit, int x, int y, std::size_t m1, std::size_t m2) {
+  if (x < 0 || y < 0) return false;
+  const int fresh = edit.fresh_curve_point ? int(s.points.size()) : -2;
+  auto is = [&](int a, int b) { return (x == a && y == b) || (x == b && y == a); };
+  int curve = -1;
+  if (edit.split_a >= 0 && (is(edit.split_a, fresh) || is(fresh, edit.split_b))) {
+    curve = s.curve_of_segment(edit.split_a, edit.split_b);
+  } else if (edit.split_a >= 0 && is(edit.split_a, edit.split_b)) {
+    return false;
+  } else if (edit.merged_point >= 0 && (x == edit.merged_point || y == edit.merged_point)) {
+    return false;
+  } else {
+    curve = s.curve_of_segment(x, y);
+    if (curve < 0 && edit.merged_point >= 0) {  // the segment the merge makes: (other, merged_into)
+      const int u = edit.merged_point, w = edit.merged_into;
+      const int c = s.curve_of_segment(u, w);
+      if (c >= 0) {
+        const auto& sc = s.curves[std::size_t(c)];
+        const auto& away = (sc.next.count(u) && sc.next.at(u) == w) ? sc.prev : sc.next;
+        if (const auto it = away.find(u); it != away.end() && is(it->second, w)) curve = c;
+      }
+    }
+  }
+  return curve >= 0 && s.holds_curve(m1, curve) && s.holds_curve(m2, curve);
+}
+
+/// Whether triangles t and u meet only as allowed (see the top of this file). Exact under the
+/// exact and filtered kernels.
+template <class K> bool meet_as_allowed(const ImproveState<K>& s, const Edit<K>& edit, const Tri<K>& t, const Tri<K>& u) {
+  int shared = 0;
+  std::array<int, 3> in_u{-1, -1, -1};  // for each corner of t, the same corner of u
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (same_corner<K>(t.id[std::size_t(i)], u.id[std::size_t(j)])) in_u[std::size_t(i)] = j, ++shared;
+  using T3 = typename K::Triangle_3;
+  using S3 = typename K::Segment_3;
+  if (shared == 0) {
+    if (certified::surely_disjoint({&t.ip[0], &t.ip[1], &t.ip[2]}, {&u.ip[0], &u.ip[1], &u.ip[2]})) return true;
+    return !CGAL::do_intersect(T3(t.p[0], t.p[1], t.p[2]), T3(u.p[0], u.p[1], u.p[2]));
+  }
+  if (shared == 1) {
+    const int i = int(std::find_if(in_u.begin(), in_u.end(), [](int x) { return x >= 0; }) - in_u.begin());
+    const int j = in_u[std::size_t(i)];
+    const auto& tp = t.p;
+    const auto& up = u.p;
+    const std::size_t i1 = std::size_t((i + 1) % 3), i2 = std::size_t((i + 2) % 3);
+    const std::size_t j1 = std::size_t((j + 1) % 3), j2 = std::size_t((j + 2) % 3);
+    const auto sure = certified::surely_only_vertex(t.ip[std::size_t(i)], t.ip[i1], t.ip[i2], u.ip[j1], u.ip[j2]);
+    if (sure) return *sure;
+    return !CGAL::do_intersect(S3(tp[i1], tp[i2]), T3(up[0], up[1], up[2])) &&
+           !CGAL::do_intersect(S3(up[j1], up[j2]), T3(tp[0], tp[1], tp[2]));
+  }
+  if (shared == 2) {
+    std::array<std::size_t, 2> ti{}, uj{};
+    std::size_t n = 0, k = 3;
+    for (std::size_t i = 0; i < 3; ++i)
+      if (in_u[i] >= 0) ti[n] = i, uj[n] = std::size_t(in_u[i]), ++n;
+      else k = i;
+    const std::size_t l = 3 - uj[0] - uj[1];  // u's third corner
+    if (t.id[0].mesh != u.id[0].mesh &&
+        !segment_after(s, edit, t.id[ti[0]].point, t.id[ti[1]].point, t.id[0].mesh, u.id[0].mesh))
+      return false;
+    if (certified::surely_only_edge(t.ip[ti[0]], t.ip[ti[1]], t.ip[k], u.ip[l])) return true;
+    if (!CGAL::coplanar(t.p[ti[0]], t.p[ti[1]], t.p[k], u.p[l])) return true;
+    return CGAL::coplanar_orientation(t.p[ti[0]], t.p[ti[1]], t.p[k], u.p[l]) == CGAL::NEGATIVE;
+  }
+  return false;  // the same triangle twice
+}
+
+template <class K>
+Tri<K> existing_tri(const ImproveState<K>& s, std::size_t m, typename Mesh<K>::Face_index f) {
+  Tri<K> t;
+  const auto c = s.corners(m, f);
+  for (std::size_t i = 0; i < 3; ++i) {
+    t.p[i] = s.mesh(m).point(c[i]);
+    t.id[i] = {m, c[i], false, s.meshes[m].point[c[i]]};
+  }
+  t.intervals();
+  return t;
+}
+
+template <class K> Tri<K> new_tri(const ImproveState<K>& s, const Edit<K>& edit, const EditPart<K>& part, std::size_t i) {
+  Tri<K> t;
+  const int fresh_id = edit.fresh_curve_point ? int(s.points.size()) : -1;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const auto& c = part.added[i][k];
+    t.p[k] = c.p;
+    t.id[k] = {part.mesh, c.v, c.fresh, c.fresh ? fresh_id : s.meshes[part.mesh].point[c.v]};
+  }
+  t.intervals();
+  return t;
+}
+
+/// The new face turns less than 80 degrees from the input surface there and lies within the
+/// tolerance of it (doubles).
+template <class K> Verdict near_input(const ImproveState<K>& s, std::size_t m, const Tri<K>& t) {
+  const Filtered::Point_3 p = to_filtered(t.p[0]), q = to_filtered(t.p[1]), r = to_filtered(t.p[2]);
+  const Filtered::Vector_3 n = CGAL::cross_product(q - p, r - p);
+  const double len = std::sqrt(n.squared_length());
+  if (!(len > 0)) return Verdict::shape;
+  const auto [closest, normal] = s.meshes[m].input->closest(CGAL::centroid(p, q, r));
+  if (n * normal < std::cos(80 * M_PI / 180) * len) return Verdict::shape;
+  const double slack = 1e-9 * s.mean_edge;
+  if (s.meshes[m].input->sampled_distance(p, q, r) > s.tolerance + slack) return Verdict::tolerance;
+  return Verdict::accepted;
+}
+
+template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) {
+  for (const auto& part : edit.parts)
+    for (const auto& a : part.added)
+      if (CGAL::collinear(a[0].p, a[1].p, a[2].p)) return Verdict::shape;
+  if (edit.keeps_surface) {  // the new point lies on the current surface: within the tolerance of the input too?
+    if (!edit.has_fresh) return Verdict::accepted;
+    const double slack = 1e-9 * s.mean_edge;
+    for (const auto& part : edit.parts) {
+      const Filtered::Point_3 p = to_filtered(edit.fresh_point);
+      if (s.meshes[part.mesh].input->sampled_distance(p, p, p) > s.tolerance + slack) return Verdict::tolerance;
+    }
+    return Verdict::accepted;
+  }
+  std::vector<std::vector<Tri<K>>> made(edit.parts.size());
+  for (std::size_t k = 0; k < edit.parts.size(); ++k)
+    for (std::size_t i = 0; i < edit.parts[k].added.size(); ++i) {
+      made[k].push_back(new_tri<K>(s, edit, edit.parts[k], i));
+      if (const Verdict v = near_input<K>(s, edit.parts[k].mesh, made[k].back()); v != Verdict::accepted) return v;
+    }
+  auto removed = [&](std::size_t m, typename Mesh<K>::Face_index f) {
+    for (const auto& part : edit.parts)
+      if (part.mesh == m && std::find(part.removed.begin(), part.removed.end(), f) != part.removed.end()) return true;
+    return false;
+  };
+  for (std::size_t k = 0; k < edit.parts.size(); ++k)
+    for (const Tri<K>& t : made[k]) {
+      CGAL::Bbox_3 box;
+      for (const auto& p : t.p) box += to_filtered(p).bbox();
+      for (const auto& e : s.grid.query(box)) {
+        const typename Mesh<K>::Face_index f(e.face);
+        const auto& g = s.mesh(e.mesh);
+        if (g.is_removed(f) || s.meshes[e.mesh].version[f] != e.version || removed(e.mesh, f)) continue;
+        if (!meet_as_allowed<K>(s, edit, t, existing_tri<K>(s, e.mesh, f))) return Verdict::crossing;
+      }
+      for (std::size_t l = k + 1; l < edit.parts.size(); ++l)  // new faces of the other meshes
+        for (const Tri<K>& u : made[l])
+          if (edit.parts[l].mesh != edit.parts[k].mesh && !meet_as_allowed<K>(s, edit, t, u)) return Verdict::crossing;
+    }
+  return Verdict::accepted;
+}
+
+}  // namespace
+
+template <class K> Verdict accept_edit(ImproveState<K>& s, const Edit<K>& edit) {
+  Verdict v = Verdict::shape;
+  try {
+    v = judge<K>(s, edit);
+  } catch (const CGAL::Failure_exception&) {  // a precondition of a rounded kernel: refused
+    v = Verdict::shape;
+  }
+  if (v == Verdict::tolerance) ++s.stats.refused_tolerance;
+  if (v == Verdict::crossing) ++s.stats.refused_crossing;
+  if (v == Verdict::shape) ++s.stats.refused_shape;
+  return v;
+}
+
+#define SEAM_INSTANTIATE(K) template Verdict accept_edit<K>(ImproveState<K>&, const Edit<K>&);
+SEAM_INSTANTIATE(Exact)
+SEAM_INSTANTIATE(Filtered)
+SEAM_INSTANTIATE(Float)
+#undef SEAM_INSTANTIATE
+
+}  // namespace seam::internal

@@ -1,0 +1,656 @@
+// seam: the quality stage's refinement (see seam/improve.h for the algorithm, its bound and why
+// it ends).
+// SPDX-License-Identifier: GPL-3.0-or-later
+
+#include <seam/errors.h>
+#include <seam/internal/improve_state.h>
+#include <seam/quality.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <chrono>
+#include <cmath>
+#include <queue>
+#include <tuple>
+
+namespace seam::internal {
+
+namespace {
+
+using FP = Filtered::Point_3;
+using FV = Filtered::Vector_3;
+
+/// What an attempt to mend a face did: changed the meshes, or not and why.
+struct Outcome {
+  bool changed = false;
+  ShortfallCause cause = ShortfallCause::constraint_angle;
+};
+
+ShortfallCause cause_of(Verdict v) {
+  switch (v) {
+    case Verdict::tolerance: return ShortfallCause::tolerance;
+    case Verdict::crossing: return ShortfallCause::crossing;
+    default: return ShortfallCause::shape;
+  }
+}
+
+/// The angle (radians) at corner a of triangle (a, b, c), doubles.
+double angle_at(const FP& a, const FP& b, const FP& c) {
+  const FV u = b - a, v = c - a;
+  return std::atan2(std::sqrt(CGAL::cross_product(u, v).squared_length()), u * v);
+}
+
+template <class K> class Refiner {
+ public:
+  using S = ImproveState<K>;
+  using M = typename S::M;
+  using V = typename S::V;
+  using H = typename S::H;
+  using F = typename S::F;
+  using Point = typename S::Point;
+
+  explicit Refiner(S& s) : s_(s) {}
+
+  void flip_all();
+  void refine();
+
+ private:
+  S& s_;
+  struct Item {
+    double angle;
+    std::size_t mesh;
+    F face;
+    std::uint32_t version;
+    std::array<V, 3> corners;
+    bool operator<(const Item& o) const { return angle > o.angle; }  // smallest angle first
+  };
+  std::priority_queue<Item> queue_;
+  std::vector<std::tuple<std::size_t, V, V>> encroached_;  ///< constraint edges to split first
+  bool is_encroached(std::size_t m, H h) const;
+  void push_encroached(std::size_t m, F f);
+
+  double angle(std::size_t m, F f) const { return face_min_angle<K>(s_, m, f); }
+  void push_if_bad(std::size_t m, F f);
+  void push_made(const Applied<K>& made) {
+    for (const auto& [m, f] : made.faces) push_if_bad(m, f), push_encroached(m, f);
+  }
+  /// Makes the edit if the predicate accepts it; otherwise returns the refusal.
+  std::optional<Verdict> attempt(const Edit<K>& edit, Applied<K>* made = nullptr);
+  std::vector<F> star(std::size_t m, V v) const {
+    std::vector<F> faces;
+    for (auto f : CGAL::faces_around_target(s_.mesh(m).halfedge(v), s_.mesh(m)))
+      if (f != M::null_face()) faces.push_back(f);
+    return faces;
+  }
+  EditCorner<K> corner(std::size_t m, V v) const { return {v, false, s_.mesh(m).point(v)}; }
+
+  bool try_flip(std::size_t m, H h, Applied<K>* made = nullptr);
+  void legalize(std::size_t m, V x);
+  Outcome mend(std::size_t m, F f);
+  std::optional<Outcome> merge_short_edge(std::size_t m, V x, V y);
+  bool merge_plan(std::size_t m, V u, V w, Edit<K>& edit) const;
+  std::optional<Outcome> move_onto_segment(std::size_t m, V w, V x, V y);
+  Outcome split_constraint(std::size_t m, H h);
+  Outcome insert_circumcenter(std::size_t m, F f);
+  bool walk(std::size_t m, F f, FP target, F& landed, FP& at, H& crossed) const;
+  Outcome insert_at(std::size_t m, F g, const FP& at);
+};
+
+template <class K> void Refiner<K>::push_if_bad(std::size_t m, F f) {
+  const auto& ms = s_.meshes[m];
+  if (!ms.band[f]) return;
+  const double a = angle(m, f);
+  if (a < s_.target_angle(m, f)) queue_.push({a, m, f, ms.version[f], s_.corners(m, f)});
+}
+
+template <class K> std::optional<Verdict> Refiner<K>::attempt(const Edit<K>& edit, Applied<K>* made) {
+  const Verdict v = accept_edit<K>(s_, edit);
+  if (v != Verdict::accepted) return v;
+  Applied<K> applied = apply_edit<K>(s_, edit);
+  push_made(applied);
+  if (made) *made = std::move(applied);
+  return std::nullopt;
+}
+
+/// Flips the edge of h where that raises the smaller of the two faces' smallest angles, the
+/// predicate permitting (a flip inside one plane keeps the surface).
+template <class K> bool Refiner<K>::try_flip(std::size_t m, H h, Applied<K>* made) {
+  const M& g = s_.mesh(m);
+  if (g.is_removed(g.edge(h)) || g.is_border(g.edge(h)) || s_.is_constraint(m, h)) return false;
+  const F f0 = g.face(h), f1 = g.face(g.opposite(h));
+  const V u = g.source(h), v = g.target(h), p = g.target(g.next(h)), q = g.target(g.next(g.opposite(h)));
+  if (p == q || g.halfedge(p, q) != M::null_halfedge()) return false;
+  const FP fu = s_.fpoint(m, u), fv = s_.fpoint(m, v), fp = s_.fpoint(m, p), fq = s_.fpoint(m, q);
+  const double before = std::min(angle(m, f0), angle(m, f1));
+  const double after = std::min(min_angle_deg(fp, fu, fq), min_angle_deg(fp, fq, fv));
+  if (!(after > before + 1e-6)) return false;
+  Edit<K> edit;
+  edit.parts.emplace_back();
+  if (!make_fan<K>(s_, m, {f0, f1}, corner(m, p), edit.parts.back())) return false;
+  const auto &pu = g.point(u), &pv = g.point(v), &pp = g.point(p), &pq = g.point(q);
+  // Inside one plane, and convex: the two new faces cover the two old ones.
+  edit.keeps_surface = CGAL::coplanar(pu, pv, pp, pq) && !CGAL::collinear(pp, pq, pu) && !CGAL::collinear(pu, pv, pp) &&
+                       CGAL::coplanar_orientation(pp, pq, pu, pv) == CGAL::NEGATIVE &&
+                       CGAL::coplanar_orientation(pu, pv, pp, pq) == CGAL::NEGATIVE;
+  if (attempt(edit, made)) return false;
+  ++s_.stats.flips;
+  return true;
+}
+
+template <class K> void Refiner<K>::flip_all() {
+  for (std::size_t m = 0; m < s_.meshes.size(); ++m) {
+    const M& g = s_.mesh(m);
+    std::vector<H> todo;
+    for (auto e : g.edges())
+      if (!g.is_border(e)) todo.push_back(g.halfedge(e));
+    // Each flip raises the sorted vector of angles; the cap only guards against rounding.
+    for (std::size_t budget = 20 * todo.size() + 100; !todo.empty() && budget > 0; --budget) {
+      const H h = todo.back();
+      todo.pop_back();
+      Applied<K> made;
+      if (!try_flip(m, h, &made)) continue;
+      for (const auto& made_face : made.faces)
+        for (H k : CGAL::halfedges_around_face(g.halfedge(made_face.second), g)) todo.push_back(k);
+    }
+  }
+}
+
+/// Lawson's flips around a new vertex x: the edges opposite it, while a flip raises the angles.
+template <class K> void Refiner<K>::legalize(std::size_t m, V x) {
+  const M& g = s_.mesh(m);
+  std::vector<H> todo;
+  for (H h : CGAL::halfedges_around_target(g.halfedge(x), g))
+    if (!g.is_border(h)) todo.push_back(g.next(g.next(h)));
+  for (std::size_t budget = 64 + 8 * todo.size(); !todo.empty() && budget > 0; --budget) {
+    const H h = todo.back();
+    todo.pop_back();
+    if (g.is_removed(g.edge(h)) || g.is_border(h) || g.target(g.next(h)) != x) continue;
+    const V u = g.source(h), v = g.target(h), q = g.target(g.next(g.opposite(h)));
+    if (!try_flip(m, h)) continue;
+    for (H k : {g.halfedge(u, q), g.halfedge(q, v)})
+      if (k != M::null_halfedge()) todo.push_back(k);
+  }
+}
+
+/// A constraint edge is encroached when a corner of a face of the band beside it sees it at more
+/// than 90 degrees (it lies inside the edge's diametral ball), and it is long enough to split.
+template <class K> bool Refiner<K>::is_encroached(std::size_t m, H h) const {
+  const M& g = s_.mesh(m);
+  const FP a = s_.fpoint(m, g.source(h)), b = s_.fpoint(m, g.target(h));
+  if (CGAL::squared_distance(a, b) < 4 * s_.feature_size * s_.feature_size) return false;
+  for (H k : {h, g.opposite(h)}) {
+    if (!s_.face_in_band(m, g.face(k))) continue;
+    const FP w = s_.fpoint(m, g.target(g.next(k)));
+    if ((a - w) * (b - w) < 0) return true;
+  }
+  return false;
+}
+
+template <class K> void Refiner<K>::push_encroached(std::size_t m, F f) {
+  const M& g = s_.mesh(m);
+  if (!s_.face_in_band(m, f)) return;
+  for (H h : CGAL::halfedges_around_face(g.halfedge(f), g))
+    if (s_.is_constraint(m, h) && is_encroached(m, h)) encroached_.emplace_back(m, g.source(h), g.target(h));
+}
+
+/// Ruppert's order: encroached constraints are split first, then faces below the bound mended,
+/// worst first.
+template <class K> void Refiner<K>::refine() {
+  for (std::size_t m = 0; m < s_.meshes.size(); ++m)
+    for (auto f : s_.mesh(m).faces()) push_if_bad(m, f), push_encroached(m, f);
+  static const bool debug = std::getenv("SEAM_IMPROVE_DEBUG") != nullptr;
+  if (debug) {
+    std::size_t curve_edges = 0, constraints = 0;
+    for (std::size_t m = 0; m < s_.meshes.size(); ++m)
+      for (auto e : s_.mesh(m).edges()) {
+        const H h = s_.mesh(m).halfedge(e);
+        curve_edges += s_.is_curve_edge(m, s_.mesh(m).source(h), s_.mesh(m).target(h));
+        constraints += s_.is_constraint(m, h);
+      }
+    std::fprintf(stderr, "curve edges %zu constraints %zu encroached %zu segments %zu points %zu\n", curve_edges, constraints,
+                 encroached_.size(), s_.segment_curve.size(), s_.points.size());
+  }
+  while (!queue_.empty() || !encroached_.empty()) {
+    if (s_.insertions_left == 0) break;
+    if (!encroached_.empty()) {
+      const auto [m, u, v] = encroached_.back();
+      encroached_.pop_back();
+      const M& g = s_.mesh(m);
+      if (g.is_removed(u) || g.is_removed(v)) continue;
+      const H h = g.halfedge(u, v);
+      if (h == M::null_halfedge() || !s_.is_constraint(m, h) || !is_encroached(m, h)) continue;
+      const Outcome out = split_constraint(m, h);
+      if (debug) std::fprintf(stderr, "encroached split m%zu -> %d\n", m, int(out.changed));
+      continue;
+    }
+    const Item item = queue_.top();
+    queue_.pop();
+    const M& g = s_.mesh(item.mesh);
+    if (g.is_removed(item.face) || s_.meshes[item.mesh].version[item.face] != item.version) continue;
+    if (debug) {
+      const auto c = s_.corners(item.mesh, item.face);
+      std::fprintf(stderr, "mend m%zu f%zu angle %.3f ins_left %zu:", item.mesh, std::size_t(item.face), item.angle, s_.insertions_left);
+      for (auto v : c) { const auto p = s_.fpoint(item.mesh, v); std::fprintf(stderr, " (%.5f %.5f)%s", p.x(), p.y(), s_.meshes[item.mesh].point[v] >= 0 ? "c" : ""); }
+      std::fprintf(stderr, "\n");
+    }
+    if (debug && std::abs(angle(item.mesh, item.face) - item.angle) > 1e-9)
+      std::fprintf(stderr, "  STALE: angle now %.3f corners then %zu %zu %zu now %zu %zu %zu\n", angle(item.mesh, item.face),
+                   std::size_t(item.corners[0]), std::size_t(item.corners[1]), std::size_t(item.corners[2]),
+                   std::size_t(s_.corners(item.mesh, item.face)[0]), std::size_t(s_.corners(item.mesh, item.face)[1]),
+                   std::size_t(s_.corners(item.mesh, item.face)[2]));
+    const Outcome out = mend(item.mesh, item.face);
+    if (debug) std::fprintf(stderr, "  -> changed %d cause %d\n", int(out.changed), int(out.cause));
+    if (g.is_removed(item.face) || s_.meshes[item.mesh].version[item.face] != item.version) continue;
+    if (out.changed)
+      push_if_bad(item.mesh, item.face);  // still there (the band grew beside it, a constraint was split): again
+    else
+      s_.meshes[item.mesh].cause[item.face] = std::uint8_t(1 + int(out.cause));
+  }
+  // What is left when the budget ran out.
+  while (!queue_.empty()) {
+    const Item item = queue_.top();
+    queue_.pop();
+    if (!s_.mesh(item.mesh).is_removed(item.face) && s_.meshes[item.mesh].version[item.face] == item.version)
+      s_.meshes[item.mesh].cause[item.face] = std::uint8_t(1 + int(ShortfallCause::budget));
+  }
+}
+
+/// One step towards mending a face below the bound (seam/improve.h, steps 1a-c).
+template <class K> Outcome Refiner<K>::mend(std::size_t m, F f) {
+  const M& g = s_.mesh(m);
+  const auto c = s_.corners(m, f);
+  const std::array<FP, 3> p = {s_.fpoint(m, c[0]), s_.fpoint(m, c[1]), s_.fpoint(m, c[2])};
+  // a. Edges shorter than the feature size, shortest first: their ends merge.
+  std::array<std::size_t, 3> order = {0, 1, 2};  // edge i joins corners i and i + 1
+  auto length = [&](std::size_t i) { return std::sqrt(CGAL::squared_distance(p[i], p[(i + 1) % 3])); };
+  std::sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return length(i) < length(j); });
+  std::optional<Outcome> refused;
+  for (std::size_t i : order) {
+    if (length(i) >= s_.feature_size) break;
+    if (auto out = merge_short_edge(m, c[i], c[(i + 1) % 3])) {
+      if (out->changed) return *out;
+      refused = out;
+    }
+  }
+  // b. A free vertex at an obtuse corner, within the tolerance of the curve segment opposite.
+  for (std::size_t i = 0; i < 3; ++i) {
+    const V x = c[(i + 1) % 3], y = c[(i + 2) % 3];
+    if (angle_at(p[i], p[(i + 1) % 3], p[(i + 2) % 3]) <= M_PI / 2 || !s_.is_curve_edge(m, x, y)) continue;
+    if (auto out = move_onto_segment(m, c[i], x, y)) {
+      if (out->changed) return *out;
+      refused = out;
+    }
+  }
+  // The smallest angle between two constraints: nothing inside the band can change it.
+  std::size_t smallest = 0;
+  for (std::size_t i = 1; i < 3; ++i)
+    if (angle_at(p[i], p[(i + 1) % 3], p[(i + 2) % 3]) < angle_at(p[smallest], p[(smallest + 1) % 3], p[(smallest + 2) % 3]))
+      smallest = i;
+  H in = g.halfedge(f);  // the halfedges into and out of the smallest corner
+  while (g.target(in) != c[smallest]) in = g.next(in);
+  if (s_.is_constraint(m, in) && s_.is_constraint(m, g.next(in))) {
+    const Outcome out = insert_circumcenter(m, f);  // still refine: the face beside may mend
+    if (out.changed) return out;
+    return {false, ShortfallCause::constraint_angle};
+  }
+  const Outcome out = insert_circumcenter(m, f);
+  if (!out.changed && refused) return *refused;
+  return out;
+}
+
+/// Whether u can merge into its neighbour w, and the edit that does it: a free u in its mesh; a
+/// curve point u along a curve segment (u, w), in every mesh holding the curve, when u is an
+/// inner point of one curve only, away from the band's border.
+template <class K> bool Refiner<K>::merge_plan(std::size_t m, V u, V w, Edit<K>& edit) const {
+  edit = Edit<K>();
+  if (s_.is_free(m, u)) {
+    edit.parts.emplace_back();
+    return make_fan<K>(s_, m, star(m, u), corner(m, w), edit.parts.back());
+  }
+  const int pu = s_.meshes[m].point[u], pw = s_.meshes[m].point[w];
+  const int c = s_.curve_of_segment(pu, pw);
+  if (c < 0 || !s_.holds_curve(m, c)) return false;
+  const auto& sc = s_.curves[std::size_t(c)];
+  if (!sc.next.count(pu) || !sc.prev.count(pu)) return false;  // an end of an open curve
+  if (sc.closed && sc.next.size() <= 3) return false;           // a closed curve keeps three points
+  const auto& cp = s_.points[std::size_t(pu)];
+  for (std::size_t k = 0; k < s_.meshes.size(); ++k) {
+    const bool holds = s_.holds_curve(k, c);
+    if (!holds && cp.vertex[k] != M::null_vertex()) return false;  // shared with another mesh
+    if (!holds) continue;
+    const V uk = cp.vertex[k], wk = s_.points[std::size_t(pw)].vertex[k];
+    if (s_.mesh(k).is_border(uk)) return false;
+    for (auto f : star(k, uk))
+      if (!s_.face_in_band(k, f)) return false;
+    // u must not be a point of another curve (a junction)
+    int curve_links = 0;
+    for (auto h : CGAL::halfedges_around_target(s_.mesh(k).halfedge(uk), s_.mesh(k)))
+      if (s_.is_curve_edge(k, s_.mesh(k).source(h), uk)) ++curve_links;
+    if (curve_links != 2) return false;
+    edit.parts.emplace_back();
+    if (!make_fan<K>(s_, k, star(k, uk), corner(k, wk), edit.parts.back())) return false;
+  }
+  edit.merged_point = pu;
+  edit.merged_into = pw;
+  return true;
+}
+
+template <class K> std::optional<Outcome> Refiner<K>::merge_short_edge(std::size_t m, V x, V y) {
+  std::optional<Outcome> result;
+  double best = -1;
+  Edit<K> chosen;
+  for (auto [u, w] : {std::make_pair(x, y), std::make_pair(y, x)}) {
+    Edit<K> edit;
+    if (!merge_plan(m, u, w, edit)) continue;
+    const Verdict v = accept_edit<K>(s_, edit);
+    if (v != Verdict::accepted) {
+      if (!result) result = Outcome{false, cause_of(v)};
+      continue;
+    }
+    double worst = 180;
+    for (const auto& part : edit.parts)
+      for (const auto& a : part.added) worst = std::min(worst, min_angle_deg(a[0].p, a[1].p, a[2].p));
+    if (worst > best) best = worst, chosen = edit;
+  }
+  if (best < 0) return result;
+  push_made(apply_edit<K>(s_, chosen));
+  ++s_.stats.merges;
+  return Outcome{true, ShortfallCause::constraint_angle};
+}
+
+/// Moves free vertex w onto curve segment (x, y) at its foot there, which becomes a curve point
+/// of every mesh holding the curve (seam/improve.h, step 1b).
+template <class K> std::optional<Outcome> Refiner<K>::move_onto_segment(std::size_t m, V w, V x, V y) {
+  if (!s_.is_free(m, w)) return std::nullopt;
+  const M& g = s_.mesh(m);
+  const FP fw = s_.fpoint(m, w), fx = s_.fpoint(m, x), fy = s_.fpoint(m, y);
+  const FV d = fy - fx;
+  const double len2 = d.squared_length();
+  if (!(len2 > 0)) return std::nullopt;
+  const double t = ((fw - fx) * d) / len2, len = std::sqrt(len2);
+  if (t * len < s_.feature_size || (1 - t) * len < s_.feature_size) return std::nullopt;
+  if (std::sqrt(CGAL::squared_distance(fw, fx + t * d)) > s_.tolerance) return std::nullopt;
+  const int px = s_.meshes[m].point[x], py = s_.meshes[m].point[y], c = s_.curve_of_segment(px, py);
+  Edit<K> edit;
+  edit.has_fresh = edit.fresh_curve_point = true;
+  edit.fresh_point = g.point(x) + (g.point(y) - g.point(x)) * typename K::FT(t);  // on the segment, exactly
+  make_exact(edit.fresh_point);
+  edit.split_a = px;
+  edit.split_b = py;
+  const EditCorner<K> fresh{M::null_vertex(), true, edit.fresh_point};
+  for (std::size_t k = 0; k < s_.meshes.size(); ++k) {
+    if (!s_.holds_curve(k, c)) continue;
+    const M& gk = s_.mesh(k);
+    const V xk = s_.points[std::size_t(px)].vertex[k], yk = s_.points[std::size_t(py)].vertex[k];
+    std::vector<F> region = k == m ? star(m, w) : std::vector<F>{};
+    for (H h : {gk.halfedge(xk, yk), gk.halfedge(yk, xk)}) {
+      const F f = gk.face(h);
+      if (f == M::null_face()) continue;
+      if (!s_.face_in_band(k, f)) return Outcome{false, ShortfallCause::constraint_angle};
+      if (std::find(region.begin(), region.end(), f) == region.end()) region.push_back(f);
+    }
+    edit.parts.emplace_back();
+    if (!make_fan<K>(s_, k, region, fresh, edit.parts.back(), {xk, yk})) return std::nullopt;
+  }
+  if (const auto refused = attempt(edit)) return Outcome{false, cause_of(*refused)};
+  ++s_.stats.moves_onto_curves;
+  return Outcome{true, ShortfallCause::constraint_angle};
+}
+
+/// Splits the constraint edge of h at its middle: a curve segment in every mesh holding it, the
+/// band's border with the face beyond (or that face joins the band), the mesh's border alone.
+template <class K> Outcome Refiner<K>::split_constraint(std::size_t m, H h) {
+  const M& g = s_.mesh(m);
+  if (!s_.face_in_band(m, g.face(h))) h = g.opposite(h);  // from the band's side
+  const V x = g.source(h), y = g.target(h);
+  if (std::sqrt(CGAL::squared_distance(s_.fpoint(m, x), s_.fpoint(m, y))) < 2 * s_.feature_size)
+    return {false, ShortfallCause::feature_size};
+  const F beyond = g.face(g.opposite(h));
+  const bool curve = s_.is_curve_edge(m, x, y);
+  if (!curve && beyond != M::null_face()) {
+    // The band's border: the face beyond joins the band (nothing changes in the surface), or, out
+    // of reach (farther than band_radius, shared, frozen), the border stays as it is.
+    if (s_.face_in_band(m, beyond) || !s_.may_join_band(m, beyond)) return {false, ShortfallCause::constraint_angle};
+    s_.meshes[m].band[beyond] = true;
+    ++s_.stats.faces_absorbed;
+    push_if_bad(m, beyond);
+    push_encroached(m, beyond);
+    return {true, ShortfallCause::constraint_angle};
+  }
+  Edit<K> edit;
+  edit.has_fresh = true;
+  edit.fresh_point = CGAL::midpoint(g.point(x), g.point(y));
+  make_exact(edit.fresh_point);
+  edit.keeps_surface = kernel_traits<K>::exact_constructions;
+  const EditCorner<K> fresh{M::null_vertex(), true, edit.fresh_point};
+  auto faces_of = [&](std::size_t k, V a, V b, std::vector<F>& region) {
+    const M& gk = s_.mesh(k);
+    for (H e : {gk.halfedge(a, b), gk.halfedge(b, a)}) {
+      const F f = gk.face(e);
+      if (f == M::null_face()) continue;
+      const auto& ms = s_.meshes[k];
+      if ((ms.has_shared && ms.shared[f]) || (ms.has_frozen && ms.frozen[f])) return false;
+      region.push_back(f);
+    }
+    return true;
+  };
+  if (curve) {
+    const int px = s_.meshes[m].point[x], py = s_.meshes[m].point[y], c = s_.curve_of_segment(px, py);
+    edit.fresh_curve_point = true;
+    edit.split_a = px;
+    edit.split_b = py;
+    for (std::size_t k = 0; k < s_.meshes.size(); ++k) {
+      if (!s_.holds_curve(k, c)) continue;
+      std::vector<F> region;
+      if (!faces_of(k, s_.points[std::size_t(px)].vertex[k], s_.points[std::size_t(py)].vertex[k], region))
+        return {false, ShortfallCause::constraint_angle};
+      edit.parts.emplace_back();
+      const std::pair<V, V> ends{s_.points[std::size_t(px)].vertex[k], s_.points[std::size_t(py)].vertex[k]};
+      if (!make_fan<K>(s_, k, region, fresh, edit.parts.back(), ends)) return {false, ShortfallCause::shape};
+    }
+  } else {
+    std::vector<F> region;
+    if (!faces_of(m, x, y, region)) return {false, ShortfallCause::constraint_angle};
+    edit.parts.emplace_back();
+    if (!make_fan<K>(s_, m, region, fresh, edit.parts.back(), {x, y})) return {false, ShortfallCause::shape};
+  }
+  Applied<K> made;
+  if (const auto refused = attempt(edit, &made)) return {false, cause_of(*refused)};
+  --s_.insertions_left;
+  ++(curve ? s_.stats.curve_splits : s_.stats.edge_splits);
+  for (std::size_t k = 0; k < edit.parts.size(); ++k) legalize(edit.parts[k].mesh, made.fresh[k]);
+  return {true, ShortfallCause::constraint_angle};
+}
+
+/// Walks over the surface from face f towards `target` (in f's plane), unfolding each face into
+/// the plane of the last. Stops in the face holding it (true: `landed`, `at`) or at the first
+/// constraint on the way (false: `crossed`, or null when the walk is too long).
+template <class K> bool Refiner<K>::walk(std::size_t m, F f, FP target, F& landed, FP& at, H& crossed) const {
+  const M& g = s_.mesh(m);
+  crossed = M::null_halfedge();
+  F face = f;
+  H entered = M::null_halfedge();
+  for (int step = 0; step < 256; ++step) {
+    H h = g.halfedge(face);
+    std::array<H, 3> hs = {h, g.next(h), g.next(g.next(h))};  // hs[i] runs from corner i to i + 1
+    std::array<FP, 3> p = {s_.fpoint(m, g.source(hs[0])), s_.fpoint(m, g.source(hs[1])), s_.fpoint(m, g.source(hs[2]))};
+    const FV n = CGAL::cross_product(p[1] - p[0], p[2] - p[0]);
+    const double nn = n.squared_length();
+    if (!(nn > 0)) return false;
+    // Barycentric coordinate of corner i: the signed area of (target, next two corners).
+    std::array<double, 3> lambda;
+    for (int i = 0; i < 3; ++i)
+      lambda[std::size_t(i)] =
+          CGAL::cross_product(p[std::size_t((i + 1) % 3)] - target, p[std::size_t((i + 2) % 3)] - target) * n / nn;
+    int out = -1;
+    for (int i = 0; i < 3; ++i)
+      if (lambda[std::size_t(i)] < -1e-12 && (out < 0 || lambda[std::size_t(i)] < lambda[std::size_t(out)])) {
+        const H e = hs[std::size_t((i + 1) % 3)];  // the edge opposite corner i
+        if (e != entered) out = i;
+      }
+    if (out < 0) {
+      landed = face;
+      at = target;
+      return true;
+    }
+    const H e = hs[std::size_t((out + 1) % 3)];
+    if (s_.is_constraint(m, e)) {
+      crossed = e;
+      return false;
+    }
+    // Unfold: rotate the target about e from this face's plane into the next one's.
+    const F next = g.face(g.opposite(e));
+    const FP a = s_.fpoint(m, g.source(e)), b = s_.fpoint(m, g.target(e));
+    const FP c = s_.fpoint(m, g.target(g.next(g.opposite(e))));
+    FV along = b - a;
+    along = along / std::sqrt(along.squared_length());
+    const FV n0 = n / std::sqrt(nn);
+    const FV n1v = CGAL::cross_product(a - b, c - b);  // the next face's normal (a->b reversed in it)
+    const double n1l = std::sqrt(n1v.squared_length());
+    if (!(n1l > 0)) return false;
+    const FV n1 = n1v / n1l;
+    const FV rel = target - a;
+    const FV across0 = CGAL::cross_product(n0, along), across1 = CGAL::cross_product(n1, along);
+    target = a + (rel * along) * along + (rel * across0) * across1;
+    entered = g.opposite(e);
+    face = next;
+  }
+  return false;
+}
+
+template <class K> Outcome Refiner<K>::insert_circumcenter(std::size_t m, F f) {
+  const M& g = s_.mesh(m);
+  const auto c = s_.corners(m, f);
+  const FP p0 = s_.fpoint(m, c[0]), p1 = s_.fpoint(m, c[1]), p2 = s_.fpoint(m, c[2]);
+  if (CGAL::collinear(p0, p1, p2)) return {false, ShortfallCause::shape};
+  F landed;
+  FP at;
+  H crossed;
+  // Üngör's off-center: on the bisector of the shortest edge, no farther from it than the apex of
+  // a triangle on that edge with the bound's angle there (the circumcenter where that is nearer).
+  // The same bound as the circumcenter's (and fewer points); a sliver's circumcenter lies far away.
+  const std::array<FP, 3> p = {p0, p1, p2};
+  std::size_t shortest = 0;  // edge i joins p[i] and p[i + 1]
+  for (std::size_t i = 1; i < 3; ++i)
+    if (CGAL::squared_distance(p[i], p[(i + 1) % 3]) < CGAL::squared_distance(p[shortest], p[(shortest + 1) % 3]))
+      shortest = i;
+  const FP mid = CGAL::midpoint(p[shortest], p[(shortest + 1) % 3]), centre = CGAL::circumcenter(p0, p1, p2);
+  const double half = 0.5 * std::sqrt(CGAL::squared_distance(p[shortest], p[(shortest + 1) % 3]));
+  // (With two degrees to spare: a triangle made exactly at the bound may round below it.)
+  const double reach = half / std::tan(0.5 * (s_.options.min_angle_deg + 2) * M_PI / 180);
+  const double to_centre = std::sqrt(CGAL::squared_distance(mid, centre));
+  const FP target = to_centre > reach ? mid + (centre - mid) * (reach / to_centre) : centre;
+  if (!walk(m, f, target, landed, at, crossed)) {
+    if (crossed == M::null_halfedge()) return {false, ShortfallCause::shape};
+    return split_constraint(m, crossed);
+  }
+  // Constraints the circumcenter encroaches (inside their diametral ball), on the face it lands in
+  // and the faces around it: split instead.
+  for (V v : s_.corners(m, landed))
+    for (H h : CGAL::halfedges_around_target(g.halfedge(v), g)) {
+      for (H e : {h, g.next(h)}) {
+        if (g.is_border(e) && g.is_border(g.opposite(e))) continue;
+        const H inside = g.is_border(e) ? g.opposite(e) : e;
+        if (!s_.is_constraint(m, inside)) continue;
+        const FP a = s_.fpoint(m, g.source(inside)), b = s_.fpoint(m, g.target(inside));
+        if (CGAL::squared_distance(at, CGAL::midpoint(a, b)) < 0.25 * CGAL::squared_distance(a, b))
+          return split_constraint(m, inside);
+      }
+    }
+  return insert_at(m, landed, at);
+}
+
+/// Inserts a point in face g (rounded to doubles; if the predicate refuses it, exactly in g), then
+/// Lawson's flips around it.
+template <class K> Outcome Refiner<K>::insert_at(std::size_t m, F g, const FP& at) {
+  const M& mesh = s_.mesh(m);
+  for (V v : s_.corners(m, g))
+    for (H h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh))
+      if (CGAL::squared_distance(at, s_.fpoint(m, mesh.source(h))) < s_.feature_size * s_.feature_size ||
+          CGAL::squared_distance(at, s_.fpoint(m, v)) < s_.feature_size * s_.feature_size)
+        return {false, ShortfallCause::feature_size};
+  const auto c = s_.corners(m, g);
+  // The point is put on the input surface (rounded to doubles), where the face is farther than
+  // that from it; the predicate checks the faces it makes.
+  const FP on_input = s_.meshes[m].input->closest(at).first;
+  Edit<K> edit;
+  edit.has_fresh = true;
+  edit.fresh_point = Point(on_input.x(), on_input.y(), on_input.z());
+  edit.parts.emplace_back();
+  if (!make_fan<K>(s_, m, {g}, {M::null_vertex(), true, edit.fresh_point}, edit.parts.back()))
+    return {false, ShortfallCause::shape};
+  Applied<K> made;
+  if (auto refused = attempt(edit, &made)) {
+    // Exactly in g: barycentric coordinates (doubles) of the point, the point made from them.
+    const FP p0 = s_.fpoint(m, c[0]), p1 = s_.fpoint(m, c[1]), p2 = s_.fpoint(m, c[2]);
+    const FV n = CGAL::cross_product(p1 - p0, p2 - p0);
+    const double nn = n.squared_length();
+    double l1 = CGAL::cross_product(p2 - at, p0 - at) * n / nn, l2 = CGAL::cross_product(p0 - at, p1 - at) * n / nn;
+    l1 = std::clamp(l1, 1e-3, 0.998);
+    l2 = std::clamp(l2, 1e-3, 1.0 - l1 - 1e-3);
+    const auto& q0 = mesh.point(c[0]);
+    edit.fresh_point = q0 + (mesh.point(c[1]) - q0) * typename K::FT(l1) + (mesh.point(c[2]) - q0) * typename K::FT(l2);
+    make_exact(edit.fresh_point);
+    edit.keeps_surface = kernel_traits<K>::exact_constructions;
+    for (auto& a : edit.parts.back().added)
+      for (auto& corner : a)
+        if (corner.fresh) corner.p = edit.fresh_point;
+    if (auto again = attempt(edit, &made)) return {false, cause_of(*again)};
+  }
+  --s_.insertions_left;
+  ++s_.stats.insertions;
+  if (std::getenv("SEAM_IMPROVE_DEBUG")) std::fprintf(stderr, "  insert (%.5f %.5f %.5f)\n", at.x(), at.y(), at.z());
+  legalize(m, made.fresh.front());
+  return {true, ShortfallCause::constraint_angle};
+}
+
+/// The faces of the band below the bound, with their causes (after the meshes' garbage went).
+template <class K> void classify(ImproveState<K>& s) {
+  s.stats.min_angle_deg_after = 180;
+  bool any = false;
+  for (std::size_t m = 0; m < s.meshes.size(); ++m) {
+    const auto& ms = s.meshes[m];
+    for (auto f : ms.mesh->faces()) {
+      if (!ms.band[f]) continue;
+      const double a = face_min_angle<K>(s, m, f);
+      any = true;
+      s.stats.min_angle_deg_after = std::min(s.stats.min_angle_deg_after, a);
+      if (a >= s.options.min_angle_deg) continue;
+      ++s.stats.below_bound_after;
+      if (!ms.is_new[f]) continue;  // a face of the input, as it was
+      const ShortfallCause cause = a >= s.target_angle(m, f) ? ShortfallCause::input_angle
+                                   : ms.cause[f]             ? ShortfallCause(ms.cause[f] - 1)
+                                                             : ShortfallCause::budget;
+      s.stats.shortfalls.push_back({m, std::size_t(f), a, cause});
+    }
+  }
+  if (!any) s.stats.min_angle_deg_after = 0;
+}
+
+}  // namespace
+
+template <class K>
+ImproveStats improve(std::vector<ImproveMesh<K>>& meshes, SharedCurves<K>& curves, const ImproveOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  ImproveState<K> s;
+  init_state<K>(s, meshes, curves, options);
+  Refiner<K> refiner(s);
+  refiner.flip_all();
+  refiner.refine();
+  refiner.flip_all();
+  finish_state<K>(s, curves);
+  classify<K>(s);
+  drop_state_properties<K>(s);
+  s.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return s.stats;
+}
+
+#define SEAM_INSTANTIATE(K)                                                                                   \
+  template ImproveStats improve<K>(std::vector<ImproveMesh<K>>&, SharedCurves<K>&, const ImproveOptions&);
+SEAM_INSTANTIATE(Exact)
+SEAM_INSTANTIATE(Filtered)
+SEAM_INSTANTIATE(Float)
+#undef SEAM_INSTANTIATE
+
+}  // namespace seam::internal

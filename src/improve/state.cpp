@@ -1,0 +1,342 @@
+// seam: the quality stage's state: curve points numbered across the meshes, the band, the grid of
+// faces; and the curves written back at the end.
+// SPDX-License-Identifier: GPL-3.0-or-later
+
+#include <seam/embed.h>
+#include <seam/errors.h>
+#include <seam/internal/improve_state.h>
+#include <seam/internal/local_edits.h>
+#include <seam/quality.h>
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace seam {
+
+const char* shortfall_cause_name(ShortfallCause cause) {
+  switch (cause) {
+    case ShortfallCause::input_angle: return "input_angle";
+    case ShortfallCause::constraint_angle: return "constraint_angle";
+    case ShortfallCause::feature_size: return "feature_size";
+    case ShortfallCause::tolerance: return "tolerance";
+    case ShortfallCause::crossing: return "crossing";
+    case ShortfallCause::shape: return "shape";
+    case ShortfallCause::budget: return "budget";
+  }
+  return "?";
+}
+
+namespace internal {
+
+// ---------------------------------------------------------------- input surface
+
+struct InputSurface::Tree {
+  using Primitive = CGAL::AABB_triangle_primitive<Filtered, std::vector<Filtered::Triangle_3>::const_iterator>;
+  std::vector<Filtered::Triangle_3> triangles;
+  CGAL::AABB_tree<CGAL::AABB_traits<Filtered, Primitive>> tree;
+};
+
+InputSurface::InputSurface(std::vector<Filtered::Triangle_3> triangles) : tree_(std::make_unique<Tree>()) {
+  tree_->triangles = std::move(triangles);
+  tree_->tree.insert(tree_->triangles.begin(), tree_->triangles.end());
+  tree_->tree.build();
+  if (!tree_->triangles.empty()) tree_->tree.accelerate_distance_queries();
+}
+
+InputSurface::~InputSurface() = default;
+
+std::pair<Filtered::Point_3, Filtered::Vector_3> InputSurface::closest(const Filtered::Point_3& p) const {
+  if (tree_->triangles.empty()) return {p, Filtered::Vector_3(0, 0, 0)};
+  const auto [q, it] = tree_->tree.closest_point_and_primitive(p);
+  Filtered::Vector_3 n = CGAL::normal(it->vertex(0), it->vertex(1), it->vertex(2));
+  const double len = std::sqrt(n.squared_length());
+  return {q, len > 0 ? n / len : n};
+}
+
+double InputSurface::sampled_distance(const Filtered::Point_3& p, const Filtered::Point_3& q,
+                                      const Filtered::Point_3& r) const {
+  if (tree_->triangles.empty()) return std::numeric_limits<double>::infinity();
+  double worst = 0;
+  for (const auto& x : {p, q, r, CGAL::midpoint(p, q), CGAL::midpoint(q, r), CGAL::midpoint(r, p), CGAL::centroid(p, q, r)})
+    worst = std::max(worst, tree_->tree.squared_distance(x));
+  return std::sqrt(worst);
+}
+
+// ---------------------------------------------------------------- face grid
+
+namespace {
+std::uint64_t cell_key(long i, long j, long k) {
+  auto part = [](long x) { return std::uint64_t(x + (1L << 20)) & ((1ULL << 21) - 1); };
+  return part(i) | (part(j) << 21) | (part(k) << 42);
+}
+}  // namespace
+
+bool FaceGrid::cell_range(const CGAL::Bbox_3& box, std::array<long, 6>& range) const {
+  for (int d = 0; d < 3; ++d) {
+    range[std::size_t(d)] = long(std::floor(box.min(d) / cell_)) - 0;
+    range[std::size_t(d + 3)] = long(std::floor(box.max(d) / cell_));
+  }
+  const double cells = double(range[3] - range[0] + 1) * double(range[4] - range[1] + 1) * double(range[5] - range[2] + 1);
+  return cells <= 512;
+}
+
+void FaceGrid::insert(const Entry& entry, const CGAL::Bbox_3& box) {
+  std::array<long, 6> r;
+  if (!cell_range(box, r)) {
+    oversized_.emplace_back(entry, box);
+    return;
+  }
+  for (long i = r[0]; i <= r[3]; ++i)
+    for (long j = r[1]; j <= r[4]; ++j)
+      for (long k = r[2]; k <= r[5]; ++k) cells_[cell_key(i, j, k)].push_back(entry);
+}
+
+std::vector<FaceGrid::Entry> FaceGrid::query(const CGAL::Bbox_3& box) const {
+  std::vector<Entry> found;
+  std::array<long, 6> r;
+  if (cell_range(box, r)) {
+    for (long i = r[0]; i <= r[3]; ++i)
+      for (long j = r[1]; j <= r[4]; ++j)
+        for (long k = r[2]; k <= r[5]; ++k)
+          if (const auto it = cells_.find(cell_key(i, j, k)); it != cells_.end())
+            found.insert(found.end(), it->second.begin(), it->second.end());
+  } else {  // a huge box (a hostile input): every entry
+    for (const auto& [key, entries] : cells_) found.insert(found.end(), entries.begin(), entries.end());
+  }
+  for (const auto& [entry, b] : oversized_)
+    if (CGAL::do_overlap(b, box)) found.push_back(entry);
+  auto key = [](const Entry& e) { return std::make_tuple(e.mesh, e.face, e.version); };
+  std::sort(found.begin(), found.end(), [&](const Entry& x, const Entry& y) { return key(x) < key(y); });
+  found.erase(std::unique(found.begin(), found.end(), [&](const Entry& x, const Entry& y) { return key(x) == key(y); }),
+              found.end());
+  return found;
+}
+
+// ---------------------------------------------------------------- state
+
+template <class K> double face_min_angle(const ImproveState<K>& s, std::size_t m, typename ImproveState<K>::F f) {
+  const auto c = s.corners(m, f);
+  const auto& g = s.mesh(m);
+  return min_angle_deg(g.point(c[0]), g.point(c[1]), g.point(c[2]));
+}
+
+template <class K> bool ImproveState<K>::may_join_band(std::size_t m, F f) const {
+  const MeshState& ms = meshes[m];
+  if (f == M::null_face() || ms.band[f]) return false;
+  if ((ms.has_shared && ms.shared[f]) || (ms.has_frozen && ms.frozen[f])) return false;
+  const auto c = corners(m, f);
+  const Filtered::Point_3 centroid = CGAL::centroid(fpoint(m, c[0]), fpoint(m, c[1]), fpoint(m, c[2]));
+  const long i = long(std::floor(centroid.x() / band_radius)), j = long(std::floor(centroid.y() / band_radius)),
+             k = long(std::floor(centroid.z() / band_radius));
+  for (long a = i - 1; a <= i + 1; ++a)
+    for (long b = j - 1; b <= j + 1; ++b)
+      for (long d = k - 1; d <= k + 1; ++d)
+        if (const auto it = curve_cells.find(cell_key(a, b, d)); it != curve_cells.end())
+          for (const auto& p : it->second)
+            if (CGAL::squared_distance(p, centroid) <= band_radius * band_radius) return true;
+  return false;
+}
+
+namespace {
+
+template <class K> CGAL::Bbox_3 face_box(const ImproveState<K>& s, std::size_t m, typename ImproveState<K>::F f) {
+  const auto c = s.corners(m, f);
+  CGAL::Bbox_3 box;
+  for (auto v : c) box += s.fpoint(m, v).bbox();
+  return box;
+}
+
+/// Curve points numbered across the meshes (the same point in two meshes is one), their links
+/// along each curve, and each segment's curve.
+template <class K> void number_curve_points(ImproveState<K>& s, const SharedCurves<K>& in) {
+  using Point = typename K::Point_3;
+  auto less = [](const Point& x, const Point& y) { return CGAL::compare_xyz(x, y) == CGAL::SMALLER; };
+  std::map<Point, int, decltype(less)> ids(less);
+  const std::size_t n_meshes = s.meshes.size();
+  s.curves.resize(in.curves.size());
+  for (std::size_t c = 0; c < in.curves.size(); ++c) {
+    const auto& curve = in.curves[c];
+    auto& sc = s.curves[c];
+    sc.closed = is_closed(curve);
+    const std::size_t n = sc.closed ? curve.size() - 1 : curve.size();
+    for (std::size_t m = 0; m < n_meshes; ++m)
+      if (in.vertices[m].size() > c && !in.vertices[m][c].empty()) sc.meshes.push_back(m);
+    std::vector<int> id(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      auto [it, added] = ids.emplace(curve[i], int(s.points.size()));
+      if (added) s.points.push_back({curve[i], std::vector<typename Mesh<K>::Vertex_index>(n_meshes), false});
+      id[i] = it->second;
+      for (std::size_t m : sc.meshes) {
+        const auto v = in.vertices[m][c][i];
+        s.points[std::size_t(id[i])].vertex[m] = v;
+        s.meshes[m].point[v] = id[i];
+      }
+    }
+    if (n > 0) sc.first = id[0];
+    const std::size_t links = n < 2 ? 0 : (sc.closed ? n : n - 1);
+    for (std::size_t i = 0; i < links; ++i) {
+      const int a = id[i], b = id[(i + 1) % n];
+      if (a == b || sc.next.count(a) || sc.prev.count(b) ||
+          !s.segment_curve.emplace(std::make_pair(std::min(a, b), std::max(a, b)), int(c)).second)
+        throw InternalError("improve: a curve passes twice through one point or along another curve's segment");
+      sc.next[a] = b;
+      sc.prev[b] = a;
+    }
+  }
+  for (const auto& p : s.points) {
+    const auto q = to_filtered(p.p);
+    s.curve_cells[cell_key(long(std::floor(q.x() / s.band_radius)), long(std::floor(q.y() / s.band_radius)),
+                           long(std::floor(q.z() / s.band_radius)))]
+        .push_back(q);
+  }
+}
+
+/// The stage's own properties on each mesh, and the provenance properties the embedding made.
+template <class K> void add_properties(typename ImproveState<K>::MeshState& ms) {
+  using M = Mesh<K>;
+  using V = typename M::Vertex_index;
+  using F = typename M::Face_index;
+  M& g = *ms.mesh;
+  ms.point = g.template add_property_map<V, std::int32_t>("v:seam_improve_point", -1).first;
+  ms.band = g.template add_property_map<F, bool>("f:seam_improve_band", false).first;
+  ms.version = g.template add_property_map<F, std::uint32_t>("f:seam_improve_version", 0).first;
+  ms.cause = g.template add_property_map<F, std::uint8_t>("f:seam_improve_cause", 0).first;
+  for (auto v : g.vertices()) ms.point[v] = -1;
+  for (auto f : g.faces()) ms.band[f] = false, ms.version[f] = 0, ms.cause[f] = 0;
+  bool added_source = false;
+  std::tie(ms.source, added_source) = g.template add_property_map<F, std::uint32_t>(source_face_property, 0);
+  if (added_source)
+    for (auto f : g.faces()) ms.source[f] = std::uint32_t(std::size_t(f));
+  ms.is_new = g.template add_property_map<F, bool>(new_face_property, false).first;
+  std::tie(ms.shared, ms.has_shared) = g.template property_map<F, bool>(shared_face_property);
+  std::tie(ms.frozen, ms.has_frozen) = g.template property_map<F, bool>(frozen_face_property);
+}
+
+}  // namespace
+
+template <class K>
+void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const SharedCurves<K>& curves,
+                const ImproveOptions& options) {
+  s.options = options;
+  s.mean_edge = std::numeric_limits<double>::infinity();
+  double coarsest = 0;
+  for (const auto& im : meshes) {
+    const double l = mean_edge_length<K>(*im.mesh);
+    s.mean_edge = std::min(s.mean_edge, l);
+    coarsest = std::max(coarsest, l);
+  }
+  if (!(s.mean_edge > 0) || !std::isfinite(s.mean_edge)) s.mean_edge = coarsest = 1;
+  s.tolerance = std::max(0.0, options.tolerance);
+  s.feature_size = options.feature_size >= 0 ? options.feature_size : std::max(s.tolerance, s.mean_edge / 64);
+  s.band_radius = options.band_radius > 0 ? options.band_radius : 3 * coarsest;
+  s.meshes.resize(meshes.size());
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    auto& ms = s.meshes[m];
+    ms.mesh = meshes[m].mesh;
+    std::vector<Filtered::Triangle_3> triangles;
+    const Mesh<K>& input = meshes[m].input ? *meshes[m].input : *meshes[m].mesh;
+    for (auto f : input.faces()) {
+      const auto h = input.halfedge(f);
+      triangles.emplace_back(to_filtered(input.point(input.source(h))), to_filtered(input.point(input.target(h))),
+                             to_filtered(input.point(input.target(input.next(h)))));
+    }
+    ms.input = std::make_unique<InputSurface>(std::move(triangles));
+    ms.source_min_angle = meshes[m].source_min_angle;
+    add_properties<K>(ms);
+  }
+  number_curve_points<K>(s, curves);
+
+  // The band: faces made by the embedding or touching a curve point, not shared or frozen.
+  CGAL::Bbox_3 band_box;
+  s.stats.min_angle_deg_before = 180;
+  for (std::size_t m = 0; m < s.meshes.size(); ++m) {
+    auto& ms = s.meshes[m];
+    for (auto f : ms.mesh->faces()) {
+      if ((ms.has_shared && ms.shared[f]) || (ms.has_frozen && ms.frozen[f])) continue;
+      bool touches = ms.is_new[f];
+      for (auto v : s.corners(m, f)) touches = touches || ms.point[v] >= 0;
+      if (!touches) continue;
+      ms.band[f] = true;
+      ++s.stats.band_faces;
+      band_box += face_box<K>(s, m, f);
+      const double angle = face_min_angle<K>(s, m, f);
+      s.stats.min_angle_deg_before = std::min(s.stats.min_angle_deg_before, angle);
+      if (angle < s.target_angle(m, f)) ++s.stats.below_bound_before;
+    }
+  }
+  if (s.stats.band_faces == 0) s.stats.min_angle_deg_before = 0;
+  // The grid: every face near the band (the band can grow by band_radius).
+  s.grid = FaceGrid(s.mean_edge);
+  const double margin = 2 * s.band_radius;
+  const CGAL::Bbox_3 reach(band_box.xmin() - margin, band_box.ymin() - margin, band_box.zmin() - margin,
+                           band_box.xmax() + margin, band_box.ymax() + margin, band_box.zmax() + margin);
+  for (std::size_t m = 0; m < s.meshes.size(); ++m)
+    for (auto f : s.meshes[m].mesh->faces()) {
+      const CGAL::Bbox_3 box = face_box<K>(s, m, f);
+      if (CGAL::do_overlap(box, reach))
+        s.grid.insert({std::uint32_t(m), std::uint32_t(std::size_t(f)), s.meshes[m].version[f]}, box);
+    }
+  s.insertions_left = options.max_insertions_per_face * std::max<std::size_t>(s.stats.band_faces, 1);
+}
+
+template <class K> void finish_state(ImproveState<K>& s, SharedCurves<K>& out) {
+  using V = typename Mesh<K>::Vertex_index;
+  for (std::size_t m = 0; m < s.meshes.size(); ++m) {
+    auto& ms = s.meshes[m];
+    ms.mesh->collect_garbage();
+    for (auto& p : s.points) p.vertex[m] = Mesh<K>::null_vertex();
+    for (auto v : ms.mesh->vertices())
+      if (ms.point[v] >= 0) s.points[std::size_t(ms.point[v])].vertex[m] = v;
+  }
+  for (std::size_t c = 0; c < s.curves.size(); ++c) {
+    const auto& sc = s.curves[c];
+    auto& points = out.curves[c];
+    points.clear();
+    for (std::size_t m : sc.meshes) out.vertices[m][c].clear();
+    for (int id = sc.first, steps = 0; id >= 0; ++steps) {
+      if (steps > int(s.points.size())) throw InternalError("improve: a curve's links form no chain");
+      points.push_back(s.points[std::size_t(id)].p);
+      for (std::size_t m : sc.meshes) {
+        const V v = s.points[std::size_t(id)].vertex[m];
+        if (v == Mesh<K>::null_vertex()) throw InternalError("improve: a curve point lost its vertex");
+        out.vertices[m][c].push_back(v);
+      }
+      const auto it = sc.next.find(id);
+      id = it == sc.next.end() ? -1 : it->second;
+      if (id == sc.first) {  // closed: repeat the first point
+        points.push_back(points.front());
+        for (std::size_t m : sc.meshes) out.vertices[m][c].push_back(out.vertices[m][c].front());
+        break;
+      }
+    }
+  }
+}
+
+template <class K> void drop_state_properties(ImproveState<K>& s) {
+  for (auto& ms : s.meshes) {
+    ms.mesh->remove_property_map(ms.point);
+    ms.mesh->remove_property_map(ms.band);
+    ms.mesh->remove_property_map(ms.version);
+    ms.mesh->remove_property_map(ms.cause);
+  }
+}
+
+#define SEAM_INSTANTIATE(K)                                                                                   \
+  template struct ImproveState<K>;                                                                            \
+  template double face_min_angle<K>(const ImproveState<K>&, std::size_t, ImproveState<K>::F);               \
+  template void init_state<K>(ImproveState<K>&, std::vector<ImproveMesh<K>>&, const SharedCurves<K>&,        \
+                              const ImproveOptions&);                                                         \
+  template void finish_state<K>(ImproveState<K>&, SharedCurves<K>&);                                         \
+  template void drop_state_properties<K>(ImproveState<K>&);
+SEAM_INSTANTIATE(Exact)
+SEAM_INSTANTIATE(Filtered)
+SEAM_INSTANTIATE(Float)
+#undef SEAM_INSTANTIATE
+
+}  // namespace internal
+}  // namespace seam
