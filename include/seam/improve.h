@@ -44,9 +44,8 @@
 //
 // The bound. In the plane, Ruppert's algorithm with diametral balls ends with every angle at
 // least arcsin(1/(2 sqrt 2)) = 20.7 degrees where the input's angles between constraints are at
-// least 60 degrees. A face is held to `min_angle_deg`, or to the smallest angle of the input face it
-// comes from where that is smaller (the input forces it). Every new face of the band below the
-// bound at the end is reported with its cause (ImproveStats::shortfalls):
+// least 60 degrees. Every face of the band is held to `min_angle_deg`; every new face of the band
+// below it at the end is reported with its cause (ImproveStats::shortfalls):
 //   input_angle       it is no worse than the input face it comes from, which is below the bound;
 //   constraint_angle  its smallest angle lies between two constraints (two curve segments, a curve
 //                     segment and the band's border, two border edges): the input forces it;

@@ -153,6 +153,7 @@ template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) 
   for (const auto& part : edit.parts)
     for (const auto& a : part.added)
       if (CGAL::collinear(a[0].p, a[1].p, a[2].p)) return Verdict::shape;
+  if (!edit.keeps_surface && !(s.tolerance > 0)) return Verdict::tolerance;  // no tolerance: the surfaces stay
   if (edit.keeps_surface) {  // the new point lies on the current surface: within the tolerance of the input too?
     if (!edit.has_fresh) return Verdict::accepted;
     const double slack = 1e-9 * s.mean_edge;

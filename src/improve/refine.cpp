@@ -101,7 +101,7 @@ template <class K> void Refiner<K>::push_if_bad(std::size_t m, F f) {
   const auto& ms = s_.meshes[m];
   if (!ms.band[f]) return;
   const double a = angle(m, f);
-  if (a < s_.target_angle(m, f)) queue_.push({a, m, f, ms.version[f], s_.corners(m, f)});
+  if (a < s_.options.min_angle_deg) queue_.push({a, m, f, ms.version[f], s_.corners(m, f)});
 }
 
 template <class K> std::optional<Verdict> Refiner<K>::attempt(const Edit<K>& edit, Applied<K>* made) {
@@ -581,7 +581,8 @@ template <class K> Outcome Refiner<K>::insert_at(std::size_t m, F g, const FP& a
   if (!make_fan<K>(s_, m, {g}, {M::null_vertex(), true, edit.fresh_point}, edit.parts.back()))
     return {false, ShortfallCause::shape};
   Applied<K> made;
-  if (auto refused = attempt(edit, &made)) {
+  // (With no tolerance, exactly in g at once.)
+  if (auto refused = s_.tolerance > 0 ? attempt(edit, &made) : std::optional<Verdict>(Verdict::tolerance)) {
     // Exactly in g: barycentric coordinates (doubles) of the point, the point made from them.
     const FP p0 = s_.fpoint(m, c[0]), p1 = s_.fpoint(m, c[1]), p2 = s_.fpoint(m, c[2]);
     const FV n = CGAL::cross_product(p1 - p0, p2 - p0);

@@ -174,8 +174,8 @@ template <class K> struct ImproveState {
   }
   /// Whether the face may join the band: not shared or frozen, and within band_radius of a curve.
   bool may_join_band(std::size_t m, F f) const;
-  /// The angle a face is held to: the bound, or its input face's smallest angle where that is less
-  /// (the input forces it).
+  /// The angle the input forces on a face: the bound, or its input face's smallest angle where
+  /// that is less (a face left below the bound but not below that is reported as input_angle).
   double target_angle(std::size_t m, F f) const {
     const MeshState& ms = meshes[m];
     const std::uint32_t source = ms.source[f];
