@@ -69,7 +69,6 @@ nlohmann::json improve_json(const seam::ImproveStats& s, bool done, const std::v
           {"curve_splits", s.curve_splits},
           {"edge_splits", s.edge_splits},
           {"merges", s.merges},
-          {"moves_onto_curves", s.moves_onto_curves},
           {"faces_absorbed", s.faces_absorbed},
           {"refused", {{"tolerance", s.refused_tolerance}, {"crossing", s.refused_crossing}, {"shape", s.refused_shape}}},
           {"below_bound_before", s.below_bound_before},

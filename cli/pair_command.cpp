@@ -99,7 +99,8 @@ int run_pair(const PairArgs& args) {
         j["curves"] = {{"count", st.curves}, {"vertices", st.curve_vertices}, {"closed", st.closed_curves},
                        {"list", curves}};
         j["tolerance"] = st.snap_tol;
-        j["separate"] = {{"curve_vertices_collapsed", st.curve_vertices_collapsed},
+        j["separate"] = {{"vertices_closed", st.vertices_closed},
+                         {"curve_vertices_collapsed", st.curve_vertices_collapsed},
                          {"tiny_edges_collapsed", st.tiny_edges_collapsed}};
         j["touching_only"] = st.touching_only;
         j["given_curves"] = st.given_curves;

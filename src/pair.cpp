@@ -8,6 +8,7 @@
 #include <seam/internal/general_position_curves.h>
 #include <seam/internal/improve_state.h>
 #include <seam/internal/local_edits.h>
+#include <seam/internal/snap.h>
 #include <seam/internal/verify_output.h>
 #include <seam/quality.h>
 #include <seam/check.h>
@@ -481,8 +482,12 @@ template <class K> void measure_meshes(const Mesh<K>& a, const Mesh<K>& b, PairR
 }
 
 /// Stages 1-3 of seam::pair: the exact intersection curves, embedded into both meshes (at once),
-/// and the isolated points of contact made vertices of both.
-template <class K> PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options) {
+/// and the isolated points of contact made vertices of both. Features thinner than `separation`
+/// (a vertex of one mesh that close to the other surface: a crossing as thin as that cannot be
+/// written in doubles, nor meshed by TetGen) are first closed: such vertices move onto the curve
+/// there, rounded to doubles, and the curves are computed again.
+template <class K>
+PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options, double separation) {
   PairResult<K> result;
   PairStats& st = result.stats;
   auto t = Clock::now();
@@ -490,6 +495,17 @@ template <class K> PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const P
   internal::KnownSites<K> sites_a, sites_b;  // where each curve point lies in each mesh
   std::vector<typename K::Point_3> contacts;  // isolated points of contact
   std::vector<Polyline<K>> curves = curves_and_sites<K>(a, b, &touching, &sites_a, &sites_b, &contacts);
+  if (!curves.empty()) {
+    const auto sa = internal::snap_vertices_to_segments<K>(a, curves, separation, true);
+    const auto sb = internal::snap_vertices_to_segments<K>(b, curves, separation, true);
+    st.vertices_closed = sa.snapped + sb.snapped;
+    if (st.vertices_closed > 0) {
+      sites_a.sites.clear();
+      sites_b.sites.clear();
+      contacts.clear();
+      curves = curves_and_sites<K>(a, b, &touching, &sites_a, &sites_b, &contacts);
+    }
+  }
   st.stage_seconds["intersect"] = seconds_since(t);
   if (curves.empty())
     st.note = touching > 0 ? "the meshes touch without crossing: the points of contact are made vertices of both"
@@ -593,7 +609,7 @@ void improve_pair(Mesh<K>& a, Mesh<K>& b, PairResult<K>& result, const PairOptio
   io.min_angle_deg = options.embed.min_angle_deg;
   result.stats.improve = internal::improve<K>(meshes, shared, io);
   result.stats.improved = true;
-  result.curves = shared.curves;
+  result.curves = result.a.curves = result.b.curves = shared.curves;
   result.a.curve_vertices = shared.vertices[0];
   result.b.curve_vertices = shared.vertices[1];
   count_curves(result);
@@ -607,11 +623,9 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   const Mesh<K> a0 = a, b0 = b;
   const double diagonal = diagonal_of<K>(a, b);
   const double la = mean_edge_length<K>(a), lb = mean_edge_length<K>(b);
-  PairResult<K> result = embed_into_both<K>(a, b, options);
+  PairResult<K> result = embed_into_both<K>(a, b, options, min_vertex_separation * diagonal);
   auto& st = result.stats;
   st.snap_tol = options.embed.snap_tol < 0 ? 0.1 * std::min(la, lb) : options.embed.snap_tol;
-  // Edges below 1e-9 of the pair's size: flat once written in doubles.
-  collapse_tiny_edges<K>(a, b, result, 1e-9 * diagonal);
   unify_contacts<K>(a, b, result, min_vertex_separation * diagonal);
   // The quality stage works to angles, not to an area: with --max-area the faces are left as the
   // re-triangulation bounded them.

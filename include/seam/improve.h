@@ -6,27 +6,29 @@
 //
 // The band. Faces that touch a curve vertex or were made by the embedding, minus faces shared by
 // two meshes (flat contacts) and frozen faces. It grows when a new point falls beyond its border
-// or encroaches it (the face there joins it, up to `band_radius` from the curves; farther out,
-// the border edge is split with the face beyond, whose halves join it). Every face the stage makes
-// is in the band. Constraints: curve
-// segments and the band's border (mesh borders included). Old mesh edges inside the band are not
+// or encroaches it: the face there joins it, up to `band_radius` from the curves; farther out the
+// border stays as it is. Every face the stage makes is in the band. Constraints: curve segments
+// and the band's border (a mesh's own border included). Old mesh edges inside the band are not
 // constraints: grazing crossings stop being forced.
 //
 // The algorithm: Ruppert's Delaunay refinement, on the surface.
-//   0. Flips (max-min angle) over the band's edges.
-//   1. Each face below `min_angle_deg`, worst first:
-//      a. an edge of it shorter than `feature_size` is removed: a free vertex merges into the
-//         other end (or a curve segment's ends merge, in every mesh holding the curve);
-//      b. a free vertex within `tolerance` of the opposite curve segment, at an obtuse corner
-//         (it encroaches the segment), moves onto the segment (a new curve point there, in every
-//         mesh holding the curve);
-//      c. otherwise its circumcenter is found by walking over the surface (faces unfolded into
-//         its plane). If the walk meets a constraint, or the circumcenter encroaches one (lies in
-//         its diametral ball), that constraint is split at its middle (a curve segment in every
-//         mesh holding it: the middle lies on all of their surfaces; a border edge with the face
-//         beyond it). Otherwise the circumcenter is inserted in the face it lands in, then flips.
-//   Splits and insertions keep the surface (the new point lies on a face or edge); flips, merges
-//   and moves change it and pass the acceptance predicate first.
+//   0. Flips (max-min angle: Lawson's flips in the plane) over the band's edges.
+//   1. Constraints encroached by a vertex of the band (it sees them at more than 90 degrees) are
+//      split at their middle: a curve segment in every mesh holding it (its middle lies on all of
+//      their surfaces), a border edge by letting the face beyond join the band.
+//   2. Each face below `min_angle_deg`, worst first:
+//      a. an edge of it shorter than `feature_size` goes: a free vertex merges into the other end
+//         (onto a curve point: the report's snapping of nodes near the curve), or two curve points
+//         merge along their segment, in every mesh holding the curve;
+//      b. otherwise Üngör's off-center of the face (on the bisector of its shortest edge, at most
+//         as far from it as the apex of a triangle with the bound's angle there; the circumcenter
+//         where that is nearer) is found by walking over the surface from the face, each face
+//         unfolded into the plane of the last. If the walk meets a constraint, or the point
+//         encroaches one, that constraint is split as in 1. Otherwise the point is inserted in the
+//         face it lands in (put on the input surface, rounded to doubles; or, if the predicate
+//         refuses that, exactly in the face), then Lawson's flips around it.
+//   Splits and exact insertions keep the surface; flips, merges and rounded insertions change it
+//   and pass the acceptance predicate first.
 //
 // The acceptance predicate (one, for every edit that changes the surface): the new faces are
 // not degenerate (exact), turn less than 80 degrees from their input surface (doubles), lie
@@ -40,7 +42,8 @@
 // shorter than it, which splits and insertions never make. So the vertices inserted are bounded
 // by the band's area over feature_size^2 and the curve points by the curves' length over
 // feature_size, and between two changes of the vertices, flips strictly raise the sorted vector
-// of angles, of which there are finitely many. (`max_insertions` is a second, explicit bound.)
+// of angles, of which there are finitely many. (`max_insertions_per_face` is a second, explicit
+// bound.)
 //
 // The bound. In the plane, Ruppert's algorithm with diametral balls ends with every angle at
 // least arcsin(1/(2 sqrt 2)) = 20.7 degrees where the input's angles between constraints are at
@@ -48,18 +51,19 @@
 // below it at the end is reported with its cause (ImproveStats::shortfalls):
 //   input_angle       it is no worse than the input face it comes from, which is below the bound;
 //   constraint_angle  its smallest angle lies between two constraints (two curve segments, a curve
-//                     segment and the band's border, two border edges): the input forces it;
+//                     segment and the band's border, two border edges), or the fix meets a border
+//                     that cannot move (a flat contact, or band_radius reached);
 //   feature_size      the fix would put a point closer than feature_size to another, or split a
 //                     segment shorter than twice that (curves or vertices that close, which no
 //                     merge within the tolerance could remove);
 //   tolerance         the edit that would fix it leaves the tolerance;
 //   crossing          the edit would make a face meet another surface, or its own, off the curves;
 //   shape             the edit would make a degenerate or folded face;
-//   budget            max_insertions ran out.
+//   budget            max_insertions_per_face ran out.
 //
 // What is exact: decisions on intersections and degeneracy use the kernel's predicates (exact
-// under Exact and Filtered, on the coordinates as they are); curve splits and moves onto curves
-// use exact points of the segments (on both surfaces under Exact); inserted points are rounded
+// under Exact and Filtered, on the coordinates as they are); curve splits use the exact middle of
+// the segment (on both surfaces under Exact); inserted points are rounded
 // to doubles (the predicate checks them), or, if that fails, put exactly on their face. Angles,
 // distances and the walk are in doubles.
 //
@@ -107,7 +111,9 @@ struct Shortfall {
 
 struct ImproveStats {
   std::size_t band_faces = 0;  ///< faces in the band at the start (all meshes)
-  std::size_t flips = 0, insertions = 0, curve_splits = 0, edge_splits = 0, merges = 0, moves_onto_curves = 0;
+  /// Edits made: flips, points inserted, curve segments split (in every mesh holding them), edges of
+  /// a mesh's border split, merges (short edges removed).
+  std::size_t flips = 0, insertions = 0, curve_splits = 0, edge_splits = 0, merges = 0;
   /// Edits the acceptance predicate refused, by reason.
   std::size_t refused_tolerance = 0, refused_crossing = 0, refused_shape = 0;
   std::size_t faces_absorbed = 0;  ///< faces that joined the band

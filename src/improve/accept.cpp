@@ -56,13 +56,8 @@ bool segment_after(const ImproveState<K>& s, const Edit<K>& edit, int x, int y, 
   } else {
     curve = s.curve_of_segment(x, y);
     if (curve < 0 && edit.merged_point >= 0) {  // the segment the merge makes: (other, merged_into)
-      const int u = edit.merged_point, w = edit.merged_into;
-      const int c = s.curve_of_segment(u, w);
-      if (c >= 0) {
-        const auto& sc = s.curves[std::size_t(c)];
-        const auto& away = (sc.next.count(u) && sc.next.at(u) == w) ? sc.prev : sc.next;
-        if (const auto it = away.find(u); it != away.end() && is(it->second, w)) curve = c;
-      }
+      const auto [nu, away] = s.node_away_from(edit.merged_point, edit.merged_into);
+      if (away >= 0 && is(s.nodes[std::size_t(away)].point, edit.merged_into)) curve = s.nodes[std::size_t(nu)].curve;
     }
   }
   return curve >= 0 && s.holds_curve(m1, curve) && s.holds_curve(m2, curve);

@@ -103,38 +103,35 @@ namespace {
 
 /// The links along the curve after a new point x splits segment (a, b).
 template <class K> void link_split(ImproveState<K>& s, int a, int b, int x) {
-  const int c = s.curve_of_segment(a, b);
-  if (c < 0) throw InternalError("improve: a split of a segment that is not a curve segment");
-  auto& sc = s.curves[std::size_t(c)];
-  if (!(sc.next.count(a) && sc.next.at(a) == b)) std::swap(a, b);
-  sc.next[a] = x, sc.prev[x] = a, sc.next[x] = b, sc.prev[b] = x;
-  s.segment_curve.erase({std::min(a, b), std::max(a, b)});
-  s.segment_curve[{std::min(a, x), std::max(a, x)}] = c;
-  s.segment_curve[{std::min(x, b), std::max(x, b)}] = c;
+  const int start = s.segment_start(a, b);
+  if (start < 0) throw InternalError("improve: a split of a segment that is not a curve segment");
+  const int end = s.nodes[std::size_t(start)].next, p = s.nodes[std::size_t(start)].point, q = s.nodes[std::size_t(end)].point;
+  const int node = int(s.nodes.size());
+  s.nodes.push_back({x, start, end, s.nodes[std::size_t(start)].curve});
+  s.nodes[std::size_t(start)].next = node;
+  s.nodes[std::size_t(end)].prev = node;
+  s.segment_node.erase({std::min(a, b), std::max(a, b)});
+  s.segment_node[{std::min(p, x), std::max(p, x)}] = start;
+  s.segment_node[{std::min(x, q), std::max(x, q)}] = node;
 }
 
 /// The links along the curve after point u merges into its neighbour w.
 template <class K> void link_merge(ImproveState<K>& s, int u, int w) {
-  const int c = s.curve_of_segment(u, w);
-  if (c < 0) throw InternalError("improve: a merge along a segment that is not a curve segment");
-  auto& sc = s.curves[std::size_t(c)];
-  const bool w_after = sc.next.count(u) && sc.next[u] == w;
-  auto& ahead = w_after ? sc.next : sc.prev;   // from u towards w
-  auto& behind = w_after ? sc.prev : sc.next;  // from u away from w
-  s.segment_curve.erase({std::min(u, w), std::max(u, w)});
-  const auto o = behind.find(u);
-  if (o != behind.end()) {
-    const int other = o->second;
-    s.segment_curve.erase({std::min(u, other), std::max(u, other)});
-    s.segment_curve[{std::min(other, w), std::max(other, w)}] = c;
-    ahead[other] = w;
-    behind[w] = other;
-  } else {
-    behind.erase(w);
+  const auto [nu, away] = s.node_away_from(u, w);
+  if (nu < 0) throw InternalError("improve: a merge along a segment that is not a curve segment");
+  auto& node = s.nodes[std::size_t(nu)];
+  const int c = node.curve;
+  s.segment_node.erase({std::min(u, w), std::max(u, w)});
+  if (away >= 0) {
+    const int other = s.nodes[std::size_t(away)].point;
+    s.segment_node.erase({std::min(u, other), std::max(u, other)});
+    // the segment (other, w) starts where (other, u) or (u, w) started, in the curve's direction
+    s.segment_node[{std::min(other, w), std::max(other, w)}] = node.prev == away ? away : node.prev;
   }
-  sc.next.erase(u);
-  sc.prev.erase(u);
-  if (sc.first == u) sc.first = w;
+  if (node.prev >= 0) s.nodes[std::size_t(node.prev)].next = node.next;
+  if (node.next >= 0) s.nodes[std::size_t(node.next)].prev = node.prev;
+  if (s.curves[std::size_t(c)].first == nu) s.curves[std::size_t(c)].first = node.next >= 0 ? node.next : node.prev;
+  node.prev = node.next = -1;
   s.points[std::size_t(u)].removed = true;
 }
 

@@ -7,8 +7,6 @@
 #include <seam/quality.h>
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <chrono>
 #include <cmath>
 #include <queue>
@@ -62,7 +60,6 @@ template <class K> class Refiner {
     std::size_t mesh;
     F face;
     std::uint32_t version;
-    std::array<V, 3> corners;
     bool operator<(const Item& o) const { return angle > o.angle; }  // smallest angle first
   };
   std::priority_queue<Item> queue_;
@@ -90,7 +87,6 @@ template <class K> class Refiner {
   Outcome mend(std::size_t m, F f);
   std::optional<Outcome> merge_short_edge(std::size_t m, V x, V y);
   bool merge_plan(std::size_t m, V u, V w, Edit<K>& edit) const;
-  std::optional<Outcome> move_onto_segment(std::size_t m, V w, V x, V y);
   Outcome split_constraint(std::size_t m, H h);
   Outcome insert_circumcenter(std::size_t m, F f);
   bool walk(std::size_t m, F f, FP target, F& landed, FP& at, H& crossed) const;
@@ -101,7 +97,7 @@ template <class K> void Refiner<K>::push_if_bad(std::size_t m, F f) {
   const auto& ms = s_.meshes[m];
   if (!ms.band[f]) return;
   const double a = angle(m, f);
-  if (a < s_.options.min_angle_deg) queue_.push({a, m, f, ms.version[f], s_.corners(m, f)});
+  if (a < s_.options.min_angle_deg) queue_.push({a, m, f, ms.version[f]});
 }
 
 template <class K> std::optional<Verdict> Refiner<K>::attempt(const Edit<K>& edit, Applied<K>* made) {
@@ -199,18 +195,6 @@ template <class K> void Refiner<K>::push_encroached(std::size_t m, F f) {
 template <class K> void Refiner<K>::refine() {
   for (std::size_t m = 0; m < s_.meshes.size(); ++m)
     for (auto f : s_.mesh(m).faces()) push_if_bad(m, f), push_encroached(m, f);
-  static const bool debug = std::getenv("SEAM_IMPROVE_DEBUG") != nullptr;
-  if (debug) {
-    std::size_t curve_edges = 0, constraints = 0;
-    for (std::size_t m = 0; m < s_.meshes.size(); ++m)
-      for (auto e : s_.mesh(m).edges()) {
-        const H h = s_.mesh(m).halfedge(e);
-        curve_edges += s_.is_curve_edge(m, s_.mesh(m).source(h), s_.mesh(m).target(h));
-        constraints += s_.is_constraint(m, h);
-      }
-    std::fprintf(stderr, "curve edges %zu constraints %zu encroached %zu segments %zu points %zu\n", curve_edges, constraints,
-                 encroached_.size(), s_.segment_curve.size(), s_.points.size());
-  }
   while (!queue_.empty() || !encroached_.empty()) {
     if (s_.insertions_left == 0) break;
     if (!encroached_.empty()) {
@@ -220,27 +204,14 @@ template <class K> void Refiner<K>::refine() {
       if (g.is_removed(u) || g.is_removed(v)) continue;
       const H h = g.halfedge(u, v);
       if (h == M::null_halfedge() || !s_.is_constraint(m, h) || !is_encroached(m, h)) continue;
-      const Outcome out = split_constraint(m, h);
-      if (debug) std::fprintf(stderr, "encroached split m%zu -> %d\n", m, int(out.changed));
+      split_constraint(m, h);
       continue;
     }
     const Item item = queue_.top();
     queue_.pop();
     const M& g = s_.mesh(item.mesh);
     if (g.is_removed(item.face) || s_.meshes[item.mesh].version[item.face] != item.version) continue;
-    if (debug) {
-      const auto c = s_.corners(item.mesh, item.face);
-      std::fprintf(stderr, "mend m%zu f%zu angle %.3f ins_left %zu:", item.mesh, std::size_t(item.face), item.angle, s_.insertions_left);
-      for (auto v : c) { const auto p = s_.fpoint(item.mesh, v); std::fprintf(stderr, " (%.5f %.5f)%s", p.x(), p.y(), s_.meshes[item.mesh].point[v] >= 0 ? "c" : ""); }
-      std::fprintf(stderr, "\n");
-    }
-    if (debug && std::abs(angle(item.mesh, item.face) - item.angle) > 1e-9)
-      std::fprintf(stderr, "  STALE: angle now %.3f corners then %zu %zu %zu now %zu %zu %zu\n", angle(item.mesh, item.face),
-                   std::size_t(item.corners[0]), std::size_t(item.corners[1]), std::size_t(item.corners[2]),
-                   std::size_t(s_.corners(item.mesh, item.face)[0]), std::size_t(s_.corners(item.mesh, item.face)[1]),
-                   std::size_t(s_.corners(item.mesh, item.face)[2]));
     const Outcome out = mend(item.mesh, item.face);
-    if (debug) std::fprintf(stderr, "  -> changed %d cause %d\n", int(out.changed), int(out.cause));
     if (g.is_removed(item.face) || s_.meshes[item.mesh].version[item.face] != item.version) continue;
     if (out.changed)
       push_if_bad(item.mesh, item.face);  // still there (the band grew beside it, a constraint was split): again
@@ -273,15 +244,6 @@ template <class K> Outcome Refiner<K>::mend(std::size_t m, F f) {
       refused = out;
     }
   }
-  // b. A free vertex at an obtuse corner, within the tolerance of the curve segment opposite.
-  for (std::size_t i = 0; i < 3; ++i) {
-    const V x = c[(i + 1) % 3], y = c[(i + 2) % 3];
-    if (angle_at(p[i], p[(i + 1) % 3], p[(i + 2) % 3]) <= M_PI / 2 || !s_.is_curve_edge(m, x, y)) continue;
-    if (auto out = move_onto_segment(m, c[i], x, y)) {
-      if (out->changed) return *out;
-      refused = out;
-    }
-  }
   // The smallest angle between two constraints: nothing inside the band can change it.
   std::size_t smallest = 0;
   for (std::size_t i = 1; i < 3; ++i)
@@ -290,8 +252,11 @@ template <class K> Outcome Refiner<K>::mend(std::size_t m, F f) {
   H in = g.halfedge(f);  // the halfedges into and out of the smallest corner
   while (g.target(in) != c[smallest]) in = g.next(in);
   if (s_.is_constraint(m, in) && s_.is_constraint(m, g.next(in))) {
-    const Outcome out = insert_circumcenter(m, f);  // still refine: the face beside may mend
-    if (out.changed) return out;
+    // Between two constraints: a border the band can still move past (the face beyond joins),
+    // or else the angle is forced. (Refining next to a small angle between constraints only
+    // makes smaller faces there: Ruppert's cascade.)
+    for (H h : {in, g.next(in)})
+      if (!g.is_border(g.opposite(h)) && s_.may_join_band(m, g.face(g.opposite(h)))) return split_constraint(m, h);
     return {false, ShortfallCause::constraint_angle};
   }
   const Outcome out = insert_circumcenter(m, f);
@@ -311,9 +276,11 @@ template <class K> bool Refiner<K>::merge_plan(std::size_t m, V u, V w, Edit<K>&
   const int pu = s_.meshes[m].point[u], pw = s_.meshes[m].point[w];
   const int c = s_.curve_of_segment(pu, pw);
   if (c < 0 || !s_.holds_curve(m, c)) return false;
-  const auto& sc = s_.curves[std::size_t(c)];
-  if (!sc.next.count(pu) || !sc.prev.count(pu)) return false;  // an end of an open curve
-  if (sc.closed && sc.next.size() <= 3) return false;           // a closed curve keeps three points
+  const auto [nu, away] = s_.node_away_from(pu, pw);
+  if (away < 0) return false;  // an end of an open curve
+  int length = 1;              // a closed curve keeps three points
+  for (int k = s_.nodes[std::size_t(nu)].next; k >= 0 && k != nu && length < 4; k = s_.nodes[std::size_t(k)].next) ++length;
+  if (length < 4) return false;
   const auto& cp = s_.points[std::size_t(pu)];
   for (std::size_t k = 0; k < s_.meshes.size(); ++k) {
     const bool holds = s_.holds_curve(k, c);
@@ -359,45 +326,6 @@ template <class K> std::optional<Outcome> Refiner<K>::merge_short_edge(std::size
   return Outcome{true, ShortfallCause::constraint_angle};
 }
 
-/// Moves free vertex w onto curve segment (x, y) at its foot there, which becomes a curve point
-/// of every mesh holding the curve (seam/improve.h, step 1b).
-template <class K> std::optional<Outcome> Refiner<K>::move_onto_segment(std::size_t m, V w, V x, V y) {
-  if (!s_.is_free(m, w)) return std::nullopt;
-  const M& g = s_.mesh(m);
-  const FP fw = s_.fpoint(m, w), fx = s_.fpoint(m, x), fy = s_.fpoint(m, y);
-  const FV d = fy - fx;
-  const double len2 = d.squared_length();
-  if (!(len2 > 0)) return std::nullopt;
-  const double t = ((fw - fx) * d) / len2, len = std::sqrt(len2);
-  if (t * len < s_.feature_size || (1 - t) * len < s_.feature_size) return std::nullopt;
-  if (std::sqrt(CGAL::squared_distance(fw, fx + t * d)) > s_.tolerance) return std::nullopt;
-  const int px = s_.meshes[m].point[x], py = s_.meshes[m].point[y], c = s_.curve_of_segment(px, py);
-  Edit<K> edit;
-  edit.has_fresh = edit.fresh_curve_point = true;
-  edit.fresh_point = g.point(x) + (g.point(y) - g.point(x)) * typename K::FT(t);  // on the segment, exactly
-  make_exact(edit.fresh_point);
-  edit.split_a = px;
-  edit.split_b = py;
-  const EditCorner<K> fresh{M::null_vertex(), true, edit.fresh_point};
-  for (std::size_t k = 0; k < s_.meshes.size(); ++k) {
-    if (!s_.holds_curve(k, c)) continue;
-    const M& gk = s_.mesh(k);
-    const V xk = s_.points[std::size_t(px)].vertex[k], yk = s_.points[std::size_t(py)].vertex[k];
-    std::vector<F> region = k == m ? star(m, w) : std::vector<F>{};
-    for (H h : {gk.halfedge(xk, yk), gk.halfedge(yk, xk)}) {
-      const F f = gk.face(h);
-      if (f == M::null_face()) continue;
-      if (!s_.face_in_band(k, f)) return Outcome{false, ShortfallCause::constraint_angle};
-      if (std::find(region.begin(), region.end(), f) == region.end()) region.push_back(f);
-    }
-    edit.parts.emplace_back();
-    if (!make_fan<K>(s_, k, region, fresh, edit.parts.back(), {xk, yk})) return std::nullopt;
-  }
-  if (const auto refused = attempt(edit)) return Outcome{false, cause_of(*refused)};
-  ++s_.stats.moves_onto_curves;
-  return Outcome{true, ShortfallCause::constraint_angle};
-}
-
 /// Splits the constraint edge of h at its middle: a curve segment in every mesh holding it, the
 /// band's border with the face beyond (or that face joins the band), the mesh's border alone.
 template <class K> Outcome Refiner<K>::split_constraint(std::size_t m, H h) {
@@ -408,7 +336,7 @@ template <class K> Outcome Refiner<K>::split_constraint(std::size_t m, H h) {
     return {false, ShortfallCause::feature_size};
   const F beyond = g.face(g.opposite(h));
   const bool curve = s_.is_curve_edge(m, x, y);
-  if (!curve && beyond != M::null_face()) {
+  if (!curve && beyond != M::null_face() && !s_.face_in_band(m, beyond)) {
     // The band's border: the face beyond joins the band (nothing changes in the surface), or, out
     // of reach (farther than band_radius, shared, frozen), the border stays as it is.
     if (s_.face_in_band(m, beyond) || !s_.may_join_band(m, beyond)) return {false, ShortfallCause::constraint_angle};
@@ -601,7 +529,6 @@ template <class K> Outcome Refiner<K>::insert_at(std::size_t m, F g, const FP& a
   }
   --s_.insertions_left;
   ++s_.stats.insertions;
-  if (std::getenv("SEAM_IMPROVE_DEBUG")) std::fprintf(stderr, "  insert (%.5f %.5f %.5f)\n", at.x(), at.y(), at.z());
   legalize(m, made.fresh.front());
   return {true, ShortfallCause::constraint_angle};
 }
@@ -639,7 +566,8 @@ ImproveStats improve(std::vector<ImproveMesh<K>>& meshes, SharedCurves<K>& curve
   Refiner<K> refiner(s);
   refiner.flip_all();
   refiner.refine();
-  refiner.flip_all();
+  refiner.flip_all();  // (a last pass of flips, and the faces it leaves below the bound once more)
+  refiner.refine();
   finish_state<K>(s, curves);
   classify<K>(s);
   drop_state_properties<K>(s);

@@ -177,15 +177,20 @@ template <class K> void number_curve_points(ImproveState<K>& s, const SharedCurv
         s.meshes[m].point[v] = id[i];
       }
     }
-    if (n > 0) sc.first = id[0];
+    // The nodes along the curve, linked; each segment to the node at its start.
+    const int first = int(s.nodes.size());
+    for (std::size_t i = 0; i < n; ++i) s.nodes.push_back({id[i], i > 0 ? first + int(i) - 1 : -1, -1, int(c)});
+    for (std::size_t i = 0; i + 1 < n; ++i) s.nodes[std::size_t(first) + i].next = first + int(i) + 1;
+    if (sc.closed && n > 1) {
+      s.nodes[std::size_t(first)].prev = first + int(n) - 1;
+      s.nodes[std::size_t(first) + n - 1].next = first;
+    }
+    if (n > 0) sc.first = first;
     const std::size_t links = n < 2 ? 0 : (sc.closed ? n : n - 1);
     for (std::size_t i = 0; i < links; ++i) {
       const int a = id[i], b = id[(i + 1) % n];
-      if (a == b || sc.next.count(a) || sc.prev.count(b) ||
-          !s.segment_curve.emplace(std::make_pair(std::min(a, b), std::max(a, b)), int(c)).second)
-        throw InternalError("improve: a curve passes twice through one point or along another curve's segment");
-      sc.next[a] = b;
-      sc.prev[b] = a;
+      if (a == b || !s.segment_node.emplace(std::make_pair(std::min(a, b), std::max(a, b)), first + int(i)).second)
+        throw InternalError("improve: a curve runs twice along one segment");
     }
   }
   for (const auto& p : s.points) {
@@ -298,17 +303,17 @@ template <class K> void finish_state(ImproveState<K>& s, SharedCurves<K>& out) {
     auto& points = out.curves[c];
     points.clear();
     for (std::size_t m : sc.meshes) out.vertices[m][c].clear();
-    for (int id = sc.first, steps = 0; id >= 0; ++steps) {
-      if (steps > int(s.points.size())) throw InternalError("improve: a curve's links form no chain");
+    for (int node = sc.first, steps = 0; node >= 0; ++steps) {
+      if (steps > int(s.nodes.size())) throw InternalError("improve: a curve's links form no chain");
+      const int id = s.nodes[std::size_t(node)].point;
       points.push_back(s.points[std::size_t(id)].p);
       for (std::size_t m : sc.meshes) {
         const V v = s.points[std::size_t(id)].vertex[m];
         if (v == Mesh<K>::null_vertex()) throw InternalError("improve: a curve point lost its vertex");
         out.vertices[m][c].push_back(v);
       }
-      const auto it = sc.next.find(id);
-      id = it == sc.next.end() ? -1 : it->second;
-      if (id == sc.first) {  // closed: repeat the first point
+      node = s.nodes[std::size_t(node)].next;
+      if (node == sc.first) {  // closed: repeat the first point
         points.push_back(points.front());
         for (std::size_t m : sc.meshes) out.vertices[m][c].push_back(out.vertices[m][c].front());
         break;

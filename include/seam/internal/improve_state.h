@@ -113,17 +113,25 @@ template <class K> struct ImproveState {
     std::vector<V> vertex;  ///< per mesh; null where the mesh does not hold it (or it was merged away)
     bool removed = false;
   };
+  /// A curve's point at one position along it: a node of a doubly linked list (a point can be
+  /// at two positions, where a curve passes through it twice).
+  struct CurveNode {
+    int point = -1, prev = -1, next = -1;
+    int curve = -1;
+  };
   struct Curve {
     std::vector<std::size_t> meshes;  ///< the meshes that hold it
-    int first = -1;                   ///< a point of it (its first point while that is kept)
+    int first = -1;                   ///< a node of it (its first while that is kept)
     bool closed = false;
-    std::unordered_map<int, int> next, prev;  ///< along the curve, by point id
   };
 
   std::vector<MeshState> meshes;
   std::vector<CurvePoint> points;
+  std::vector<CurveNode> nodes;
   std::vector<Curve> curves;
-  std::map<std::pair<int, int>, int> segment_curve;  ///< (smaller id, larger id) -> curve
+  /// Each curve segment: (smaller point id, larger) -> the node at its start (whose next is the
+  /// node at its other end).
+  std::map<std::pair<int, int>, int> segment_node;
   FaceGrid grid;
   ImproveOptions options;
   double tolerance = 0, feature_size = 0, band_radius = 0, mean_edge = 0;
@@ -141,11 +149,24 @@ template <class K> struct ImproveState {
     const auto h = mesh(m).halfedge(f);
     return {mesh(m).source(h), mesh(m).target(h), mesh(m).target(mesh(m).next(h))};
   }
+  /// The node at the start of segment (a, b) of point ids, or -1.
+  int segment_start(int a, int b) const {
+    if (a < 0 || b < 0) return -1;
+    const auto it = segment_node.find({std::min(a, b), std::max(a, b)});
+    return it == segment_node.end() ? -1 : it->second;
+  }
   /// The curve holding segment (a, b) of point ids, or -1.
   int curve_of_segment(int a, int b) const {
-    if (a < 0 || b < 0) return -1;
-    const auto it = segment_curve.find({std::min(a, b), std::max(a, b)});
-    return it == segment_curve.end() ? -1 : it->second;
+    const int n = segment_start(a, b);
+    return n < 0 ? -1 : nodes[std::size_t(n)].curve;
+  }
+  /// For segment (u, w): the node of u and its neighbour away from w (-1 at an end), or (-1, -1).
+  std::pair<int, int> node_away_from(int u, int w) const {
+    const int start = segment_start(u, w);
+    if (start < 0) return {-1, -1};
+    const CurveNode& n = nodes[std::size_t(start)];
+    if (n.point == u) return {start, n.prev};
+    return {n.next, nodes[std::size_t(n.next)].next};
   }
   bool holds_curve(std::size_t m, int c) const {
     for (std::size_t x : curves[std::size_t(c)].meshes)
@@ -158,11 +179,27 @@ template <class K> struct ImproveState {
     return c >= 0 && holds_curve(m, c);
   }
   bool face_in_band(std::size_t m, F f) const { return f != M::null_face() && meshes[m].band[f]; }
-  /// The edge of halfedge h may not be flipped: a curve segment, the band's border or the mesh's.
+  /// A crease: an edge of two faces whose flip would move the surface by more than half the
+  /// tolerance (by anything at all with no tolerance). The flip's largest move is the distance
+  /// between the lines of the edge and of the two opposite corners (the height of their
+  /// tetrahedron over that pair of edges): doubles, or an exact coplanarity test with no tolerance.
+  bool is_crease(std::size_t m, H h) const {
+    const M& g = mesh(m);
+    const V u = g.source(h), v = g.target(h), p = g.target(g.next(h)), q = g.target(g.next(g.opposite(h)));
+    if (!(tolerance > 0)) return !CGAL::coplanar(g.point(u), g.point(v), g.point(p), g.point(q));
+    const Filtered::Point_3 fu = fpoint(m, u), fp = fpoint(m, p);
+    const Filtered::Vector_3 n = CGAL::cross_product(fpoint(m, v) - fu, fpoint(m, q) - fp);
+    const double nn = n.squared_length();
+    if (!(nn > 0)) return false;  // parallel diagonals: a degenerate quad, which the flip's own tests refuse
+    const double d = (fp - fu) * n;
+    return d * d > 0.25 * tolerance * tolerance * nn;
+  }
+  /// The edge of halfedge h may not be flipped: a curve segment, the band's border or the mesh's,
+  /// or a crease.
   bool is_constraint(std::size_t m, H h) const {
     const M& g = mesh(m);
     return !face_in_band(m, g.face(h)) || !face_in_band(m, g.face(g.opposite(h))) ||
-           is_curve_edge(m, g.source(h), g.target(h));
+           is_curve_edge(m, g.source(h), g.target(h)) || is_crease(m, h);
   }
   /// A vertex every face of which is in the band, not a curve point: it may move or go.
   bool is_free(std::size_t m, V v) const {
