@@ -211,6 +211,22 @@ class Lines {
   std::size_t number_ = 0;
 };
 
+/// The text without a UTF-8 byte-order mark at its start (some editors write one; it is not part
+/// of the content: before, an OBJ file lost its first vertex to it).
+std::string_view skip_bom(std::string_view text) {
+  constexpr std::string_view bom = "\xEF\xBB\xBF";
+  if (text.substr(0, bom.size()) == bom) text.remove_prefix(bom.size());
+  return text;
+}
+
+/// A line quoted in a message, without its surrounding blanks.
+std::string quote_trimmed(std::string_view line) {
+  std::size_t b = 0, e = line.size();
+  while (b < e && is_space(line[b])) ++b;
+  while (e > b && is_space(line[e - 1])) --e;
+  return quote(line.substr(b, e - b));
+}
+
 void reject_binary(std::string_view text, const std::string& name, const char* format) {
   if (text.find('\0') != std::string_view::npos)
     invalid(name, std::string("file contains binary data (not a text ") + format + " file)");
@@ -272,6 +288,7 @@ bool is_off_keyword(std::string_view t) {
 }
 
 TriangleSoup parse_off(std::string_view text, const std::string& name) {
+  text = skip_bom(text);
   check_empty(text, name);
   reject_binary(text, name, "OFF");
   Lines lines(text);
@@ -351,12 +368,18 @@ TriangleSoup parse_off(std::string_view text, const std::string& name) {
     }
     soup.triangles.push_back(t);
   }
+  // More content than the header declares: the counts are wrong, and reading the declared
+  // number of faces only would silently drop the rest (an open mesh where a closed one was meant).
+  if (lines.next_nonblank(line))
+    invalid(name, line_prefix(lines.number()) + "data after the " + std::to_string(nf) +
+                      " faces the header declares: " + quote_trimmed(line) + " (is the face count wrong?)");
   return soup;
 }
 
 // ------------------------------------------------------------------ OBJ
 
 TriangleSoup parse_obj(std::string_view text, const std::string& name) {
+  text = skip_bom(text);
   check_empty(text, name);
   reject_binary(text, name, "OBJ");
   Lines lines(text);
@@ -409,6 +432,10 @@ TriangleSoup parse_obj(std::string_view text, const std::string& name) {
       }
       soup.triangles.push_back(t);
       face_line.push_back(ln);
+    } else if (const auto c = static_cast<unsigned char>(tok[0][0]); c < 0x21 || c > 0x7e) {
+      // No OBJ statement starts with a byte outside printable ASCII: another encoding, or a
+      // corrupted file (the line would otherwise be ignored, and a vertex with it).
+      invalid(name, line_prefix(ln) + "unknown statement " + quote(tok[0]) + " (not an OBJ keyword)");
     }
     // vn, vt, vp, l, p, g, o, s, usemtl, mtllib, ...: ignored
   }
@@ -542,14 +569,15 @@ TriangleSoup parse_ascii_stl(std::string_view text, const std::string& name) {
     if (!ts.next(tok)) invalid(name, "unexpected end of file after " + std::to_string(facet) + " facets (expected 'endsolid')");
     if (iequals(tok, "endsolid")) {
       ts.skip_rest_of_line();
-      // Another solid may follow; anything else after 'endsolid' is ignored.
-      const TokenStream save = ts;
-      if (ts.next(tok) && iequals(tok, "solid")) {
+      // Another solid may follow; anything else after 'endsolid' is refused (truncated or
+      // concatenated files would otherwise lose their rest silently).
+      if (!ts.next(tok)) break;
+      if (iequals(tok, "solid")) {
         ts.skip_rest_of_line();
         continue;
       }
-      ts = save;
-      break;
+      invalid(name, line_prefix(ts.line()) + "data after 'endsolid': " + quote(tok) +
+                        " (expected the end of the file or another 'solid')");
     }
     if (!iequals(tok, "facet"))
       invalid(name, line_prefix(ts.line()) + "expected 'facet' or 'endsolid', found " + quote(tok));
@@ -593,6 +621,8 @@ TriangleSoup parse_stl(std::string_view data, const std::string& name) {
     if (static_cast<std::uint64_t>(data.size()) == 84 + 50 * static_cast<std::uint64_t>(count))
       return parse_binary_stl(data, name, count);
   }
+  data = skip_bom(data);  // ASCII from here on
+  check_empty(data, name);
   std::size_t i = 0;
   while (i < data.size() && (is_space(data[i]) || data[i] == '\n')) ++i;
   if (!iequals(data.substr(i, std::min<std::size_t>(5, data.size() - i)), "solid")) {
@@ -707,6 +737,18 @@ class PlyBody {
     return ok;
   }
 
+  /// What follows the last element, for a message: "line N: data 'x'" (ASCII; blanks are not
+  /// data) or "N bytes of data" (binary); empty if nothing does.
+  std::string trailing() {
+    if (format_ == PlyFormat::ascii) {
+      if (!tokens_.next(token_)) return std::string();
+      return where() + "data " + quote(token_);
+    }
+    if (pos_ == data_.size()) return std::string();
+    const std::size_t n = data_.size() - pos_;
+    return std::to_string(n) + (n == 1 ? " byte" : " bytes") + " of data";
+  }
+
   std::size_t remaining() const {
     return format_ == PlyFormat::ascii ? data_.size() - tokens_.offset() : data_.size() - pos_;
   }
@@ -727,6 +769,7 @@ class PlyBody {
 };
 
 TriangleSoup parse_ply(std::string_view data, const std::string& name) {
+  data = skip_bom(data);
   check_empty(data, name);
   Lines lines(data, /*strip_comments=*/false);
   std::string_view line;
@@ -862,6 +905,10 @@ TriangleSoup parse_ply(std::string_view data, const std::string& name) {
       if (is_face) soup.triangles.push_back(triangle);
     }
   }
+  // More content than the header declares (the counts are wrong): refused, as in OFF files.
+  if (const std::string extra = body.trailing(); !extra.empty())
+    invalid(name, extra + " after the " + std::to_string(vertex_element->count) + " vertices and " +
+                      std::to_string(face_element->count) + " faces the header declares (is a count wrong?)");
   const std::size_t nv = soup.points.size();
   for (std::size_t f = 0; f < soup.triangles.size(); ++f)
     for (std::size_t index : soup.triangles[f])
@@ -1111,6 +1158,7 @@ std::vector<std::vector<Point3d>> read_polylines(const std::string& path) {
 }
 
 std::vector<std::vector<Point3d>> parse_polylines(std::string_view data, const std::string& path) {
+  data = skip_bom(data);
   if (data.empty()) invalid(path, "file is empty (no polyline found)");
   reject_binary(data, path, "polyline");
   Lines lines(data);

@@ -836,3 +836,78 @@ TEMPLATE_TEST_CASE("to_kernel and to_doubles: polylines convert exactly for ever
   CHECK(seam::is_closed(kernel[1]));
   CHECK(seam::to_doubles<K>(kernel) == polylines);
 }
+
+// ======================================================================== silent misreads
+
+TEST_CASE("read_triangle_mesh: data after the declared faces is refused in OFF, PLY and ASCII STL") {
+  // Before, a file declaring 3 of its 4 faces was read as an open mesh of 3 faces.
+  TempDir dir;
+  const std::string ply_header = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                                 "property float z\nelement face 3\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::string v4 = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n", f4 = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  const std::string facet = "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n";
+  struct Case {
+    std::string name, content, message;
+  };
+  std::string binary = binary_ply(octahedron(), false, 7);
+  const std::vector<Case> cases = {
+      {"a.off", "OFF\n4 3 0\n" + v4 + f4, "line 10: data after the 3 faces the header declares: '3 1 2 3'"},
+      {"b.off", "OFF\n4 3 0\n" + v4 + f4 + "# a comment\n\n", "data after the 3 faces"},
+      {"c.off", "OFF\n4 4 0\n" + v4 + f4 + "garbage\n", "line 11: data after the 4 faces the header declares: 'garbage'"},
+      {"a.ply", ply_header + v4 + f4, "line 17: data '3' after the 4 vertices and 3 faces the header declares"},
+      {"b.ply", binary, "13 bytes of data after the 6 vertices and 7 faces the header declares"},
+      {"c.ply", binary_ply(octahedron(), true, 8) + "\n", "1 byte of data after"},
+      {"a.stl", "solid x\n" + facet + "endsolid x\n" + facet, "line 10: data after 'endsolid': 'facet'"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.name, c.message);
+    const std::string path = dir.file(c.name);
+    write_bytes(path, c.content);
+    REQUIRE_THROWS_AS(seam::read_triangle_mesh(path), seam::InvalidInput);
+    REQUIRE_THROWS_WITH(seam::read_triangle_mesh(path), StartsWith(path + ": ") && Contains(c.message));
+  }
+  // Blank lines and comments after the faces are not data; neither are blanks after a PLY body,
+  // and another solid may follow 'endsolid'.
+  CHECK(read_text(dir, "d.off", "OFF\n4 4 0\n" + v4 + f4 + "\n# end\n  \n").triangles.size() == 4);
+  CHECK(read_text(dir, "d.ply", ply_header + v4 + "3 0 2 1\n3 0 1 3\n3 0 3 2\n \n").triangles.size() == 3);
+  const std::string facet2 =
+      "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 0 0 1\nvertex 1 0 0\nendloop\nendfacet\n";
+  CHECK(read_text(dir, "d.stl", "solid x\n" + facet + "endsolid x\nsolid y\n" + facet2 + "endsolid y\n\n")
+            .triangles.size() == 2);
+}
+
+TEST_CASE("read_triangle_mesh and read_polylines: a UTF-8 byte-order mark is skipped in every text format") {
+  // Before, an OBJ file starting with a BOM lost its first vertex ("\xEF\xBB\xBFv" is no keyword).
+  TempDir dir;
+  const std::string bom = "\xEF\xBB\xBF";
+  const TriangleSoup tetra = tetrahedron();
+  for (const char* ext : {".off", ".obj", ".ply", ".stl"}) {
+    CAPTURE(ext);
+    const std::string path = dir.file(std::string("plain") + ext);
+    seam::write_triangle_mesh(tetra, path);
+    const TriangleSoup with_bom = read_text(dir, std::string("bom") + ext, bom + read_bytes(path));
+    CHECK(geometry(with_bom) == geometry(tetra));
+    CHECK(with_bom.points.size() == 4);
+  }
+  // Binary PLY: the header is text.
+  const TriangleSoup oct = octahedron();
+  CHECK(same_bits(read_text(dir, "bom_binary.ply", bom + binary_ply(oct, false, 8)), oct));
+  // Polylines.
+  const std::string curves = dir.file("c.txt");
+  write_bytes(curves, bom + "2 0 0 0 1 1 1\n");
+  const auto polylines = seam::read_polylines(curves);
+  REQUIRE(polylines.size() == 1);
+  CHECK(polylines[0] == std::vector<Point3d>{{0, 0, 0}, {1, 1, 1}});
+  // A BOM alone is an empty file.
+  REQUIRE_THROWS_WITH(read_text(dir, "only_bom.off", bom), Contains("empty"));
+}
+
+TEST_CASE("read_triangle_mesh: an OBJ line starting with a byte outside printable ASCII is refused, not ignored") {
+  TempDir dir;
+  const std::string path = dir.file("u.obj");
+  // A BOM in the middle (two files concatenated), and Latin-1 text.
+  for (const std::string first : {std::string("\xEF\xBB\xBFv"), std::string("\xe9v")}) {
+    write_bytes(path, "v 0 0 0\n" + first + " 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+    REQUIRE_THROWS_WITH(seam::read_triangle_mesh(path), StartsWith(path + ": line 2: unknown statement"));
+  }
+}
