@@ -14,7 +14,6 @@
 #include <seam/kernels.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -27,14 +26,19 @@
 #include <iomanip>
 #include <limits>
 #include <locale>
+#include <map>
+#include <mutex>
 #include <sstream>
 #include <string_view>
+#include <stdexcept>
 #include <system_error>
 #include <unordered_map>
 #include <utility>
 
+#include <fcntl.h>
 #include <locale.h>  // newlocale, strtod_l (POSIX / glibc)
-#include <unistd.h>  // getpid
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace seam {
 
@@ -1196,62 +1200,327 @@ std::vector<std::vector<Point3d>> parse_polylines(std::string_view data, const s
   return result;
 }
 
-void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
-  static std::atomic<unsigned long> counter{0};
-  const std::string tmp = path + ".tmp." + std::to_string(static_cast<long>(::getpid())) + "." +
-                          std::to_string(counter.fetch_add(1));
-  const auto fail = [&](const std::string& reason) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw IOError(path + ": cannot write (" + reason + ")");
-  };
-  std::ofstream out;
-  errno = 0;
-  out.open(tmp, std::ios::out | std::ios::binary | std::ios::trunc);
-  if (!out) fail(errno_text(errno));
-  out.imbue(std::locale::classic());
-  try {
-    write(out);
-  } catch (...) {
-    out.close();
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw;
-  }
-  errno = 0;
-  out.flush();
-  if (!out) fail(errno_text(errno));
-  out.close();
-  if (!out) fail(errno_text(errno));
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) fail(ec.message());
+// ================================================================== output files
+
+namespace {
+
+/// Every temporary output file and made directory of the process not yet committed or
+/// discarded, for remove_temporary_outputs(). Never destroyed (a signal-handling thread may use
+/// it while the process exits).
+struct TemporaryRegistry {
+  std::mutex mutex;
+  std::map<std::uint64_t, std::string> files;
+  std::map<std::uint64_t, std::vector<std::string>> directories;  ///< per set, in creation order
+  std::uint64_t next_id = 0;
+  bool closed = false;  ///< after remove_temporary_outputs(): nothing may be created or renamed
+};
+
+TemporaryRegistry& registry() {
+  static TemporaryRegistry* r = new TemporaryRegistry;
+  return *r;
 }
 
-void write_triangle_mesh(const TriangleSoup& soup, const std::string& path) {
+/// The permissions a new file gets (0666 less the umask), as the temporary file must have them
+/// when it is renamed (mkstemp makes it 0600). Read once, under the registry's lock.
+mode_t new_file_mode() {
+  static const mode_t mode = [] {
+    const mode_t mask = ::umask(0);
+    ::umask(mask);
+    return static_cast<mode_t>(0666 & ~mask);
+  }();
+  return mode;
+}
+
+[[noreturn]] void cannot_write(const std::string& path, const std::string& reason) {
+  throw IOError(path + ": cannot write (" + reason + ")");
+}
+
+const char* file_kind(mode_t mode) {
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+/// The final target of `path`: symbolic links followed (at most 40); `path` itself when it does
+/// not exist. Throws IOError when a component cannot be examined (not a directory, too long,
+/// permission denied) or the target exists and is not a regular file.
+std::string output_target(const std::string& path) {
+  std::string target = path;
+  for (int hops = 0;; ++hops) {
+    struct stat st {};
+    if (::lstat(target.c_str(), &st) != 0) {
+      if (errno == ENOENT) {
+        // The file may be missing; its directory must exist (mkstemp says so otherwise).
+        return target;
+      }
+      cannot_write(path, errno_text(errno));
+    }
+    if (S_ISREG(st.st_mode)) return target;
+    if (!S_ISLNK(st.st_mode)) {
+      if (S_ISDIR(st.st_mode)) cannot_write(path, "is a directory");
+      cannot_write(path, std::string("is ") + file_kind(st.st_mode) + ", not a regular file; only regular files are replaced");
+    }
+    if (hops == 40) cannot_write(path, errno_text(ELOOP));
+    std::error_code ec;
+    const fs::path link = fs::read_symlink(target, ec);
+    if (ec) cannot_write(path, ec.message());
+    target = link.is_absolute() ? link.string() : (fs::path(target).parent_path() / link).string();
+  }
+}
+
+/// A stream buffer writing to a file descriptor that keeps the first write error's errno.
+class FdBuffer : public std::streambuf {
+ public:
+  explicit FdBuffer(int fd) : fd_(fd), buffer_(1 << 16) { setp(buffer_.data(), buffer_.data() + buffer_.size()); }
+  int error() const { return error_; }
+
+ protected:
+  int_type overflow(int_type c) override {
+    if (!drain()) return traits_type::eof();
+    if (!traits_type::eq_int_type(c, traits_type::eof())) {
+      *pptr() = traits_type::to_char_type(c);
+      pbump(1);
+    }
+    return traits_type::not_eof(c);
+  }
+  int sync() override { return drain() ? 0 : -1; }
+
+ private:
+  bool drain() {
+    if (error_ != 0) return false;
+    const char* p = pbase();
+    while (p < pptr()) {
+      const ssize_t n = ::write(fd_, p, static_cast<std::size_t>(pptr() - p));
+      if (n < 0) {
+        if (errno == EINTR) continue;
+        error_ = errno;
+        return false;
+      }
+      if (n == 0) {
+        error_ = EIO;
+        return false;
+      }
+      p += n;
+    }
+    setp(buffer_.data(), buffer_.data() + buffer_.size());
+    return true;
+  }
+  int fd_;
+  std::vector<char> buffer_;
+  int error_ = 0;
+};
+
+}  // namespace
+
+struct OutputFiles::Impl {
+  struct Output {
+    std::string path, target, temporary;
+    fs::path canonical;  ///< of the target, to find two outputs with the same target
+    std::uint64_t id = 0;
+    int fd = -1;
+    bool written = false, renamed = false, last = false;
+  };
+  std::vector<Output> outputs;
+  std::uint64_t set_id = 0;
+  bool has_directories = false;
+};
+
+OutputFiles::OutputFiles() : impl_(std::make_unique<Impl>()) {
+  TemporaryRegistry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  impl_->set_id = r.next_id++;
+}
+
+OutputFiles::~OutputFiles() { discard(); }
+
+std::size_t OutputFiles::size() const { return impl_->outputs.size(); }
+
+void OutputFiles::create_directory(const std::string& dir) {
+  if (dir.empty()) return;
+  // The missing ancestors, outermost first.
+  std::vector<fs::path> missing;
+  std::error_code ec;
+  for (fs::path p = fs::path(dir); !p.empty(); p = p.parent_path()) {
+    const fs::file_status st = fs::status(p, ec);
+    if (fs::exists(st)) {
+      if (!fs::is_directory(st)) throw IOError(dir + ": cannot create the directory (" + p.string() + " is not a directory)");
+      break;
+    }
+    missing.push_back(p);
+    if (p == p.parent_path()) break;
+  }
+  TemporaryRegistry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  if (r.closed) throw IOError(dir + ": cannot create the directory (the process is being interrupted)");
+  for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+    if (::mkdir(it->c_str(), 0777) != 0 && errno != EEXIST)
+      throw IOError(dir + ": cannot create the directory (" + errno_text(errno) + ")");
+    r.directories[impl_->set_id].push_back(it->string());
+    impl_->has_directories = true;
+  }
+}
+
+std::size_t OutputFiles::add(const std::string& path, bool last) {
+  if (path.empty()) throw InvalidInput("an output path is empty");
+  Impl::Output out;
+  out.path = path;
+  out.last = last;
+  out.target = output_target(path);
+  std::error_code ec;
+  out.canonical = fs::weakly_canonical(fs::absolute(out.target, ec), ec);
+  if (ec) out.canonical.clear();
+  for (const Impl::Output& other : impl_->outputs)
+    if (!out.canonical.empty() && out.canonical == other.canonical)
+      throw InvalidInput(path + ": the same path is given for two outputs (" + other.path + ")");
+  const fs::path parent = fs::path(out.target).parent_path();
+  std::string pattern = ((parent.empty() ? fs::path(".") : parent) / ".seam-XXXXXX").string();
+  TemporaryRegistry& r = registry();
+  {
+    std::lock_guard<std::mutex> lock(r.mutex);
+    if (r.closed) cannot_write(path, "the process is being interrupted");
+    const int fd = ::mkstemp(pattern.data());
+    if (fd < 0) cannot_write(path, errno_text(errno));
+    out.fd = fd;
+    out.temporary = pattern;
+    out.id = r.next_id++;
+    r.files[out.id] = pattern;
+    ::fchmod(fd, new_file_mode());
+  }
+  impl_->outputs.push_back(std::move(out));
+  return impl_->outputs.size() - 1;
+}
+
+void OutputFiles::write(std::size_t i, const std::function<void(std::ostream&)>& fill) {
+  Impl::Output& out = impl_->outputs.at(i);
+  if (out.written || out.fd < 0) throw std::logic_error("OutputFiles::write: output " + out.path + " written twice");
+  FdBuffer buffer(out.fd);
+  std::ostream os(&buffer);
+  os.imbue(std::locale::classic());
+  fill(os);
+  os.flush();
+  int error = buffer.error();
+  if (error == 0 && !os) error = EIO;
+  const int fd = out.fd;
+  out.fd = -1;
+  if (::close(fd) != 0 && error == 0) error = errno;  // NFS reports some write errors here only
+  if (error != 0) cannot_write(out.path, errno_text(error));
+  out.written = true;
+}
+
+void OutputFiles::commit() {
+  for (const Impl::Output& out : impl_->outputs)
+    if (!out.written) throw std::logic_error("OutputFiles::commit: output " + out.path + " not written");
+  TemporaryRegistry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  if (r.closed) cannot_write(impl_->outputs.empty() ? std::string("output") : impl_->outputs[0].path,
+                             "the process is being interrupted");
+  std::string replaced;
+  std::vector<Impl::Output*> order;
+  for (bool last : {false, true})
+    for (Impl::Output& out : impl_->outputs)
+      if (out.last == last) order.push_back(&out);
+  for (Impl::Output* o : order) {
+    Impl::Output& out = *o;
+    if (::rename(out.temporary.c_str(), out.target.c_str()) != 0) {
+      const int error = errno;
+      std::string reason = errno_text(error);
+      if (!replaced.empty()) reason += "; already replaced: " + replaced;
+      cannot_write(out.path, reason);  // the destructor removes the other temporary files
+    }
+    out.renamed = true;
+    r.files.erase(out.id);
+    replaced += (replaced.empty() ? "" : ", ") + out.path;
+  }
+  r.directories.erase(impl_->set_id);  // they hold the outputs now
+  impl_->has_directories = false;
+}
+
+void OutputFiles::discard() noexcept {
+  if (!impl_) return;
+  TemporaryRegistry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  for (Impl::Output& out : impl_->outputs) {
+    if (out.fd >= 0) ::close(out.fd);
+    out.fd = -1;
+    if (!out.renamed && r.files.erase(out.id) > 0) ::unlink(out.temporary.c_str());
+  }
+  if (impl_->has_directories) {
+    const auto it = r.directories.find(impl_->set_id);
+    if (it != r.directories.end()) {
+      for (auto d = it->second.rbegin(); d != it->second.rend(); ++d) ::rmdir(d->c_str());  // only if empty
+      r.directories.erase(it);
+    }
+    impl_->has_directories = false;
+  }
+}
+
+void check_output_path(const std::string& path) {
+  const std::string target = output_target(path);
+  const fs::path parent = fs::path(target).parent_path();
+  struct stat st {};
+  if (::stat(parent.empty() ? "." : parent.c_str(), &st) != 0) cannot_write(path, errno_text(errno));
+  if (!S_ISDIR(st.st_mode)) cannot_write(path, errno_text(ENOTDIR));
+}
+
+void remove_temporary_outputs() noexcept {
+  TemporaryRegistry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  for (const auto& [id, file] : r.files) ::unlink(file.c_str());
+  r.files.clear();
+  for (const auto& [id, dirs] : r.directories)
+    for (auto d = dirs.rbegin(); d != dirs.rend(); ++d) ::rmdir(d->c_str());
+  r.directories.clear();
+  r.closed = true;
+}
+
+void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
+  OutputFiles files;
+  const std::size_t i = files.add(path);
+  files.write(i, write);
+  files.commit();
+}
+
+void check_mesh_extension(const std::string& path) {
   const std::string ext = extension_of(path);
+  if (ext != ".off" && ext != ".obj" && ext != ".ply" && ext != ".stl") unknown_format(path, ext);
+}
+
+void write_triangle_mesh(const TriangleSoup& soup, std::ostream& out, const std::string& format) {
+  const std::string ext = lower(format.empty() || format[0] == '.' ? format : "." + format);
   void (*writer)(std::ostream&, const TriangleSoup&) = nullptr;
   if (ext == ".off") writer = write_off;
   else if (ext == ".obj") writer = write_obj;
   else if (ext == ".ply") writer = write_ply;
   else if (ext == ".stl") writer = write_stl;
-  else unknown_format(path, ext);
+  else unknown_format("(stream)", ext);
+  check_indices(soup, "(stream)");
+  out.imbue(std::locale::classic());
+  out << std::setprecision(17);
+  writer(out, soup);
+}
+
+void write_triangle_mesh(const TriangleSoup& soup, const std::string& path) {
+  check_mesh_extension(path);
   check_indices(soup, path);
-  write_file_atomically(path, [&](std::ostream& out) {
-    out << std::setprecision(17);
-    writer(out, soup);
-  });
+  const std::string ext = extension_of(path);
+  write_file_atomically(path, [&](std::ostream& out) { write_triangle_mesh(soup, out, ext); });
+}
+
+void write_polylines(const std::vector<std::vector<Point3d>>& polylines, std::ostream& out) {
+  out.imbue(std::locale::classic());
+  out << std::setprecision(17);
+  for (const auto& polyline : polylines) {
+    out << polyline.size();
+    for (const Point3d& p : polyline) out << ' ' << p[0] << ' ' << p[1] << ' ' << p[2];
+    out << '\n';
+  }
 }
 
 void write_polylines(const std::vector<std::vector<Point3d>>& polylines, const std::string& path) {
-  write_file_atomically(path, [&](std::ostream& out) {
-    out << std::setprecision(17);
-    for (const auto& polyline : polylines) {
-      out << polyline.size();
-      for (const Point3d& p : polyline) out << ' ' << p[0] << ' ' << p[1] << ' ' << p[2];
-      out << '\n';
-    }
-  });
+  write_file_atomically(path, [&](std::ostream& out) { write_polylines(polylines, out); });
 }
 
 // ================================================================== kernel conversions

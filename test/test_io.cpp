@@ -20,6 +20,11 @@
 #include <tuple>
 #include <vector>
 
+#include <csignal>
+
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "test_support.h"
@@ -910,4 +915,167 @@ TEST_CASE("read_triangle_mesh: an OBJ line starting with a byte outside printabl
     write_bytes(path, "v 0 0 0\n" + first + " 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
     REQUIRE_THROWS_WITH(seam::read_triangle_mesh(path), StartsWith(path + ": line 2: unknown statement"));
   }
+}
+
+// ======================================================================== OutputFiles
+
+namespace {
+/// The names in `dir` that are seam's temporary files.
+std::vector<std::string> temporaries(const TempDir& dir) {
+  std::vector<std::string> t;
+  for (const auto& e : dir.entries())
+    if (e.rfind(".seam-", 0) == 0) t.push_back(e);
+  return t;
+}
+}  // namespace
+
+TEST_CASE("OutputFiles: no target changes before commit, then all do; a discarded set leaves no temporary file") {
+  TempDir dir;
+  const std::string a = dir.file("a.txt"), b = dir.file("b.txt"), c = dir.file("c.txt");
+  write_bytes(a, "old a\n");
+  write_bytes(b, "old b\n");
+  {
+    seam::OutputFiles files;
+    const std::size_t ia = files.add(a), ib = files.add(b), ic = files.add(c, /*last=*/true);
+    CHECK(files.size() == 3);
+    CHECK(temporaries(dir).size() == 3);  // created by add(), before any work
+    files.write(ia, [](std::ostream& out) { out << "new a\n"; });
+    files.write(ib, [](std::ostream& out) { out << "new b\n"; });
+    files.write(ic, [](std::ostream& out) { out << "new c\n"; });
+    CHECK(read_bytes(a) == "old a\n");
+    CHECK(read_bytes(b) == "old b\n");
+    CHECK_FALSE(fs::exists(c));
+    files.commit();
+  }
+  CHECK(read_bytes(a) == "new a\n");
+  CHECK(read_bytes(b) == "new b\n");
+  CHECK(read_bytes(c) == "new c\n");
+  CHECK(dir.entries() == std::vector<std::string>{"a.txt", "b.txt", "c.txt"});
+  {
+    seam::OutputFiles files;  // never committed: a failure before the end of a run
+    files.write(files.add(a), [](std::ostream& out) { out << "newer a\n"; });
+    files.add(b);
+  }
+  CHECK(read_bytes(a) == "new a\n");
+  CHECK(dir.entries() == std::vector<std::string>{"a.txt", "b.txt", "c.txt"});
+  // The files get the permissions of any new file (mkstemp's 0600 would hide them from others).
+  const mode_t mask = ::umask(022);
+  ::umask(mask);
+  CHECK((fs::status(a).permissions() & fs::perms::all) == static_cast<fs::perms>(0666 & ~mask));
+}
+
+TEST_CASE("OutputFiles: add() refuses what cannot be written with the system's reason, before any work") {
+  TempDir dir;
+  fs::create_directory(dir.path / "sub");
+  write_bytes(dir.file("plain"), "x\n");
+  REQUIRE(::mkfifo(dir.file("fifo").c_str(), 0644) == 0);
+  struct Case {
+    std::string path, message;
+  };
+  const std::vector<Case> cases = {
+      {dir.file("missing/out.txt"), "cannot write (No such file or directory)"},
+      {dir.file("plain/out.txt"), "cannot write (Not a directory)"},
+      {dir.file("sub"), "cannot write (is a directory)"},
+      {dir.file("fifo"), "cannot write (is a FIFO, not a regular file; only regular files are replaced)"},
+      {dir.file(std::string(256, 'n')), "cannot write (File name too long)"},
+      {"/dev/null", "is a character device"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.path);
+    seam::OutputFiles files;
+    REQUIRE_THROWS_AS(files.add(c.path), seam::IOError);
+    REQUIRE_THROWS_WITH(files.add(c.path), StartsWith(c.path + ": ") && Contains(c.message));
+    CHECK_THROWS_AS(seam::check_output_path(c.path), seam::IOError);
+  }
+  seam::OutputFiles files;
+  files.add(dir.file("one.txt"));
+  REQUIRE_THROWS_AS(files.add(dir.path.string() + "/./one.txt"), seam::InvalidInput);
+  CHECK(temporaries(dir).size() == 1);
+  files.discard();
+  CHECK(dir.entries() == std::vector<std::string>{"fifo", "plain", "sub"});
+}
+
+TEST_CASE("OutputFiles: a symbolic link is written through to its target, and stays a link") {
+  TempDir dir;
+  fs::create_directory(dir.path / "real");
+  write_bytes(dir.file("real/r.json"), "old\n");
+  fs::create_symlink("real/r.json", dir.path / "rel.json");  // relative to the link's directory
+  fs::create_symlink(dir.path / "rel.json", dir.path / "chain.json");
+  fs::create_symlink(dir.path / "real/new.json", dir.path / "dangling.json");
+  seam::OutputFiles files;
+  files.write(files.add(dir.file("chain.json")), [](std::ostream& out) { out << "through\n"; });
+  files.write(files.add(dir.file("dangling.json")), [](std::ostream& out) { out << "created\n"; });
+  files.commit();
+  CHECK(fs::is_symlink(dir.path / "chain.json"));
+  CHECK(fs::is_symlink(dir.path / "rel.json"));
+  CHECK(read_bytes(dir.file("real/r.json")) == "through\n");
+  CHECK(read_bytes(dir.file("real/new.json")) == "created\n");
+  CHECK(temporaries(dir).empty());
+}
+
+TEST_CASE("OutputFiles: a write error names the output and its cause, and leaves nothing behind") {
+  // A file size limit (RLIMIT_FSIZE, SIGXFSZ ignored) makes write() fail with EFBIG, as a full
+  // disk makes it fail with ENOSPC: before, both were reported as "unknown error".
+  TempDir dir;
+  const std::string a = dir.file("a.txt"), b = dir.file("b.txt");
+  write_bytes(a, "old a\n");
+  struct rlimit old {};
+  REQUIRE(::getrlimit(RLIMIT_FSIZE, &old) == 0);
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  struct rlimit small = old;
+  small.rlim_cur = 4096;
+  REQUIRE(::setrlimit(RLIMIT_FSIZE, &small) == 0);
+  std::string message;
+  {
+    seam::OutputFiles files;
+    const std::size_t ia = files.add(a), ib = files.add(b);
+    files.write(ia, [](std::ostream& out) { out << "new a\n"; });
+    try {
+      files.write(ib, [](std::ostream& out) { out << std::string(100000, 'x'); });
+    } catch (const seam::IOError& e) {
+      message = e.what();
+    }
+  }
+  ::setrlimit(RLIMIT_FSIZE, &old);
+  std::signal(SIGXFSZ, old_handler);
+  CHECK(message == b + ": cannot write (File too large)");
+  CHECK(read_bytes(a) == "old a\n");
+  CHECK(dir.entries() == std::vector<std::string>{"a.txt"});
+}
+
+TEST_CASE("OutputFiles: remove_temporary_outputs() removes every pending temporary file and made directory") {
+  // What the CLI's signal thread calls on SIGINT / SIGTERM. It closes the registry for good, so
+  // it runs in a child process.
+  TempDir dir;
+  const pid_t pid = ::fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    seam::OutputFiles one, two;
+    one.add(dir.file("a.txt"));
+    two.create_directory(dir.file("made/deeper"));
+    two.add(dir.file("made/deeper/b.txt"));
+    int ok = temporaries(dir).size() == 1 && fs::exists(dir.file("made/deeper")) ? 0 : 1;
+    seam::remove_temporary_outputs();
+    try {
+      seam::OutputFiles three;
+      three.add(dir.file("c.txt"));  // refused from now on
+      ok = 2;
+    } catch (const seam::IOError&) {
+    }
+    ::_exit(ok);
+  }
+  int status = 0;
+  REQUIRE(::waitpid(pid, &status, 0) == pid);
+  CHECK(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 0);
+  CHECK(dir.entries().empty());
+}
+
+TEST_CASE("write_file_atomically: an output name of 250 characters is written") {
+  // The temporary file is ".seam-XXXXXX" beside it: before, "NAME.tmp.PID.N" exceeded NAME_MAX.
+  TempDir dir;
+  const std::string path = dir.file(std::string(246, 'o') + ".off");
+  seam::write_triangle_mesh(tetrahedron(), path);
+  CHECK(same_bits(seam::read_triangle_mesh(path), tetrahedron()));
+  CHECK(dir.entries().size() == 1);
 }
