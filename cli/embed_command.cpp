@@ -34,13 +34,16 @@ int run_embed(EmbedArgs& a) {
   const auto t0 = Clock::now();
   seam::TriangleSoup soup = seam::read_triangle_mesh(a.mesh);
   seam::check_no_self_intersection(soup, a.mesh);
-  const auto polylines = seam::read_polylines(a.curves);
+  auto polylines = seam::read_polylines(a.curves);
   const double read_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
 
   return seam::with_kernel(parse_kernel(a.kernel), [&](auto kernel) {
     using K = decltype(kernel);
     auto mesh = seam::mesh_from_soup<K>(soup, a.mesh);
     const auto curves = seam::to_kernel<K>(polylines);
+    // The doubles are not needed any more: a curve of 10 million points holds 240 MB of them.
+    std::vector<std::vector<seam::Point3d>>().swap(polylines);
+    seam::TriangleSoup().points.swap(soup.points);
     seam::EmbedResult<K> result;
     try {
       result = seam::embed<K>(mesh, curves, a.options);

@@ -249,11 +249,18 @@ std::string read_file(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (f == nullptr) throw IOError(path + ": cannot open file (" + errno_text(errno) + ")");
   std::string data;
-  char buffer[1 << 16];
+  // Reserved at the file's size: grown by doubling, a 258 MB file took a 512 MB string, and
+  // 768 MB while the last growth copied it (issue 22, class 8). Read straight into it.
+  struct stat file_stat {};
+  if (::fstat(::fileno(f), &file_stat) == 0 && S_ISREG(file_stat.st_mode) && file_stat.st_size > 0)
+    data.reserve(static_cast<std::size_t>(file_stat.st_size) + 1);
   for (;;) {
-    const std::size_t got = std::fread(buffer, 1, sizeof buffer, f);
-    data.append(buffer, got);
-    if (got < sizeof buffer) break;
+    const std::size_t old_size = data.size();
+    const std::size_t chunk = std::max<std::size_t>(data.capacity() - old_size, 1 << 16);
+    data.resize(old_size + chunk);
+    const std::size_t got = std::fread(data.data() + old_size, 1, chunk, f);
+    data.resize(old_size + got);
+    if (got < chunk) break;
   }
   const int error = std::ferror(f) ? errno : 0;
   const bool failed = std::ferror(f) != 0;
@@ -1044,21 +1051,35 @@ TriangleSoup parse_triangle_mesh(std::string_view data, const std::string& forma
   return soup;
 }
 
+namespace {
+
+std::string coordinate_text(double x) {
+  std::ostringstream os;
+  os.imbue(std::locale::classic());
+  os << std::setprecision(3) << x;
+  return os.str();
+}
+
+/// Throws InvalidInput naming point i when a coordinate of p is beyond the supported magnitude.
+void check_magnitude(const Point3d& p, std::size_t i, const std::string& name, bool whole_mesh) {
+  using R = SupportedCoordinates;
+  for (int c = 0; c < 3; ++c)
+    if (!(std::abs(p[c]) <= R::max_magnitude))  // also NaN
+      invalid(name, (whole_mesh ? "vertex " : "point ") + std::to_string(i) + " has a coordinate " +
+                        coordinate_text(p[c]) + ", beyond the supported magnitude " +
+                        coordinate_text(R::max_magnitude) + " (scale the input down)");
+}
+
+}  // namespace
+
 void check_coordinate_range(const std::vector<Point3d>& points, const std::string& name, bool whole_mesh) {
   using R = SupportedCoordinates;
-  const auto text = [](double x) {
-    std::ostringstream os;
-    os.imbue(std::locale::classic());
-    os << std::setprecision(3) << x;
-    return os.str();
-  };
+  const auto text = coordinate_text;
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, magnitude = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Point3d& p = points[i];
+    check_magnitude(p, i, name, whole_mesh);
     for (int c = 0; c < 3; ++c) {
-      if (!(std::abs(p[c]) <= R::max_magnitude))  // also NaN
-        invalid(name, (whole_mesh ? "vertex " : "point ") + std::to_string(i) + " has a coordinate " + text(p[c]) +
-                          ", beyond the supported magnitude " + text(R::max_magnitude) + " (scale the input down)");
       lo[c] = i == 0 ? p[c] : std::min(lo[c], p[c]);
       hi[c] = i == 0 ? p[c] : std::max(hi[c], p[c]);
       magnitude = std::max(magnitude, std::abs(p[c]));
@@ -1167,20 +1188,30 @@ std::vector<std::vector<Point3d>> parse_polylines(std::string_view data, const s
   reject_binary(data, path, "polyline");
   Lines lines(data);
   std::string_view line;
-  std::vector<std::string_view> tok;
   std::vector<std::vector<Point3d>> result;
+  // The tokens of a line are read one at a time, never stored: a line of 10 million points would
+  // otherwise hold 30 million views (480 MB) beside the file and the points (issue 22, class 8).
+  const auto next_token = [](std::string_view text, std::size_t& pos) {
+    while (pos < text.size() && is_space(text[pos])) ++pos;
+    const std::size_t start = pos;
+    while (pos < text.size() && !is_space(text[pos])) ++pos;
+    return text.substr(start, pos - start);
+  };
   while (lines.next_nonblank(line)) {
-    split(line, tok);
     const std::string where = line_prefix(lines.number());
+    std::size_t pos = 0;
+    const std::string_view count = next_token(line, pos);
     unsigned long long n = 0;
-    if (!parse_unsigned(tok[0], n)) {
+    if (!parse_unsigned(count, n)) {
       double d = 0;
-      if (parse_double(tok[0], d))
-        invalid(path, where + "the point count " + quote(tok[0]) + " is not a non-negative integer");
-      invalid(path, where + quote(tok[0]) + " is not a number");
+      if (parse_double(count, d))
+        invalid(path, where + "the point count " + quote(count) + " is not a non-negative integer");
+      invalid(path, where + quote(count) + " is not a number");
     }
     if (n < 1) invalid(path, where + "polyline needs at least 1 point (one point: an isolated point of contact)");
-    const std::size_t found = tok.size() - 1;
+    const std::size_t first = pos;
+    std::size_t found = 0;
+    for (std::size_t p = first; !next_token(line, p).empty();) ++found;
     if (n > found || 3 * n != found) {
       const unsigned long long max = std::numeric_limits<unsigned long long>::max();
       invalid(path, where + "expected " + (n <= max / 3 ? std::to_string(3 * n) : std::to_string(n) + " x 3") +
@@ -1189,7 +1220,7 @@ std::vector<std::vector<Point3d>> parse_polylines(std::string_view data, const s
     std::vector<Point3d> polyline(n);
     for (std::size_t i = 0; i < n; ++i)
       for (int c = 0; c < 3; ++c) {
-        const std::string_view t = tok[1 + 3 * i + c];
+        const std::string_view t = next_token(line, pos);
         if (!parse_double(t, polyline[i][c])) invalid(path, where + quote(t) + " is not a number");
         if (!std::isfinite(polyline[i][c])) invalid(path, where + "non-finite coordinate");
       }
@@ -1568,10 +1599,13 @@ template <class K> void check_coordinate_range(const Mesh<K>& mesh, const std::s
 }
 
 template <class K> void check_coordinate_range(const std::vector<Polyline<K>>& curves, const std::string& name) {
+  // Point by point: a copy of a curve of 10 million points in doubles took 240 MB.
   for (std::size_t i = 0; i < curves.size(); ++i) {
-    std::vector<Point3d> points;
-    for (const auto& p : curves[i]) points.push_back({CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())});
-    check_coordinate_range(points, name + ": curve " + std::to_string(i), false);
+    const std::string curve_name = name + ": curve " + std::to_string(i);
+    for (std::size_t j = 0; j < curves[i].size(); ++j) {
+      const auto& p = curves[i][j];
+      check_magnitude({CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())}, j, curve_name, false);
+    }
   }
 }
 

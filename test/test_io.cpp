@@ -1079,3 +1079,50 @@ TEST_CASE("write_file_atomically: an output name of 250 characters is written") 
   CHECK(same_bits(seam::read_triangle_mesh(path), tetrahedron()));
   CHECK(dir.entries().size() == 1);
 }
+
+// ======================================================================== memory
+
+namespace {
+/// A field of /proc/self/status in kB ("VmRSS", "VmHWM"); -1 if missing.
+long status_kb(const std::string& field) {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind(field + ":", 0) == 0) return std::stol(line.substr(field.size() + 1));
+  return -1;
+}
+}  // namespace
+
+TEST_CASE("read_polylines: the peak memory of reading a long curve is the file plus its points") {
+  // Issue 22, class 8: the tokens of a line were stored before parsing (16 bytes per coordinate,
+  // 480 MB for a curve of 10 million points, beside the file and the points).
+  if (seam_test::sanitized_build) return;  // ASan's allocator and shadow memory change the figures
+  TempDir dir;
+  const std::size_t n = 400000;
+  std::string text = std::to_string(n);
+  for (std::size_t i = 0; i < n; ++i) text += " 0.123456789012345 " + std::to_string(i) + ".5 -1.25e-3";
+  text += "\n";
+  const std::string path = dir.file("long.txt");
+  write_bytes(path, text);
+  const double file_mb = text.size() / 1e6, points_mb = n * sizeof(Point3d) / 1e6;
+  std::string().swap(text);
+  const pid_t pid = ::fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    // A fresh peak for this child: /proc/self/clear_refs "5" resets VmHWM to VmRSS.
+    std::ofstream("/proc/self/clear_refs") << "5";
+    const long before = status_kb("VmHWM");
+    const auto polylines = seam::read_polylines(path);
+    const long peak = status_kb("VmHWM");
+    const double grown_mb = (peak - before) / 1e3;
+    const bool ok = polylines.size() == 1 && polylines[0].size() == n && grown_mb <= 1.15 * (file_mb + points_mb) + 2;
+    std::printf("read_polylines: %.1f MB file, %.1f MB of points, peak grew by %.1f MB\n", file_mb, points_mb, grown_mb);
+    std::fflush(stdout);
+    ::_exit(before < 0 ? 2 : ok ? 0 : 1);
+  }
+  int status = 0;
+  REQUIRE(::waitpid(pid, &status, 0) == pid);
+  REQUIRE(WIFEXITED(status));
+  if (WEXITSTATUS(status) == 2) return;  // no /proc: nothing to measure
+  CHECK(WEXITSTATUS(status) == 0);
+}
