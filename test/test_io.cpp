@@ -911,7 +911,7 @@ TEST_CASE("read_triangle_mesh: an OBJ line starting with a byte outside printabl
   TempDir dir;
   const std::string path = dir.file("u.obj");
   // A BOM in the middle (two files concatenated), and Latin-1 text.
-  for (const std::string first : {std::string("\xEF\xBB\xBFv"), std::string("\xe9v")}) {
+  for (const std::string& first : {std::string("\xEF\xBB\xBFv"), std::string("\xe9v")}) {
     write_bytes(path, "v 0 0 0\n" + first + " 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
     REQUIRE_THROWS_WITH(seam::read_triangle_mesh(path), StartsWith(path + ": line 2: unknown statement"));
   }
