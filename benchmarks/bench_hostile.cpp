@@ -13,6 +13,19 @@
 //   hostile/self_intersection_check  seam::check_no_self_intersection on the two tows of
 //                           bench_pair (76,928 and 64,000 faces), what seam embed / pair add to
 //                           every run.
+//   hostile/scale/S/K      (issue 22, class 1) seam::pair of the small crossover of the tests
+//                           (18 x 10 and 14 x 9 segments) with every coordinate mapped to
+//                           S * c + offset: unit, 1e28 and 1e-29 (the supported limits), and unit
+//                           size 1e7 from the origin. Counter `verified` must be 1.
+//   hostile/max_area/K      (issue 22, class 3) seam::pair of the same crossover with
+//                           --max-area 0.01, and 0.001 (it ran for minutes with the default
+//                           remeshing). Counter `internal_error` 1: refused (exit 3).
+//   hostile/read_curve_2m   (issue 22, class 8) read_polylines + to_kernel<Exact> of a file of one
+//                           curve of 2,000,000 points (17 significant digits, 122 MB); counters:
+//                           file MB, growth of the peak resident memory (MB) while reading and
+//                           converting.
+//   hostile/embed_ring_1m_memory/K  (class 8) the whole million_nodes run from doubles in memory:
+//                           to_kernel + seam::embed; counter: growth of the peak resident memory.
 // K: exact (Epeck) or filtered (Epick). One iteration each (manual time = wall clock of the
 // call); counters give the sizes.
 //
@@ -27,8 +40,15 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
+#include <string>
 #include <vector>
+
+#include <malloc.h>
+#include <unistd.h>
 
 namespace {
 
@@ -131,8 +151,109 @@ void self_intersection_check(benchmark::State& state) {
   }
 }
 
+/// A field of /proc/self/status in MB ("VmHWM": the peak resident memory); -1 if missing.
+double status_mb(const char* field) {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  const std::string key = std::string(field) + ":";
+  while (std::getline(in, line))
+    if (line.rfind(key, 0) == 0) return std::stod(line.substr(key.size())) / 1024.0;
+  return -1;
+}
+
+/// Resets the peak resident memory to the current one (Linux: /proc/self/clear_refs "5"), after
+/// handing freed memory back to the system (else the next benchmark reuses it without growing).
+void reset_peak() {
+  ::malloc_trim(0);
+  std::ofstream("/proc/self/clear_refs") << "5";
+}
+
+/// The small crossover of test_hostile_pair.cpp, every coordinate c mapped to scale * c + offset.
+std::pair<seam::TriangleSoup, seam::TriangleSoup> crossover_at(double scale, double offset) {
+  const auto tows = seam::make_crossover(18, 10, 14, 9, seam::Section::lenticular, 0.45);
+  seam::TriangleSoup a = seam::make_tow(tows.weft), b = seam::make_tow(tows.warp);
+  for (seam::TriangleSoup* s : {&a, &b})
+    for (seam::Point3d& p : s->points)
+      for (double& c : p) c = scale * c + offset;
+  return {a, b};
+}
+
+template <class K> void run_pair(benchmark::State& state, double scale, double offset, double max_area) {
+  const auto [sa, sb] = crossover_at(scale, offset);
+  for (auto _ : state) {
+    auto a = seam::mesh_from_soup<K>(sa, "a");
+    auto b = seam::mesh_from_soup<K>(sb, "b");
+    seam::PairOptions options;
+    options.embed.max_area = max_area * scale * scale;
+    const auto t = Clock::now();
+    try {
+      const auto r = seam::pair<K>(a, b, options);
+      state.SetIterationTime(seconds_since(t));
+      state.counters["verified"] = r.stats.verified ? 1 : 0;
+      state.counters["curves"] = double(r.stats.curves);
+      state.counters["faces_a"] = double(a.number_of_faces());
+    } catch (const seam::InternalError&) {  // refused (exit 3), no invalid output: timed too
+      state.SetIterationTime(seconds_since(t));
+      state.counters["internal_error"] = 1;
+    }
+  }
+}
+
+template <class K> void scale_unit(benchmark::State& state) { run_pair<K>(state, 1, 0, 0); }
+template <class K> void scale_1e28(benchmark::State& state) { run_pair<K>(state, 1e28, 0, 0); }
+template <class K> void scale_1e_29(benchmark::State& state) { run_pair<K>(state, 1e-29, 0, 0); }
+template <class K> void offset_1e7(benchmark::State& state) { run_pair<K>(state, 1, 1e7, 0); }
+template <class K> void max_area(benchmark::State& state) { run_pair<K>(state, 1, 0, 0.01); }
+template <class K> void max_area_small(benchmark::State& state) { run_pair<K>(state, 1, 0, 0.001); }
+
+void read_curve(benchmark::State& state) {
+  const int n = 2000000;
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("seam_bench_curve_" + std::to_string(::getpid()) + ".txt")).string();
+  seam::write_polylines({ring(n)}, path);
+  const double file_mb = double(std::filesystem::file_size(path)) / 1e6;
+  for (auto _ : state) {
+    reset_peak();
+    const double before = status_mb("VmHWM");
+    const auto t = Clock::now();
+    auto polylines = seam::read_polylines(path);
+    const auto curves = seam::to_kernel<seam::Exact>(polylines);
+    state.SetIterationTime(seconds_since(t));
+    state.counters["file_MB"] = file_mb;
+    state.counters["peak_growth_MB"] = status_mb("VmHWM") - before;
+    state.counters["points"] = double(curves[0].size());
+  }
+  std::filesystem::remove(path);
+}
+
+template <class K> void embed_ring_memory(benchmark::State& state) {
+  const auto soup = bipyramid();
+  const auto curve = ring(1000000);
+  for (auto _ : state) {
+    auto mesh = seam::mesh_from_soup<K>(soup, "mesh");
+    reset_peak();
+    const double before = status_mb("VmHWM");
+    const auto t = Clock::now();
+    const auto curves = seam::to_kernel<K>({curve});
+    const auto r = seam::embed<K>(mesh, curves, {});
+    state.SetIterationTime(seconds_since(t));
+    state.counters["peak_growth_MB"] = status_mb("VmHWM") - before;
+    state.counters["nodes_in"] = double(r.stats.curve_nodes_in);
+  }
+}
+
 }  // namespace
 
+BENCHMARK_TEMPLATE(scale_unit, seam::Exact)->Name("hostile/scale/unit/exact")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(scale_1e28, seam::Exact)->Name("hostile/scale/1e28/exact")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(scale_1e_29, seam::Exact)->Name("hostile/scale/1e-29/exact")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(offset_1e7, seam::Exact)->Name("hostile/scale/offset_1e7/exact")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(max_area, seam::Exact)->Name("hostile/max_area/exact")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(max_area_small, seam::Exact)->Name("hostile/max_area_0.001/exact")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(max_area, seam::Filtered)->Name("hostile/max_area/filtered")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(read_curve)->Name("hostile/read_curve_2m")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(embed_ring_memory, seam::Exact)->Name("hostile/embed_ring_1m_memory/exact")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(embed_ring_memory, seam::Filtered)->Name("hostile/embed_ring_1m_memory/filtered")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(zigzag, seam::Exact)->Name("hostile/zigzag_100k/exact")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(zigzag, seam::Filtered)->Name("hostile/zigzag_100k/filtered")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(million_nodes, seam::Exact)->Name("hostile/million_nodes_10_faces/exact")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);

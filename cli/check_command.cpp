@@ -22,7 +22,8 @@ namespace {
 
 struct CheckArgs {
   std::string a, b, a2, b2, curves, report, kernel = "exact";
-  double tol = std::numeric_limits<double>::quiet_NaN();  // NaN: automatic
+  NumberText tol_text;  // "auto" or not given: 1e-9 x the bounding-box diagonal of A and B
+  double tol = -1;      // < 0: automatic
 };
 
 /// True when the file holds no polyline at all: only blank lines and '#' comments.
@@ -101,9 +102,10 @@ void print_summary(std::ostream& os, const seam::PairCheckReport& r, const Check
 }
 
 int run_check(CheckArgs a) {
-  if (!std::isnan(a.tol) && !(std::isfinite(a.tol) && a.tol >= 0))
-    throw seam::InvalidInput("--tol must be a finite number >= 0");
+  a.tol = number_option("--tol", a.tol_text, NumberRange::non_negative_or_auto(), -1.0);
   refuse_overwrite({a.a, a.b, a.a2, a.b2, a.curves}, {a.report});
+  seam::OutputFiles files;  // the report's temporary file, created before any work
+  const auto out = add_outputs(files, {a.report});
   const auto t0 = Clock::now();
   const seam::TriangleSoup sa = seam::read_triangle_mesh(a.a), sb = seam::read_triangle_mesh(a.b),
                            sa2 = seam::read_triangle_mesh(a.a2), sb2 = seam::read_triangle_mesh(a.b2);
@@ -113,7 +115,7 @@ int run_check(CheckArgs a) {
   } catch (const seam::InvalidInput&) {
     if (!has_no_polyline(a.curves)) throw;  // an empty curves file means: no curves
   }
-  if (std::isnan(a.tol)) a.tol = default_tolerance(sa, sb);
+  if (a.tol < 0) a.tol = default_tolerance(sa, sb);
   const double read_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
 
   return seam::with_kernel(parse_kernel(a.kernel), [&](auto kernel) {
@@ -131,7 +133,8 @@ int run_check(CheckArgs a) {
     if (!a.report.empty()) {
       nlohmann::json j = report_json(r, a);
       j["seconds"] = {{"read", read_seconds}, {"check", check_seconds}};
-      write_json(j, a.report);
+      files.write(out[0], [&](std::ostream& os) { write_json(j, os); });
+      files.commit();
     }
     return r.ok() ? 0 : 1;
   });
@@ -158,8 +161,8 @@ Command add_check_command(CLI::App& app) {
                     "The shared curves, one polyline per line: 'n x1 y1 z1 ... xn yn zn'; a file with no polyline "
                     "(empty, or comments only) means no curves: A2 and B2 must then not meet at all")
       ->required();
-  check->add_option("--tol", ca.tol,
-                    "Largest allowed distance of a vertex of A2 (B2) from the surface of A (B) (default: 1e-9 x the "
+  add_number_option(check, "--tol", ca.tol_text,
+                    "Largest allowed distance of a vertex of A2 (B2) from the surface of A (B) (default: auto, 1e-9 x the "
                     "bounding-box diagonal of A and B; with snapping use at least the snap tolerance)");
   check->add_option("--kernel", ca.kernel,
                     "exact (Epeck, default: the reference), filtered (Epick: exact predicates on the coordinates as "

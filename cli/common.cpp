@@ -2,7 +2,17 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "common.h"
 
+#include <cctype>
+#include <cerrno>
+#include <locale>
+#include <cstdlib>
 #include <ostream>
+#include <sstream>
+#include <thread>
+
+#include <pthread.h>
+#include <signal.h>
+#include <unistd.h>
 
 namespace seam_cli {
 
@@ -10,6 +20,39 @@ seam::KernelKind parse_kernel(const std::string& k) {
   if (k == "filtered") return seam::KernelKind::filtered;
   if (k == "float") return seam::KernelKind::float_;
   return seam::KernelKind::exact;
+}
+
+CLI::Option* add_number_option(CLI::App* app, const std::string& name, NumberText& value, const std::string& help) {
+  return app->add_option(name, value.text, help)->type_name("NUMBER")->each([&value](const std::string&) {
+    value.given = true;
+  });
+}
+
+double number_option(const std::string& name, const NumberText& value, const NumberRange& range, double fallback,
+                     double auto_value) {
+  if (!value.given) return fallback;
+  if (range.allow_auto && value.text == "auto") return auto_value;
+  std::ostringstream expected;
+  expected.imbue(std::locale::classic());
+  expected << "must be " << (range.allow_auto ? "'auto' or " : "") << (range.integer ? "an integer" : "a finite number");
+  if (range.max == HUGE_VAL) expected << " >= " << range.min;
+  else expected << " from " << range.min << " to " << range.max;
+  if (!range.note.empty()) expected << ", " << range.note;
+  const auto refuse = [&](const std::string& why) {
+    throw seam::InvalidInput(name + " " + value.text + ": " + why + " (" + expected.str() + ")");
+  };
+  // strtod in the "C" locale of a fresh process (the CLI never sets another): the whole text must
+  // be the number, no blanks around it.
+  const char* begin = value.text.c_str();
+  char* end = nullptr;
+  errno = 0;
+  const double x = std::strtod(begin, &end);
+  if (value.text.empty() || end == begin || *end != '\0' || std::isspace(static_cast<unsigned char>(value.text.front())))
+    refuse("not a number");
+  if (!std::isfinite(x)) refuse("not a finite number");
+  if (range.integer && x != std::floor(x)) refuse("not an integer");
+  if (!(x >= range.min && x <= range.max)) refuse("out of range");
+  return x;
 }
 
 /// Same existing file, or the same normalised absolute path (an error computing either, e.g. a
@@ -40,16 +83,36 @@ void refuse_overwrite(const std::vector<std::string>& inputs, const std::vector<
   }
 }
 
+std::vector<std::size_t> add_outputs(seam::OutputFiles& files, const std::vector<std::string>& paths) {
+  std::vector<std::size_t> index;
+  for (const auto& p : paths) index.push_back(p.empty() ? no_output : files.add(p));
+  return index;
+}
 
-void write_all_or_nothing(const std::function<void(std::vector<std::string>& written)>& write) {
-  std::vector<std::string> written;
-  try {
-    write(written);
-  } catch (...) {
-    std::error_code ignored;
-    for (const auto& path : written) fs::remove(path, ignored);
-    throw;
+void handle_termination_signals() {
+  sigset_t set;
+  sigemptyset(&set);
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+    struct sigaction old {};
+    // A signal ignored by the parent (SIGINT of a background job, nohup's SIGHUP) stays ignored.
+    if (::sigaction(sig, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
+    sigaddset(&set, sig);
   }
+  if (::pthread_sigmask(SIG_BLOCK, &set, nullptr) != 0) return;
+  std::thread([set] {
+    int sig = 0;
+    while (::sigwait(&set, &sig) != 0) {
+    }
+    seam::remove_temporary_outputs();
+    // End as the signal would have: the default action, unblocked in this thread.
+    ::signal(sig, SIG_DFL);
+    sigset_t one;
+    sigemptyset(&one);
+    sigaddset(&one, sig);
+    ::pthread_sigmask(SIG_UNBLOCK, &one, nullptr);
+    ::raise(sig);
+    ::_exit(128 + sig);
+  }).detach();
 }
 
 nlohmann::json improve_json(const seam::ImproveStats& s, bool done, const std::vector<std::string>& mesh_names) {
@@ -107,9 +170,8 @@ nlohmann::json stats_json(const seam::EmbedStats& s) {
   return j;
 }
 
-void write_json(const nlohmann::json& j, const std::string& path) {
-  const std::string text = j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
-  seam::write_file_atomically(path, [&](std::ostream& os) { os << text << "\n"; });
+void write_json(const nlohmann::json& j, std::ostream& out) {
+  out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
 }
 
 }  // namespace seam_cli

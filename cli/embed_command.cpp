@@ -11,22 +11,39 @@ namespace {
 
 struct EmbedArgs {
   std::string mesh, curves, out, curves_out, report, kernel = "exact";
+  NumberText snap_tol, min_angle, max_area, max_distance, curve_tol;
   seam::EmbedOptions options;
 };
 
-int run_embed(const EmbedArgs& a) {
-  seam::validate_options(a.options);  // before reading anything
+int run_embed(EmbedArgs& a) {
+  // Every option before any work.
+  seam::EmbedOptions& o = a.options;
+  o.snap_tol = number_option("--snap-tol", a.snap_tol, NumberRange::non_negative_or_auto(), o.snap_tol);
+  o.min_angle_deg = number_option("--min-angle", a.min_angle, NumberRange::between(0, 60, "degrees"), o.min_angle_deg);
+  o.max_area = number_option("--max-area", a.max_area, NumberRange::non_negative(), o.max_area);
+  o.max_distance = number_option("--max-distance", a.max_distance, NumberRange::non_negative_or_auto(), o.max_distance);
+  o.curve_tol = number_option("--curve-tol", a.curve_tol, NumberRange::non_negative(), o.curve_tol);
+  seam::validate_options(a.options);
+  // Every output path before any work: its format, no input overwritten, and its temporary file
+  // created (a missing folder, a directory, a FIFO are found now).
   refuse_overwrite({a.mesh, a.curves}, {a.out, a.curves_out, a.report});
+  seam::check_mesh_extension(a.out);
+  seam::OutputFiles files;
+  const auto out = add_outputs(files, {a.out, a.curves_out, a.report});
+
   const auto t0 = Clock::now();
   seam::TriangleSoup soup = seam::read_triangle_mesh(a.mesh);
   seam::check_no_self_intersection(soup, a.mesh);
-  const auto polylines = seam::read_polylines(a.curves);
+  auto polylines = seam::read_polylines(a.curves);
   const double read_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
 
   return seam::with_kernel(parse_kernel(a.kernel), [&](auto kernel) {
     using K = decltype(kernel);
     auto mesh = seam::mesh_from_soup<K>(soup, a.mesh);
     const auto curves = seam::to_kernel<K>(polylines);
+    // The doubles are not needed any more: a curve of 10 million points holds 240 MB of them.
+    std::vector<std::vector<seam::Point3d>>().swap(polylines);
+    seam::TriangleSoup().points.swap(soup.points);
     seam::EmbedResult<K> result;
     try {
       result = seam::embed<K>(mesh, curves, a.options);
@@ -36,20 +53,17 @@ int run_embed(const EmbedArgs& a) {
     const auto t1 = Clock::now();
     auto stats = result.stats;
     stats.stage_seconds["read"] = read_seconds;
-    write_all_or_nothing([&](std::vector<std::string>& written) {
-      seam::write_triangle_mesh(seam::soup_from_mesh<K>(mesh), a.out);
-      written.push_back(a.out);
-      if (!a.curves_out.empty()) {
-        seam::write_polylines(seam::to_doubles<K>(result.curves), a.curves_out);
-        written.push_back(a.curves_out);
-      }
-      stats.stage_seconds["write"] = std::chrono::duration<double>(Clock::now() - t1).count();
-      if (!a.report.empty()) {
-        nlohmann::json j = stats_json(stats);
-        j["files"] = {{"mesh", a.mesh}, {"curves", a.curves}, {"out", a.out}};
-        write_json(j, a.report);
-      }
-    });
+    const seam::TriangleSoup out_soup = seam::soup_from_mesh<K>(mesh);
+    files.write(out[0], [&](std::ostream& os) { seam::write_triangle_mesh(out_soup, os, fs::path(a.out).extension().string()); });
+    if (out[1] != no_output)
+      files.write(out[1], [&](std::ostream& os) { seam::write_polylines(seam::to_doubles<K>(result.curves), os); });
+    stats.stage_seconds["write"] = std::chrono::duration<double>(Clock::now() - t1).count();
+    if (out[2] != no_output) {
+      nlohmann::json j = stats_json(stats);
+      j["files"] = {{"mesh", a.mesh}, {"curves", a.curves}, {"out", a.out}};
+      files.write(out[2], [&](std::ostream& os) { write_json(j, os); });
+    }
+    files.commit();
     const auto& s = stats;
     std::cout << "seam embed: " << s.curves << " curve(s), " << s.curve_nodes_in << " nodes -> " << s.curve_nodes_out
               << " embedded vertices (" << s.crossing_points << " crossing points); " << s.vertices_snapped
@@ -80,16 +94,17 @@ Command add_embed_command(CLI::App& app) {
   embed->add_option("--report", ea.report, "Write a JSON report (counts per stage, quality, timings) here");
   embed->add_option("--kernel", ea.kernel, "exact (Epeck, default), filtered (Epick) or float (double)")
       ->check(CLI::IsMember({"exact", "filtered", "float"}));
-  embed->add_option("--snap-tol", ea.options.snap_tol,
+  add_number_option(embed, "--snap-tol", ea.snap_tol,
                     "Move mesh vertices within this distance of a curve node onto it; 0 disables snapping "
-                    "(default: 0.1 x mean edge length)");
-  embed->add_option("--min-angle", ea.options.min_angle_deg,
+                    "(default: auto, 0.1 x mean edge length)");
+  add_number_option(embed, "--min-angle", ea.min_angle,
                     "Minimum angle (degrees, 0..60) Delaunay refinement aims for in re-triangulated faces; 0 "
                     "disables refinement (default: 20)");
-  embed->add_option("--max-area", ea.options.max_area, "Largest area of a new triangle; 0: no bound (default: 0)");
-  embed->add_option("--max-distance", ea.options.max_distance,
-                    "A curve node farther than this from the surface is an error (default: 1.0 x mean edge length)");
-  embed->add_option("--curve-tol", ea.options.curve_tol,
+  add_number_option(embed, "--max-area", ea.max_area, "Largest area of a new triangle; 0: no bound (default: 0)");
+  add_number_option(embed, "--max-distance", ea.max_distance,
+                    "A curve node farther than this from the surface is an error (default: auto, 1.0 x mean edge "
+                    "length)");
+  add_number_option(embed, "--curve-tol", ea.curve_tol,
                     "Keep a curve node between two crossings when dropping it would move the curve by more than "
                     "this; 0 drops them all, as the report does (default: 0)");
 

@@ -1,9 +1,11 @@
 // seam: the command-line tool.
 //
 // Exit codes: 0 success; 2 bad input or usage (one line on stderr: "seam: FILE: problem");
-// 3 internal failure ("seam: internal error: ..."). Outputs are written to a temporary file and
-// renamed, and a failed run removes the outputs it already wrote, so it leaves no output; an
-// output path equal to an input or to another output is refused.
+// 3 internal failure ("seam: internal error: ..."). Every option and output path is checked
+// before any work; every output goes to a temporary file in its directory, created at that
+// check, and all are renamed together at the end (seam::OutputFiles): a failure or SIGINT /
+// SIGTERM / SIGHUP before that leaves the old outputs untouched and no temporary file. An output
+// path equal to an input or to another output is refused.
 //
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "common.h"
@@ -13,6 +15,7 @@
 #include <iostream>
 
 int main(int argc, char** argv) {
+  seam_cli::handle_termination_signals();  // before any other thread exists
   CLI::App app{"seam: embed boundary curves exactly into triangle tow surface meshes, so that two "
                "interpenetrating tows share the curve vertex for vertex and edge for edge."};
   app.require_subcommand(1);
@@ -24,8 +27,13 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    // A usage error: one line, as for every other error.
+    std::string what = e.what();
+    for (char& c : what)
+      if (c == '\n' || c == '\r') c = ' ';
+    std::cerr << "seam: " << what << " (see seam --help)\n";
+    return 2;
   }
 
   try {

@@ -16,14 +16,27 @@ namespace {
 
 struct PairArgs {
   std::string a, b, out_a, out_b, curves, curves_out, report, vtk, kernel = "exact";
+  NumberText snap_tol, min_angle, max_area;
   seam::PairOptions options;
 };
 
-int run_pair(const PairArgs& args) {
+int run_pair(PairArgs& args) {
+  // Every option before any work.
+  seam::EmbedOptions& o = args.options.embed;
+  o.snap_tol = number_option("--snap-tol", args.snap_tol, NumberRange::non_negative_or_auto(), o.snap_tol);
+  o.min_angle_deg = number_option("--min-angle", args.min_angle, NumberRange::between(0, 60, "degrees"), o.min_angle_deg);
+  o.max_area = number_option("--max-area", args.max_area, NumberRange::non_negative(), o.max_area);
   seam::validate_options(args.options.embed);
+  // Every output path before any work: formats, no input overwritten, temporary files created
+  // (renamed in this order at the end: meshes, curves, VTK, report).
   std::vector<std::string> inputs{args.a, args.b};
   if (!args.curves.empty()) inputs.push_back(args.curves);
-  refuse_overwrite(inputs, {args.out_a, args.out_b, args.curves_out, args.report, args.vtk});
+  refuse_overwrite(inputs, {args.out_a, args.out_b, args.curves_out, args.vtk, args.report});
+  seam::check_mesh_extension(args.out_a);
+  seam::check_mesh_extension(args.out_b);
+  const std::string vtk_format = args.vtk.empty() ? std::string() : seam::vtk_format(args.vtk);
+  seam::OutputFiles files;
+  const auto out = add_outputs(files, {args.out_a, args.out_b, args.curves_out, args.vtk, args.report});
   const auto t0 = Clock::now();
   // The two files are read concurrently (parsing dominates), then checked for self-intersections.
   seam::TriangleSoup soup_a, soup_b;
@@ -58,35 +71,21 @@ int run_pair(const PairArgs& args) {
     auto& st = result.stats;
     st.stage_seconds["read"] = read_seconds;
     const auto t1 = Clock::now();
-    write_all_or_nothing([&](std::vector<std::string>& written) {
-      // Both meshes are written concurrently (formatting dominates); each into a temporary
-      // file renamed at the end, so a failure leaves neither half-written.
-      bool wrote_a = false, wrote_b = false;
-      try {
-        tbb::parallel_invoke(
-            [&] {
-              seam::write_triangle_mesh(seam::soup_from_mesh<K>(a), args.out_a);
-              wrote_a = true;
-            },
-            [&] {
-              seam::write_triangle_mesh(seam::soup_from_mesh<K>(b), args.out_b);
-              wrote_b = true;
-            });
-      } catch (...) {
-        if (wrote_a) written.push_back(args.out_a);
-        if (wrote_b) written.push_back(args.out_b);
-        throw;
-      }
-      written.push_back(args.out_a);
-      written.push_back(args.out_b);
-      if (!args.curves_out.empty()) {
-        seam::write_polylines(seam::to_doubles<K>(result.curves), args.curves_out);
-        written.push_back(args.curves_out);
-      }
-      if (!args.vtk.empty()) {
-        seam::write_pair_vtk<K>(args.vtk, a, b, result.curves);
-        written.push_back(args.vtk);
-      }
+    // Both meshes are formatted concurrently (formatting dominates), each into its temporary file.
+    tbb::parallel_invoke(
+        [&] {
+          const seam::TriangleSoup soup = seam::soup_from_mesh<K>(a);
+          files.write(out[0], [&](std::ostream& os) { seam::write_triangle_mesh(soup, os, fs::path(args.out_a).extension().string()); });
+        },
+        [&] {
+          const seam::TriangleSoup soup = seam::soup_from_mesh<K>(b);
+          files.write(out[1], [&](std::ostream& os) { seam::write_triangle_mesh(soup, os, fs::path(args.out_b).extension().string()); });
+        });
+    if (out[2] != no_output)
+      files.write(out[2], [&](std::ostream& os) { seam::write_polylines(seam::to_doubles<K>(result.curves), os); });
+    if (out[3] != no_output)
+      files.write(out[3], [&](std::ostream& os) { seam::write_pair_vtk<K>(os, vtk_format, a, b, result.curves); });
+    {
       st.stage_seconds["write"] = std::chrono::duration<double>(Clock::now() - t1).count();
       if (!args.report.empty()) {
         nlohmann::json j;
@@ -116,9 +115,10 @@ int run_pair(const PairArgs& args) {
         j["seconds"] = st.stage_seconds;
         j["files"] = {{"a", args.a}, {"b", args.b}, {"out_a", args.out_a}, {"out_b", args.out_b}};
         if (!args.curves.empty()) j["files"]["curves"] = args.curves;
-        write_json(j, args.report);
+        files.write(out[4], [&](std::ostream& os) { write_json(j, os); });
       }
-    });
+    }
+    files.commit();
     const auto& qa = result.a.stats;
     const auto& qb = result.b.stats;
     std::cout << "seam pair: " << st.curves << " curve(s) (" << st.closed_curves << " closed), " << st.curve_vertices
@@ -163,14 +163,14 @@ Command add_pair_command(CLI::App& app) {
                   "fields tow, source_face, new and min_angle");
   cmd->add_option("--kernel", pa.kernel, "exact (Epeck, default), filtered (Epick) or float (double)")
       ->check(CLI::IsMember({"exact", "filtered", "float"}));
-  cmd->add_option("--snap-tol", pa.options.embed.snap_tol,
-                  "Tolerance of the quality stage: how far a changed face may lie from its input surface and a vertex "
-                  "may move (onto a curve, say); 0: only edits that keep the surfaces (default: 0.1 x the smaller mean "
-                  "edge length)");
-  cmd->add_option("--min-angle", pa.options.embed.min_angle_deg,
-                  "The angle bound (degrees, 0..60): faces next to the curves below it are refined (default: 20)");
-  cmd->add_option("--max-area", pa.options.embed.max_area,
-                  "Largest area of a new triangle; 0: no bound (no quality stage then: it works to angles)");
+  add_number_option(cmd, "--snap-tol", pa.snap_tol,
+                    "Tolerance of the quality stage: how far a changed face may lie from its input surface and a "
+                    "vertex may move (merged into a curve point, say); 0: only edits that keep the surfaces (default: "
+                    "auto, 0.1 x the smaller mean edge length)");
+  add_number_option(cmd, "--min-angle", pa.min_angle,
+                    "The angle bound (degrees, 0..60): faces next to the curves below it are refined (default: 20)");
+  add_number_option(cmd, "--max-area", pa.max_area,
+                    "Largest area of a new triangle; 0: no bound (no quality stage then: it works to angles)");
   cmd->add_flag_callback(
       "--no-improve,--no-remesh", [&pa] { pa.options.improve = false; },
       "Keep the curves as embedded, without the quality stage");

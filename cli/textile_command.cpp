@@ -17,17 +17,20 @@
 #include <iostream>
 #include <map>
 #include <memory>
-#include <mutex>
+#include <set>
 #include <sstream>
 
 namespace seam_cli {
 
 namespace {
 
+/// --threads above this is refused (a task arena of a million slots is not a request for work).
+constexpr double max_threads = 1024;
+
 struct TextileArgs {
   std::vector<std::string> tows;
   std::string tows_list, out_dir, report, kernel = "exact";
-  int threads = 0;
+  NumberText threads, min_angle, max_area, snap_tol;
   bool quiet = false;
   seam::TextileOptions options;
 };
@@ -52,6 +55,55 @@ std::vector<std::string> read_tow_list(const std::string& list) {
   if (in.bad()) throw seam::IOError(list + ": read error");
   if (paths.empty()) throw seam::InvalidInput(list + ": no tow file listed");
   return paths;
+}
+
+/// A path made absolute and canonical as far as it exists (symbolic links resolved); empty on error.
+fs::path canonical_or_empty(const fs::path& p) {
+  std::error_code ec;
+  const fs::path abs = fs::absolute(p, ec);
+  if (ec) return {};
+  fs::path c = fs::weakly_canonical(abs, ec);
+  return ec ? fs::path() : c;
+}
+
+/// Refuses, before any work, a curves file name DIR/<A>__<B>.polylines.txt that two pairs share,
+/// that is an input (a tow or the --tows list, also through a symbolic link in DIR) or the
+/// report, or that exists and is not a regular file. Every pair A < B is checked, whether it will
+/// intersect or not: the names depend on the tows' names only.
+void check_curve_outputs(const fs::path& dir, const std::vector<std::string>& names,
+                         const std::vector<std::string>& inputs, const std::string& report) {
+  const fs::path canonical_dir = canonical_or_empty(dir);
+  std::set<fs::path> input_paths;
+  for (const auto& in : inputs)
+    if (const fs::path c = canonical_or_empty(in); !c.empty()) input_paths.insert(c);
+  const fs::path report_path = report.empty() ? fs::path() : canonical_or_empty(report);
+  // The entries of DIR that exist: where each leads (a symbolic link, to its target).
+  std::map<std::string, fs::path> existing;
+  std::error_code ec;
+  if (fs::is_directory(dir, ec))
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+      existing[it->path().filename().string()] = canonical_or_empty(it->path());
+  std::map<std::string, std::pair<std::size_t, std::size_t>> by_name;
+  for (std::size_t a = 0; a < names.size(); ++a)
+    for (std::size_t b = a + 1; b < names.size(); ++b) {
+      const std::string name = names[a] + "__" + names[b] + ".polylines.txt";
+      const std::string path = (dir / name).string();
+      const auto [it, inserted] = by_name.emplace(name, std::make_pair(a, b));
+      if (!inserted)
+        throw seam::InvalidInput(path + ": the curves of tows '" + names[it->second.first] + "' and '" +
+                                 names[it->second.second] + "' and of tows '" + names[a] + "' and '" + names[b] +
+                                 "' would both be written here (rename a tow: '__' in tow names makes pair names "
+                                 "ambiguous)");
+      const auto e = existing.find(name);
+      const fs::path target = e != existing.end() ? e->second : canonical_dir.empty() ? fs::path() : canonical_dir / name;
+      if (target.empty()) continue;
+      if (input_paths.count(target) > 0)
+        throw seam::InvalidInput(path + ": the curves of tows '" + names[a] + "' and '" + names[b] +
+                                 "' would be written over an input (refusing to overwrite an input)");
+      if (!report_path.empty() && target == report_path)
+        throw seam::InvalidInput(report + ": the same path is given for two outputs (" + path + ")");
+      if (e != existing.end()) seam::check_output_path(path);
+    }
 }
 
 /// Runs body(i) for i in [0, n) in `arena`; rethrows the first exception in index order.
@@ -105,8 +157,14 @@ class Progress {
 };
 
 int run_textile(TextileArgs& args) {
+  // Every option before any work.
+  seam::EmbedOptions& o = args.options.embed;
+  const int threads =
+      static_cast<int>(number_option("--threads", args.threads, NumberRange::integer_between(0, max_threads, "0: every core"), 0));
+  o.min_angle_deg = number_option("--min-angle", args.min_angle, NumberRange::between(0, 60, "degrees"), o.min_angle_deg);
+  o.max_area = number_option("--max-area", args.max_area, NumberRange::non_negative(), o.max_area);
+  o.snap_tol = number_option("--snap-tol", args.snap_tol, NumberRange::non_negative_or_auto(), o.snap_tol);
   seam::validate_options(args.options.embed);
-  if (args.threads < 0) throw seam::InvalidInput("--threads " + std::to_string(args.threads) + ": must be >= 0");
   std::vector<std::string> inputs = args.tows;
   if (!args.tows_list.empty()) {
     const auto listed = read_tow_list(args.tows_list);
@@ -128,23 +186,33 @@ int run_textile(TextileArgs& args) {
   }
   const fs::path dir = args.out_dir;
   auto mesh_out = [&](std::size_t i) { return (dir / (names[i] + ".off")).string(); };
-  auto curves_out = [&](std::size_t a, std::size_t b) {
-    return (dir / (names[a] + "__" + names[b] + ".polylines.txt")).string();
-  };
+  auto curves_name = [&](std::size_t a, std::size_t b) { return names[a] + "__" + names[b] + ".polylines.txt"; };
+  auto curves_out = [&](std::size_t a, std::size_t b) { return (dir / curves_name(a, b)).string(); };
+  std::vector<std::string> all_inputs = inputs;
+  if (!args.tows_list.empty()) all_inputs.push_back(args.tows_list);
   {
     std::vector<std::string> outputs;
     for (std::size_t i = 0; i < inputs.size(); ++i) outputs.push_back(mesh_out(i));
     outputs.push_back(args.report);
-    std::vector<std::string> all_inputs = inputs;
-    if (!args.tows_list.empty()) all_inputs.push_back(args.tows_list);
     refuse_overwrite(all_inputs, outputs);
     std::error_code ec;
     if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
       throw seam::InvalidInput(args.out_dir + ": --out-dir exists and is not a directory");
+    // Every pair's curves file too, although only the pairs that intersect will write one: two
+    // pairs may not share a name (tows 'a__b' and 'c', 'a' and 'b__c'), and none may be an input
+    // (the --tows list) or the report.
+    check_curve_outputs(dir, names, all_inputs, args.report);
   }
+  // The output directory and the temporary files of the meshes and the report, before any work;
+  // the curves files' once the pairs are known. Renamed at the end: meshes, curves, report.
+  seam::OutputFiles files;
+  files.create_directory(args.out_dir);
+  std::vector<std::size_t> mesh_file(inputs.size());
+  for (std::size_t i = 0; i < inputs.size(); ++i) mesh_file[i] = files.add(mesh_out(i));
+  const std::size_t report_file = args.report.empty() ? no_output : files.add(args.report, /*last=*/true);
 
-  args.options.threads = args.threads;
-  tbb::task_arena arena(args.threads > 0 ? args.threads : tbb::task_arena::automatic);
+  args.options.threads = threads;
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
   const auto t0 = Clock::now();
   std::vector<seam::TriangleSoup> soups(inputs.size());
   parallel_indices(arena, inputs.size(), [&](std::size_t i) {
@@ -172,71 +240,56 @@ int run_textile(TextileArgs& args) {
     std::vector<seam::TriangleSoup> out_soups(meshes.size());
     parallel_indices(arena, meshes.size(), [&](std::size_t i) { out_soups[i] = seam::soup_from_mesh<K>(meshes[i]); });
     std::vector<std::vector<std::vector<seam::Point3d>>> out_curves;
-    std::vector<std::string> curve_paths;
     for (const auto& p : result.pairs)
-      if (!p.curves.empty()) {
-        out_curves.push_back(seam::to_doubles<K>(p.curves));
-        curve_paths.push_back(curves_out(p.stats.a, p.stats.b));
+      if (!p.curves.empty()) out_curves.push_back(seam::to_doubles<K>(p.curves));
+    std::vector<std::size_t> curve_file;
+    for (const auto& p : result.pairs)
+      if (!p.curves.empty()) curve_file.push_back(files.add(curves_out(p.stats.a, p.stats.b)));
+    const std::size_t n = out_soups.size() + out_curves.size();
+    parallel_indices(arena, n, [&](std::size_t i) {
+      if (i < out_soups.size())
+        files.write(mesh_file[i], [&](std::ostream& os) { seam::write_triangle_mesh(out_soups[i], os, "off"); });
+      else
+        files.write(curve_file[i - out_soups.size()],
+                    [&](std::ostream& os) { seam::write_polylines(out_curves[i - out_soups.size()], os); });
+    });
+    st.stage_seconds["write"] = std::chrono::duration<double>(Clock::now() - t1).count();
+    if (report_file != no_output) {
+      nlohmann::json j;
+      j["kernel"] = seam::kernel_name(seam::kernel_traits<K>::kind);
+      j["threads"] = st.threads;
+      j["candidate_pairs"] = st.candidate_pairs;
+      j["intersecting_pairs"] = st.intersecting_pairs;
+      j["touching_pairs"] = st.touching_pairs;
+      j["triple_points"] = st.triple_points;
+      nlohmann::json tows = nlohmann::json::array();
+      for (std::size_t i = 0; i < meshes.size(); ++i)
+        tows.push_back({{"name", names[i]}, {"file", inputs[i]}, {"out", mesh_out(i)}, {"embed", stats_json(result.tows[i])}});
+      j["tows"] = tows;
+      auto quality = [](const seam::CurveFaceQuality& q) {
+        return nlohmann::json{
+            {"new_faces", q.faces}, {"min_angle_deg", q.min_angle_deg}, {"below_10", q.below_10}, {"below_20", q.below_20}};
+      };
+      nlohmann::json pairs = nlohmann::json::array();
+      for (const auto& p : result.pairs) {
+        const auto& s = p.stats;
+        nlohmann::json e = {{"a", names[s.a]},
+                            {"b", names[s.b]},
+                            {"curves", s.curves},
+                            {"closed_curves", s.closed_curves},
+                            {"curve_vertices", s.curve_vertices},
+                            {"touching_only", s.touching_only},
+                            {"quality", {{"a", quality(s.quality_a)}, {"b", quality(s.quality_b)}}},
+                            {"intersect_seconds", s.intersect_seconds},
+                            {"copy_seconds", s.copy_seconds}};
+        e["polylines"] = s.curves > 0 ? nlohmann::json(curves_out(s.a, s.b)) : nlohmann::json(nullptr);
+        pairs.push_back(e);
       }
-    std::error_code ec;
-    const bool created_dir = !fs::exists(dir, ec);
-    fs::create_directories(dir, ec);
-    if (ec) throw seam::IOError(args.out_dir + ": cannot create the output directory (" + ec.message() + ")");
-    try {
-      write_all_or_nothing([&](std::vector<std::string>& written) {
-        std::mutex mutex;
-        const std::size_t n = out_soups.size() + out_curves.size();
-        parallel_indices(arena, n, [&](std::size_t i) {
-          const std::string path = i < out_soups.size() ? mesh_out(i) : curve_paths[i - out_soups.size()];
-          if (i < out_soups.size()) seam::write_triangle_mesh(out_soups[i], path);
-          else seam::write_polylines(out_curves[i - out_soups.size()], path);
-          std::lock_guard<std::mutex> lock(mutex);
-          written.push_back(path);
-        });
-        st.stage_seconds["write"] = std::chrono::duration<double>(Clock::now() - t1).count();
-        if (!args.report.empty()) {
-          nlohmann::json j;
-          j["kernel"] = seam::kernel_name(seam::kernel_traits<K>::kind);
-          j["threads"] = st.threads;
-          j["candidate_pairs"] = st.candidate_pairs;
-          j["intersecting_pairs"] = st.intersecting_pairs;
-          j["touching_pairs"] = st.touching_pairs;
-          j["triple_points"] = st.triple_points;
-          nlohmann::json tows = nlohmann::json::array();
-          for (std::size_t i = 0; i < meshes.size(); ++i)
-            tows.push_back({{"name", names[i]}, {"file", inputs[i]}, {"out", mesh_out(i)}, {"embed", stats_json(result.tows[i])}});
-          j["tows"] = tows;
-          auto quality = [](const seam::CurveFaceQuality& q) {
-            return nlohmann::json{{"new_faces", q.faces},
-                                  {"min_angle_deg", q.min_angle_deg},
-                                  {"below_10", q.below_10},
-                                  {"below_20", q.below_20}};
-          };
-          nlohmann::json pairs = nlohmann::json::array();
-          for (const auto& p : result.pairs) {
-            const auto& s = p.stats;
-            nlohmann::json e = {{"a", names[s.a]},
-                                {"b", names[s.b]},
-                                {"curves", s.curves},
-                                {"closed_curves", s.closed_curves},
-                                {"curve_vertices", s.curve_vertices},
-                                {"touching_only", s.touching_only},
-                                {"quality", {{"a", quality(s.quality_a)}, {"b", quality(s.quality_b)}}},
-                                {"intersect_seconds", s.intersect_seconds},
-                                {"copy_seconds", s.copy_seconds}};
-            e["polylines"] = s.curves > 0 ? nlohmann::json(curves_out(s.a, s.b)) : nlohmann::json(nullptr);
-            pairs.push_back(e);
-          }
-          j["pairs"] = pairs;
-          j["seconds"] = st.stage_seconds;
-          write_json(j, args.report);
-          written.push_back(args.report);
-        }
-      });
-    } catch (...) {
-      if (created_dir) fs::remove(dir, ec);  // only if empty
-      throw;
+      j["pairs"] = pairs;
+      j["seconds"] = st.stage_seconds;
+      files.write(report_file, [&](std::ostream& os) { write_json(j, os); });
     }
+    files.commit();
     std::size_t curves = 0, snapped = 0;
     for (const auto& p : result.pairs) curves += p.stats.curves;
     for (const auto& t : result.tows) snapped += t.vertices_snapped;
@@ -266,17 +319,18 @@ Command add_textile_command(CLI::App& app) {
                   "lines and # comments skipped), after the TOW arguments");
   cmd->add_option("--out-dir", ta.out_dir, "Output directory (created if missing)")->required();
   cmd->add_option("--report", ta.report, "Write a JSON report: per tow the embedding figures, per pair the curves and the quality of the new faces along them");
-  cmd->add_option("--threads", ta.threads, "Worker threads; 0: every core (default). Results are identical for any value");
+  add_number_option(cmd, "--threads", ta.threads,
+                    "Worker threads, 0 to 1024; 0: every core (default). Results are identical for any value");
   cmd->add_flag("--quiet", ta.quiet, "No progress line on stderr");
   cmd->add_option("--kernel", ta.kernel, "exact (Epeck, default), filtered (Epick) or float (double)")
       ->check(CLI::IsMember({"exact", "filtered", "float"}));
-  cmd->add_option("--min-angle", ta.options.embed.min_angle_deg,
-                  "Minimum angle (degrees, 0..60) refinement aims for in re-triangulated faces (default: 20)");
-  cmd->add_option("--max-area", ta.options.embed.max_area, "Largest area of a new triangle; 0: no bound");
-  cmd->add_option("--snap-tol", ta.options.embed.snap_tol,
-                  "Move tow vertices within this distance of a curve onto it, then compute those curves again; 0 "
-                  "disables (default: 1e-10 x the smallest tow bounding-box diagonal, below seam check's default "
-                  "tolerance)");
+  add_number_option(cmd, "--min-angle", ta.min_angle,
+                    "Minimum angle (degrees, 0..60) refinement aims for in re-triangulated faces (default: 20)");
+  add_number_option(cmd, "--max-area", ta.max_area, "Largest area of a new triangle; 0: no bound");
+  add_number_option(cmd, "--snap-tol", ta.snap_tol,
+                    "Move tow vertices within this distance of a curve onto it, then compute those curves again; 0 "
+                    "disables (default: auto, 1e-10 x the smallest tow bounding-box diagonal, below seam check's "
+                    "default tolerance)");
   return {cmd, [args] { return run_textile(*args); }};
 }
 

@@ -40,6 +40,29 @@ inline void mesh_reader(const std::uint8_t* data, std::size_t size, const char* 
   } catch (const seam::Error&) {
     return;
   }
+  // Issue 22, class 5 (silent misreads): a UTF-8 byte-order mark changes nothing, and data
+  // after what an OFF or PLY header declares is refused (it was read as the declared count).
+  const std::string fmt = format;
+  const bool has_bom = text.substr(0, 3) == "\xEF\xBB\xBF";
+  if (fmt != "stl" && !has_bom) {
+    seam::TriangleSoup with_bom;
+    try {
+      with_bom = seam::parse_triangle_mesh("\xEF\xBB\xBF" + std::string(text), format, "fuzz");
+    } catch (const seam::Error& e) {
+      throw ContractViolation(std::string("a byte-order mark made a valid file invalid: ") + e.what());
+    }
+    if (with_bom.triangles != soup.triangles || with_bom.points.size() != soup.points.size())
+      throw ContractViolation("a byte-order mark changed the mesh");
+  }
+  if (fmt == "off" || fmt == "ply") {
+    bool refused = false;
+    try {
+      seam::parse_triangle_mesh(std::string(text) + "\n3 0 1 2\n", format, "fuzz");
+    } catch (const seam::InvalidInput&) {
+      refused = true;
+    }
+    if (!refused) throw ContractViolation("data after the declared faces was accepted");
+  }
   try {
     seam::check_no_self_intersection(soup, "fuzz");
   } catch (const seam::InvalidInput&) {
@@ -60,6 +83,10 @@ inline void polyline_reader(const std::uint8_t* data, std::size_t size) {
     if (polylines.empty()) throw ContractViolation("parse_polylines returned no polyline");
     for (const auto& p : polylines)
       if (p.empty()) throw ContractViolation("parse_polylines returned a polyline without points");
+    // A UTF-8 byte-order mark changes nothing (issue 22, class 5).
+    if (text.substr(0, 3) != "\xEF\xBB\xBF" &&
+        seam::parse_polylines("\xEF\xBB\xBF" + std::string(text), "fuzz").size() != polylines.size())
+      throw ContractViolation("a byte-order mark changed the polylines");
   } catch (const seam::Error&) {
   }
 }

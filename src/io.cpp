@@ -14,7 +14,6 @@
 #include <seam/kernels.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -27,14 +26,19 @@
 #include <iomanip>
 #include <limits>
 #include <locale>
+#include <map>
+#include <mutex>
 #include <sstream>
 #include <string_view>
+#include <stdexcept>
 #include <system_error>
 #include <unordered_map>
 #include <utility>
 
+#include <fcntl.h>
 #include <locale.h>  // newlocale, strtod_l (POSIX / glibc)
-#include <unistd.h>  // getpid
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace seam {
 
@@ -211,6 +215,22 @@ class Lines {
   std::size_t number_ = 0;
 };
 
+/// The text without a UTF-8 byte-order mark at its start (some editors write one; it is not part
+/// of the content: before, an OBJ file lost its first vertex to it).
+std::string_view skip_bom(std::string_view text) {
+  constexpr std::string_view bom = "\xEF\xBB\xBF";
+  if (text.substr(0, bom.size()) == bom) text.remove_prefix(bom.size());
+  return text;
+}
+
+/// A line quoted in a message, without its surrounding blanks.
+std::string quote_trimmed(std::string_view line) {
+  std::size_t b = 0, e = line.size();
+  while (b < e && is_space(line[b])) ++b;
+  while (e > b && is_space(line[e - 1])) --e;
+  return quote(line.substr(b, e - b));
+}
+
 void reject_binary(std::string_view text, const std::string& name, const char* format) {
   if (text.find('\0') != std::string_view::npos)
     invalid(name, std::string("file contains binary data (not a text ") + format + " file)");
@@ -229,11 +249,18 @@ std::string read_file(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (f == nullptr) throw IOError(path + ": cannot open file (" + errno_text(errno) + ")");
   std::string data;
-  char buffer[1 << 16];
+  // Reserved at the file's size: grown by doubling, a 258 MB file took a 512 MB string, and
+  // 768 MB while the last growth copied it (issue 22, class 8). Read straight into it.
+  struct stat file_stat {};
+  if (::fstat(::fileno(f), &file_stat) == 0 && S_ISREG(file_stat.st_mode) && file_stat.st_size > 0)
+    data.reserve(static_cast<std::size_t>(file_stat.st_size) + 1);
   for (;;) {
-    const std::size_t got = std::fread(buffer, 1, sizeof buffer, f);
-    data.append(buffer, got);
-    if (got < sizeof buffer) break;
+    const std::size_t old_size = data.size();
+    const std::size_t chunk = std::max<std::size_t>(data.capacity() - old_size, 1 << 16);
+    data.resize(old_size + chunk);
+    const std::size_t got = std::fread(data.data() + old_size, 1, chunk, f);
+    data.resize(old_size + got);
+    if (got < chunk) break;
   }
   const int error = std::ferror(f) ? errno : 0;
   const bool failed = std::ferror(f) != 0;
@@ -272,6 +299,7 @@ bool is_off_keyword(std::string_view t) {
 }
 
 TriangleSoup parse_off(std::string_view text, const std::string& name) {
+  text = skip_bom(text);
   check_empty(text, name);
   reject_binary(text, name, "OFF");
   Lines lines(text);
@@ -351,12 +379,18 @@ TriangleSoup parse_off(std::string_view text, const std::string& name) {
     }
     soup.triangles.push_back(t);
   }
+  // More content than the header declares: the counts are wrong, and reading the declared
+  // number of faces only would silently drop the rest (an open mesh where a closed one was meant).
+  if (lines.next_nonblank(line))
+    invalid(name, line_prefix(lines.number()) + "data after the " + std::to_string(nf) +
+                      " faces the header declares: " + quote_trimmed(line) + " (is the face count wrong?)");
   return soup;
 }
 
 // ------------------------------------------------------------------ OBJ
 
 TriangleSoup parse_obj(std::string_view text, const std::string& name) {
+  text = skip_bom(text);
   check_empty(text, name);
   reject_binary(text, name, "OBJ");
   Lines lines(text);
@@ -409,6 +443,10 @@ TriangleSoup parse_obj(std::string_view text, const std::string& name) {
       }
       soup.triangles.push_back(t);
       face_line.push_back(ln);
+    } else if (const auto c = static_cast<unsigned char>(tok[0][0]); c < 0x21 || c > 0x7e) {
+      // No OBJ statement starts with a byte outside printable ASCII: another encoding, or a
+      // corrupted file (the line would otherwise be ignored, and a vertex with it).
+      invalid(name, line_prefix(ln) + "unknown statement " + quote(tok[0]) + " (not an OBJ keyword)");
     }
     // vn, vt, vp, l, p, g, o, s, usemtl, mtllib, ...: ignored
   }
@@ -542,14 +580,15 @@ TriangleSoup parse_ascii_stl(std::string_view text, const std::string& name) {
     if (!ts.next(tok)) invalid(name, "unexpected end of file after " + std::to_string(facet) + " facets (expected 'endsolid')");
     if (iequals(tok, "endsolid")) {
       ts.skip_rest_of_line();
-      // Another solid may follow; anything else after 'endsolid' is ignored.
-      const TokenStream save = ts;
-      if (ts.next(tok) && iequals(tok, "solid")) {
+      // Another solid may follow; anything else after 'endsolid' is refused (truncated or
+      // concatenated files would otherwise lose their rest silently).
+      if (!ts.next(tok)) break;
+      if (iequals(tok, "solid")) {
         ts.skip_rest_of_line();
         continue;
       }
-      ts = save;
-      break;
+      invalid(name, line_prefix(ts.line()) + "data after 'endsolid': " + quote(tok) +
+                        " (expected the end of the file or another 'solid')");
     }
     if (!iequals(tok, "facet"))
       invalid(name, line_prefix(ts.line()) + "expected 'facet' or 'endsolid', found " + quote(tok));
@@ -593,6 +632,8 @@ TriangleSoup parse_stl(std::string_view data, const std::string& name) {
     if (static_cast<std::uint64_t>(data.size()) == 84 + 50 * static_cast<std::uint64_t>(count))
       return parse_binary_stl(data, name, count);
   }
+  data = skip_bom(data);  // ASCII from here on
+  check_empty(data, name);
   std::size_t i = 0;
   while (i < data.size() && (is_space(data[i]) || data[i] == '\n')) ++i;
   if (!iequals(data.substr(i, std::min<std::size_t>(5, data.size() - i)), "solid")) {
@@ -707,6 +748,18 @@ class PlyBody {
     return ok;
   }
 
+  /// What follows the last element, for a message: "line N: data 'x'" (ASCII; blanks are not
+  /// data) or "N bytes of data" (binary); empty if nothing does.
+  std::string trailing() {
+    if (format_ == PlyFormat::ascii) {
+      if (!tokens_.next(token_)) return std::string();
+      return where() + "data " + quote(token_);
+    }
+    if (pos_ == data_.size()) return std::string();
+    const std::size_t n = data_.size() - pos_;
+    return std::to_string(n) + (n == 1 ? " byte" : " bytes") + " of data";
+  }
+
   std::size_t remaining() const {
     return format_ == PlyFormat::ascii ? data_.size() - tokens_.offset() : data_.size() - pos_;
   }
@@ -727,6 +780,7 @@ class PlyBody {
 };
 
 TriangleSoup parse_ply(std::string_view data, const std::string& name) {
+  data = skip_bom(data);
   check_empty(data, name);
   Lines lines(data, /*strip_comments=*/false);
   std::string_view line;
@@ -862,6 +916,10 @@ TriangleSoup parse_ply(std::string_view data, const std::string& name) {
       if (is_face) soup.triangles.push_back(triangle);
     }
   }
+  // More content than the header declares (the counts are wrong): refused, as in OFF files.
+  if (const std::string extra = body.trailing(); !extra.empty())
+    invalid(name, extra + " after the " + std::to_string(vertex_element->count) + " vertices and " +
+                      std::to_string(face_element->count) + " faces the header declares (is a count wrong?)");
   const std::size_t nv = soup.points.size();
   for (std::size_t f = 0; f < soup.triangles.size(); ++f)
     for (std::size_t index : soup.triangles[f])
@@ -993,21 +1051,35 @@ TriangleSoup parse_triangle_mesh(std::string_view data, const std::string& forma
   return soup;
 }
 
+namespace {
+
+std::string coordinate_text(double x) {
+  std::ostringstream os;
+  os.imbue(std::locale::classic());
+  os << std::setprecision(3) << x;
+  return os.str();
+}
+
+/// Throws InvalidInput naming point i when a coordinate of p is beyond the supported magnitude.
+void check_magnitude(const Point3d& p, std::size_t i, const std::string& name, bool whole_mesh) {
+  using R = SupportedCoordinates;
+  for (int c = 0; c < 3; ++c)
+    if (!(std::abs(p[c]) <= R::max_magnitude))  // also NaN
+      invalid(name, (whole_mesh ? "vertex " : "point ") + std::to_string(i) + " has a coordinate " +
+                        coordinate_text(p[c]) + ", beyond the supported magnitude " +
+                        coordinate_text(R::max_magnitude) + " (scale the input down)");
+}
+
+}  // namespace
+
 void check_coordinate_range(const std::vector<Point3d>& points, const std::string& name, bool whole_mesh) {
   using R = SupportedCoordinates;
-  const auto text = [](double x) {
-    std::ostringstream os;
-    os.imbue(std::locale::classic());
-    os << std::setprecision(3) << x;
-    return os.str();
-  };
+  const auto text = coordinate_text;
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, magnitude = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Point3d& p = points[i];
+    check_magnitude(p, i, name, whole_mesh);
     for (int c = 0; c < 3; ++c) {
-      if (!(std::abs(p[c]) <= R::max_magnitude))  // also NaN
-        invalid(name, (whole_mesh ? "vertex " : "point ") + std::to_string(i) + " has a coordinate " + text(p[c]) +
-                          ", beyond the supported magnitude " + text(R::max_magnitude) + " (scale the input down)");
       lo[c] = i == 0 ? p[c] : std::min(lo[c], p[c]);
       hi[c] = i == 0 ? p[c] : std::max(hi[c], p[c]);
       magnitude = std::max(magnitude, std::abs(p[c]));
@@ -1111,24 +1183,35 @@ std::vector<std::vector<Point3d>> read_polylines(const std::string& path) {
 }
 
 std::vector<std::vector<Point3d>> parse_polylines(std::string_view data, const std::string& path) {
+  data = skip_bom(data);
   if (data.empty()) invalid(path, "file is empty (no polyline found)");
   reject_binary(data, path, "polyline");
   Lines lines(data);
   std::string_view line;
-  std::vector<std::string_view> tok;
   std::vector<std::vector<Point3d>> result;
+  // The tokens of a line are read one at a time, never stored: a line of 10 million points would
+  // otherwise hold 30 million views (480 MB) beside the file and the points (issue 22, class 8).
+  const auto next_token = [](std::string_view text, std::size_t& pos) {
+    while (pos < text.size() && is_space(text[pos])) ++pos;
+    const std::size_t start = pos;
+    while (pos < text.size() && !is_space(text[pos])) ++pos;
+    return text.substr(start, pos - start);
+  };
   while (lines.next_nonblank(line)) {
-    split(line, tok);
     const std::string where = line_prefix(lines.number());
+    std::size_t pos = 0;
+    const std::string_view count = next_token(line, pos);
     unsigned long long n = 0;
-    if (!parse_unsigned(tok[0], n)) {
+    if (!parse_unsigned(count, n)) {
       double d = 0;
-      if (parse_double(tok[0], d))
-        invalid(path, where + "the point count " + quote(tok[0]) + " is not a non-negative integer");
-      invalid(path, where + quote(tok[0]) + " is not a number");
+      if (parse_double(count, d))
+        invalid(path, where + "the point count " + quote(count) + " is not a non-negative integer");
+      invalid(path, where + quote(count) + " is not a number");
     }
     if (n < 1) invalid(path, where + "polyline needs at least 1 point (one point: an isolated point of contact)");
-    const std::size_t found = tok.size() - 1;
+    const std::size_t first = pos;
+    std::size_t found = 0;
+    for (std::size_t p = first; !next_token(line, p).empty();) ++found;
     if (n > found || 3 * n != found) {
       const unsigned long long max = std::numeric_limits<unsigned long long>::max();
       invalid(path, where + "expected " + (n <= max / 3 ? std::to_string(3 * n) : std::to_string(n) + " x 3") +
@@ -1137,7 +1220,7 @@ std::vector<std::vector<Point3d>> parse_polylines(std::string_view data, const s
     std::vector<Point3d> polyline(n);
     for (std::size_t i = 0; i < n; ++i)
       for (int c = 0; c < 3; ++c) {
-        const std::string_view t = tok[1 + 3 * i + c];
+        const std::string_view t = next_token(line, pos);
         if (!parse_double(t, polyline[i][c])) invalid(path, where + quote(t) + " is not a number");
         if (!std::isfinite(polyline[i][c])) invalid(path, where + "non-finite coordinate");
       }
@@ -1148,62 +1231,327 @@ std::vector<std::vector<Point3d>> parse_polylines(std::string_view data, const s
   return result;
 }
 
-void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
-  static std::atomic<unsigned long> counter{0};
-  const std::string tmp = path + ".tmp." + std::to_string(static_cast<long>(::getpid())) + "." +
-                          std::to_string(counter.fetch_add(1));
-  const auto fail = [&](const std::string& reason) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw IOError(path + ": cannot write (" + reason + ")");
-  };
-  std::ofstream out;
-  errno = 0;
-  out.open(tmp, std::ios::out | std::ios::binary | std::ios::trunc);
-  if (!out) fail(errno_text(errno));
-  out.imbue(std::locale::classic());
-  try {
-    write(out);
-  } catch (...) {
-    out.close();
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw;
-  }
-  errno = 0;
-  out.flush();
-  if (!out) fail(errno_text(errno));
-  out.close();
-  if (!out) fail(errno_text(errno));
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) fail(ec.message());
+// ================================================================== output files
+
+namespace {
+
+/// Every temporary output file and made directory of the process not yet committed or
+/// discarded, for remove_temporary_outputs(). Never destroyed (a signal-handling thread may use
+/// it while the process exits).
+struct TemporaryRegistry {
+  std::mutex mutex;
+  std::map<std::uint64_t, std::string> files;
+  std::map<std::uint64_t, std::vector<std::string>> directories;  ///< per set, in creation order
+  std::uint64_t next_id = 0;
+  bool closed = false;  ///< after remove_temporary_outputs(): nothing may be created or renamed
+};
+
+TemporaryRegistry& registry() {
+  static TemporaryRegistry* r = new TemporaryRegistry;
+  return *r;
 }
 
-void write_triangle_mesh(const TriangleSoup& soup, const std::string& path) {
+/// The permissions a new file gets (0666 less the umask), as the temporary file must have them
+/// when it is renamed (mkstemp makes it 0600). Read once, under the registry's lock.
+mode_t new_file_mode() {
+  static const mode_t mode = [] {
+    const mode_t mask = ::umask(0);
+    ::umask(mask);
+    return static_cast<mode_t>(0666 & ~mask);
+  }();
+  return mode;
+}
+
+[[noreturn]] void cannot_write(const std::string& path, const std::string& reason) {
+  throw IOError(path + ": cannot write (" + reason + ")");
+}
+
+const char* file_kind(mode_t mode) {
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+/// The final target of `path`: symbolic links followed (at most 40); `path` itself when it does
+/// not exist. Throws IOError when a component cannot be examined (not a directory, too long,
+/// permission denied) or the target exists and is not a regular file.
+std::string output_target(const std::string& path) {
+  std::string target = path;
+  for (int hops = 0;; ++hops) {
+    struct stat st {};
+    if (::lstat(target.c_str(), &st) != 0) {
+      if (errno == ENOENT) {
+        // The file may be missing; its directory must exist (mkstemp says so otherwise).
+        return target;
+      }
+      cannot_write(path, errno_text(errno));
+    }
+    if (S_ISREG(st.st_mode)) return target;
+    if (!S_ISLNK(st.st_mode)) {
+      if (S_ISDIR(st.st_mode)) cannot_write(path, "is a directory");
+      cannot_write(path, std::string("is ") + file_kind(st.st_mode) + ", not a regular file; only regular files are replaced");
+    }
+    if (hops == 40) cannot_write(path, errno_text(ELOOP));
+    std::error_code ec;
+    const fs::path link = fs::read_symlink(target, ec);
+    if (ec) cannot_write(path, ec.message());
+    target = link.is_absolute() ? link.string() : (fs::path(target).parent_path() / link).string();
+  }
+}
+
+/// A stream buffer writing to a file descriptor that keeps the first write error's errno.
+class FdBuffer : public std::streambuf {
+ public:
+  explicit FdBuffer(int fd) : fd_(fd), buffer_(1 << 16) { setp(buffer_.data(), buffer_.data() + buffer_.size()); }
+  int error() const { return error_; }
+
+ protected:
+  int_type overflow(int_type c) override {
+    if (!drain()) return traits_type::eof();
+    if (!traits_type::eq_int_type(c, traits_type::eof())) {
+      *pptr() = traits_type::to_char_type(c);
+      pbump(1);
+    }
+    return traits_type::not_eof(c);
+  }
+  int sync() override { return drain() ? 0 : -1; }
+
+ private:
+  bool drain() {
+    if (error_ != 0) return false;
+    const char* p = pbase();
+    while (p < pptr()) {
+      const ssize_t n = ::write(fd_, p, static_cast<std::size_t>(pptr() - p));
+      if (n < 0) {
+        if (errno == EINTR) continue;
+        error_ = errno;
+        return false;
+      }
+      if (n == 0) {
+        error_ = EIO;
+        return false;
+      }
+      p += n;
+    }
+    setp(buffer_.data(), buffer_.data() + buffer_.size());
+    return true;
+  }
+  int fd_;
+  std::vector<char> buffer_;
+  int error_ = 0;
+};
+
+}  // namespace
+
+struct OutputFiles::Impl {
+  struct Output {
+    std::string path, target, temporary;
+    fs::path canonical;  ///< of the target, to find two outputs with the same target
+    std::uint64_t id = 0;
+    int fd = -1;
+    bool written = false, renamed = false, last = false;
+  };
+  std::vector<Output> outputs;
+  std::uint64_t set_id = 0;
+  bool has_directories = false;
+};
+
+OutputFiles::OutputFiles() : impl_(std::make_unique<Impl>()) {
+  TemporaryRegistry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  impl_->set_id = r.next_id++;
+}
+
+OutputFiles::~OutputFiles() { discard(); }
+
+std::size_t OutputFiles::size() const { return impl_->outputs.size(); }
+
+void OutputFiles::create_directory(const std::string& dir) {
+  if (dir.empty()) return;
+  // The missing ancestors, outermost first.
+  std::vector<fs::path> missing;
+  std::error_code ec;
+  for (fs::path p = fs::path(dir); !p.empty(); p = p.parent_path()) {
+    const fs::file_status st = fs::status(p, ec);
+    if (fs::exists(st)) {
+      if (!fs::is_directory(st)) throw IOError(dir + ": cannot create the directory (" + p.string() + " is not a directory)");
+      break;
+    }
+    missing.push_back(p);
+    if (p == p.parent_path()) break;
+  }
+  TemporaryRegistry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  if (r.closed) throw IOError(dir + ": cannot create the directory (the process is being interrupted)");
+  for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+    if (::mkdir(it->c_str(), 0777) != 0 && errno != EEXIST)
+      throw IOError(dir + ": cannot create the directory (" + errno_text(errno) + ")");
+    r.directories[impl_->set_id].push_back(it->string());
+    impl_->has_directories = true;
+  }
+}
+
+std::size_t OutputFiles::add(const std::string& path, bool last) {
+  if (path.empty()) throw InvalidInput("an output path is empty");
+  Impl::Output out;
+  out.path = path;
+  out.last = last;
+  out.target = output_target(path);
+  std::error_code ec;
+  out.canonical = fs::weakly_canonical(fs::absolute(out.target, ec), ec);
+  if (ec) out.canonical.clear();
+  for (const Impl::Output& other : impl_->outputs)
+    if (!out.canonical.empty() && out.canonical == other.canonical)
+      throw InvalidInput(path + ": the same path is given for two outputs (" + other.path + ")");
+  const fs::path parent = fs::path(out.target).parent_path();
+  std::string pattern = ((parent.empty() ? fs::path(".") : parent) / ".seam-XXXXXX").string();
+  TemporaryRegistry& r = registry();
+  {
+    std::lock_guard<std::mutex> lock(r.mutex);
+    if (r.closed) cannot_write(path, "the process is being interrupted");
+    const int fd = ::mkstemp(pattern.data());
+    if (fd < 0) cannot_write(path, errno_text(errno));
+    out.fd = fd;
+    out.temporary = pattern;
+    out.id = r.next_id++;
+    r.files[out.id] = pattern;
+    ::fchmod(fd, new_file_mode());
+  }
+  impl_->outputs.push_back(std::move(out));
+  return impl_->outputs.size() - 1;
+}
+
+void OutputFiles::write(std::size_t i, const std::function<void(std::ostream&)>& fill) {
+  Impl::Output& out = impl_->outputs.at(i);
+  if (out.written || out.fd < 0) throw std::logic_error("OutputFiles::write: output " + out.path + " written twice");
+  FdBuffer buffer(out.fd);
+  std::ostream os(&buffer);
+  os.imbue(std::locale::classic());
+  fill(os);
+  os.flush();
+  int error = buffer.error();
+  if (error == 0 && !os) error = EIO;
+  const int fd = out.fd;
+  out.fd = -1;
+  if (::close(fd) != 0 && error == 0) error = errno;  // NFS reports some write errors here only
+  if (error != 0) cannot_write(out.path, errno_text(error));
+  out.written = true;
+}
+
+void OutputFiles::commit() {
+  for (const Impl::Output& out : impl_->outputs)
+    if (!out.written) throw std::logic_error("OutputFiles::commit: output " + out.path + " not written");
+  TemporaryRegistry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  if (r.closed) cannot_write(impl_->outputs.empty() ? std::string("output") : impl_->outputs[0].path,
+                             "the process is being interrupted");
+  std::string replaced;
+  std::vector<Impl::Output*> order;
+  for (bool last : {false, true})
+    for (Impl::Output& out : impl_->outputs)
+      if (out.last == last) order.push_back(&out);
+  for (Impl::Output* o : order) {
+    Impl::Output& out = *o;
+    if (::rename(out.temporary.c_str(), out.target.c_str()) != 0) {
+      const int error = errno;
+      std::string reason = errno_text(error);
+      if (!replaced.empty()) reason += "; already replaced: " + replaced;
+      cannot_write(out.path, reason);  // the destructor removes the other temporary files
+    }
+    out.renamed = true;
+    r.files.erase(out.id);
+    replaced += (replaced.empty() ? "" : ", ") + out.path;
+  }
+  r.directories.erase(impl_->set_id);  // they hold the outputs now
+  impl_->has_directories = false;
+}
+
+void OutputFiles::discard() noexcept {
+  if (!impl_) return;
+  TemporaryRegistry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  for (Impl::Output& out : impl_->outputs) {
+    if (out.fd >= 0) ::close(out.fd);
+    out.fd = -1;
+    if (!out.renamed && r.files.erase(out.id) > 0) ::unlink(out.temporary.c_str());
+  }
+  if (impl_->has_directories) {
+    const auto it = r.directories.find(impl_->set_id);
+    if (it != r.directories.end()) {
+      for (auto d = it->second.rbegin(); d != it->second.rend(); ++d) ::rmdir(d->c_str());  // only if empty
+      r.directories.erase(it);
+    }
+    impl_->has_directories = false;
+  }
+}
+
+void check_output_path(const std::string& path) {
+  const std::string target = output_target(path);
+  const fs::path parent = fs::path(target).parent_path();
+  struct stat st {};
+  if (::stat(parent.empty() ? "." : parent.c_str(), &st) != 0) cannot_write(path, errno_text(errno));
+  if (!S_ISDIR(st.st_mode)) cannot_write(path, errno_text(ENOTDIR));
+}
+
+void remove_temporary_outputs() noexcept {
+  TemporaryRegistry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  for (const auto& [id, file] : r.files) ::unlink(file.c_str());
+  r.files.clear();
+  for (const auto& [id, dirs] : r.directories)
+    for (auto d = dirs.rbegin(); d != dirs.rend(); ++d) ::rmdir(d->c_str());
+  r.directories.clear();
+  r.closed = true;
+}
+
+void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
+  OutputFiles files;
+  const std::size_t i = files.add(path);
+  files.write(i, write);
+  files.commit();
+}
+
+void check_mesh_extension(const std::string& path) {
   const std::string ext = extension_of(path);
+  if (ext != ".off" && ext != ".obj" && ext != ".ply" && ext != ".stl") unknown_format(path, ext);
+}
+
+void write_triangle_mesh(const TriangleSoup& soup, std::ostream& out, const std::string& format) {
+  const std::string ext = lower(format.empty() || format[0] == '.' ? format : "." + format);
   void (*writer)(std::ostream&, const TriangleSoup&) = nullptr;
   if (ext == ".off") writer = write_off;
   else if (ext == ".obj") writer = write_obj;
   else if (ext == ".ply") writer = write_ply;
   else if (ext == ".stl") writer = write_stl;
-  else unknown_format(path, ext);
+  else unknown_format("(stream)", ext);
+  check_indices(soup, "(stream)");
+  out.imbue(std::locale::classic());
+  out << std::setprecision(17);
+  writer(out, soup);
+}
+
+void write_triangle_mesh(const TriangleSoup& soup, const std::string& path) {
+  check_mesh_extension(path);
   check_indices(soup, path);
-  write_file_atomically(path, [&](std::ostream& out) {
-    out << std::setprecision(17);
-    writer(out, soup);
-  });
+  const std::string ext = extension_of(path);
+  write_file_atomically(path, [&](std::ostream& out) { write_triangle_mesh(soup, out, ext); });
+}
+
+void write_polylines(const std::vector<std::vector<Point3d>>& polylines, std::ostream& out) {
+  out.imbue(std::locale::classic());
+  out << std::setprecision(17);
+  for (const auto& polyline : polylines) {
+    out << polyline.size();
+    for (const Point3d& p : polyline) out << ' ' << p[0] << ' ' << p[1] << ' ' << p[2];
+    out << '\n';
+  }
 }
 
 void write_polylines(const std::vector<std::vector<Point3d>>& polylines, const std::string& path) {
-  write_file_atomically(path, [&](std::ostream& out) {
-    out << std::setprecision(17);
-    for (const auto& polyline : polylines) {
-      out << polyline.size();
-      for (const Point3d& p : polyline) out << ' ' << p[0] << ' ' << p[1] << ' ' << p[2];
-      out << '\n';
-    }
-  });
+  write_file_atomically(path, [&](std::ostream& out) { write_polylines(polylines, out); });
 }
 
 // ================================================================== kernel conversions
@@ -1251,10 +1599,13 @@ template <class K> void check_coordinate_range(const Mesh<K>& mesh, const std::s
 }
 
 template <class K> void check_coordinate_range(const std::vector<Polyline<K>>& curves, const std::string& name) {
+  // Point by point: a copy of a curve of 10 million points in doubles took 240 MB.
   for (std::size_t i = 0; i < curves.size(); ++i) {
-    std::vector<Point3d> points;
-    for (const auto& p : curves[i]) points.push_back({CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())});
-    check_coordinate_range(points, name + ": curve " + std::to_string(i), false);
+    const std::string curve_name = name + ": curve " + std::to_string(i);
+    for (std::size_t j = 0; j < curves[i].size(); ++j) {
+      const auto& p = curves[i][j];
+      check_magnitude({CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())}, j, curve_name, false);
+    }
   }
 }
 

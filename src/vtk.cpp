@@ -101,12 +101,18 @@ void write_xml(std::ostream& out, const Grid& g) {
 
 }  // namespace
 
-template <class K>
-void write_pair_vtk(const std::string& path, const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyline<K>>& curves) {
+std::string vtk_format(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   if (ext != ".vtk" && ext != ".vtu")
     throw InvalidInput(path + ": unknown VTK format '" + ext + "' (expected .vtk or .vtu)");
+  return ext;
+}
+
+template <class K>
+void write_pair_vtk(std::ostream& out, const std::string& format, const Mesh<K>& a, const Mesh<K>& b,
+                    const std::vector<Polyline<K>>& curves) {
+  const std::string ext = vtk_format("x" + (format.empty() || format[0] == '.' ? format : "." + format));
   Grid g;
   add_mesh<K>(g, a, 0);
   add_mesh<K>(g, b, 1);
@@ -125,18 +131,27 @@ void write_pair_vtk(const std::string& path, const Mesh<K>& a, const Mesh<K>& b,
     g.is_new.push_back(0);
     g.min_angle.push_back(0);
   }
-  write_file_atomically(path, [&](std::ostream& out) {
-    out.imbue(std::locale::classic());
-    out << std::setprecision(17);
-    if (ext == ".vtk")
-      write_legacy(out, g);
-    else
-      write_xml(out, g);
-  });
+  out.imbue(std::locale::classic());
+  out << std::setprecision(17);
+  if (ext == ".vtk")
+    write_legacy(out, g);
+  else
+    write_xml(out, g);
 }
 
-template void write_pair_vtk<Exact>(const std::string&, const Mesh<Exact>&, const Mesh<Exact>&, const std::vector<Polyline<Exact>>&);
-template void write_pair_vtk<Filtered>(const std::string&, const Mesh<Filtered>&, const Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&);
-template void write_pair_vtk<Float>(const std::string&, const Mesh<Float>&, const Mesh<Float>&, const std::vector<Polyline<Float>>&);
+template <class K>
+void write_pair_vtk(const std::string& path, const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyline<K>>& curves) {
+  const std::string ext = vtk_format(path);
+  write_file_atomically(path, [&](std::ostream& out) { write_pair_vtk<K>(out, ext, a, b, curves); });
+}
+
+#define SEAM_INSTANTIATE_VTK(K)                                                                                     \
+  template void write_pair_vtk<K>(const std::string&, const Mesh<K>&, const Mesh<K>&, const std::vector<Polyline<K>>&); \
+  template void write_pair_vtk<K>(std::ostream&, const std::string&, const Mesh<K>&, const Mesh<K>&,               \
+                                  const std::vector<Polyline<K>>&);
+SEAM_INSTANTIATE_VTK(Exact)
+SEAM_INSTANTIATE_VTK(Filtered)
+SEAM_INSTANTIATE_VTK(Float)
+#undef SEAM_INSTANTIATE_VTK
 
 }  // namespace seam

@@ -576,7 +576,7 @@ TEST_CASE("cli: option values out of range exit with 2, one line naming the opti
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"--min-angle", "70"},  {"--min-angle", "-1"},      {"--min-angle", "nan"}, {"--snap-tol", "nan"},
       {"--snap-tol", "inf"},  {"--max-distance", "inf"}, {"--max-area", "-1"},   {"--curve-tol", "-0.5"},
-      {"--curve-tol", "inf"},
+      {"--curve-tol", "inf"}, {"--snap-tol", "-1"},    {"--max-distance", "-1"}, {"--snap-tol", "-0.001"},
   };
   for (const auto& [option, value] : cases) {
     INFO("case: " << option << " " << value);
@@ -596,7 +596,7 @@ TEST_CASE("cli: option values out of range exit with 2, one line naming the opti
 TEST_CASE("cli: valid option values at the ends of their ranges are accepted", "[cli]") {
   const std::vector<std::vector<std::string>> cases = {
       {"--min-angle", "0"}, {"--min-angle", "30"}, {"--snap-tol", "0"}, {"--max-area", "0"},
-      {"--curve-tol", "0"}, {"--max-distance", "-1"}, {"--snap-tol", "-1"},
+      {"--curve-tol", "0"}, {"--max-distance", "auto"}, {"--snap-tol", "auto"},
   };
   for (const auto& extra : cases) {
     INFO("case: " << extra[0] << " " << extra[1]);

@@ -20,6 +20,11 @@
 #include <tuple>
 #include <vector>
 
+#include <csignal>
+
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "test_support.h"
@@ -835,4 +840,289 @@ TEMPLATE_TEST_CASE("to_kernel and to_doubles: polylines convert exactly for ever
   CHECK(kernel[0][1] == typename K::Point_3(1.0 / 3.0, 0.0, -1e-300));
   CHECK(seam::is_closed(kernel[1]));
   CHECK(seam::to_doubles<K>(kernel) == polylines);
+}
+
+// ======================================================================== silent misreads
+
+TEST_CASE("read_triangle_mesh: data after the declared faces is refused in OFF, PLY and ASCII STL") {
+  // Before, a file declaring 3 of its 4 faces was read as an open mesh of 3 faces.
+  TempDir dir;
+  const std::string ply_header = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                                 "property float z\nelement face 3\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::string v4 = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n", f4 = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  const std::string facet = "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n";
+  struct Case {
+    std::string name, content, message;
+  };
+  std::string binary = binary_ply(octahedron(), false, 7);
+  const std::vector<Case> cases = {
+      {"a.off", "OFF\n4 3 0\n" + v4 + f4, "line 10: data after the 3 faces the header declares: '3 1 2 3'"},
+      {"b.off", "OFF\n4 3 0\n" + v4 + f4 + "# a comment\n\n", "data after the 3 faces"},
+      {"c.off", "OFF\n4 4 0\n" + v4 + f4 + "garbage\n", "line 11: data after the 4 faces the header declares: 'garbage'"},
+      {"a.ply", ply_header + v4 + f4, "line 17: data '3' after the 4 vertices and 3 faces the header declares"},
+      {"b.ply", binary, "13 bytes of data after the 6 vertices and 7 faces the header declares"},
+      {"c.ply", binary_ply(octahedron(), true, 8) + "\n", "1 byte of data after"},
+      {"a.stl", "solid x\n" + facet + "endsolid x\n" + facet, "line 10: data after 'endsolid': 'facet'"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.name, c.message);
+    const std::string path = dir.file(c.name);
+    write_bytes(path, c.content);
+    REQUIRE_THROWS_AS(seam::read_triangle_mesh(path), seam::InvalidInput);
+    REQUIRE_THROWS_WITH(seam::read_triangle_mesh(path), StartsWith(path + ": ") && Contains(c.message));
+  }
+  // Blank lines and comments after the faces are not data; neither are blanks after a PLY body,
+  // and another solid may follow 'endsolid'.
+  CHECK(read_text(dir, "d.off", "OFF\n4 4 0\n" + v4 + f4 + "\n# end\n  \n").triangles.size() == 4);
+  CHECK(read_text(dir, "d.ply", ply_header + v4 + "3 0 2 1\n3 0 1 3\n3 0 3 2\n \n").triangles.size() == 3);
+  const std::string facet2 =
+      "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 0 0 1\nvertex 1 0 0\nendloop\nendfacet\n";
+  CHECK(read_text(dir, "d.stl", "solid x\n" + facet + "endsolid x\nsolid y\n" + facet2 + "endsolid y\n\n")
+            .triangles.size() == 2);
+}
+
+TEST_CASE("read_triangle_mesh and read_polylines: a UTF-8 byte-order mark is skipped in every text format") {
+  // Before, an OBJ file starting with a BOM lost its first vertex ("\xEF\xBB\xBFv" is no keyword).
+  TempDir dir;
+  const std::string bom = "\xEF\xBB\xBF";
+  const TriangleSoup tetra = tetrahedron();
+  for (const char* ext : {".off", ".obj", ".ply", ".stl"}) {
+    CAPTURE(ext);
+    const std::string path = dir.file(std::string("plain") + ext);
+    seam::write_triangle_mesh(tetra, path);
+    const TriangleSoup with_bom = read_text(dir, std::string("bom") + ext, bom + read_bytes(path));
+    CHECK(geometry(with_bom) == geometry(tetra));
+    CHECK(with_bom.points.size() == 4);
+  }
+  // Binary PLY: the header is text.
+  const TriangleSoup oct = octahedron();
+  CHECK(same_bits(read_text(dir, "bom_binary.ply", bom + binary_ply(oct, false, 8)), oct));
+  // Polylines.
+  const std::string curves = dir.file("c.txt");
+  write_bytes(curves, bom + "2 0 0 0 1 1 1\n");
+  const auto polylines = seam::read_polylines(curves);
+  REQUIRE(polylines.size() == 1);
+  CHECK(polylines[0] == std::vector<Point3d>{{0, 0, 0}, {1, 1, 1}});
+  // A BOM alone is an empty file.
+  REQUIRE_THROWS_WITH(read_text(dir, "only_bom.off", bom), Contains("empty"));
+}
+
+TEST_CASE("read_triangle_mesh: an OBJ line starting with a byte outside printable ASCII is refused, not ignored") {
+  TempDir dir;
+  const std::string path = dir.file("u.obj");
+  // A BOM in the middle (two files concatenated), and Latin-1 text.
+  for (const std::string& first : {std::string("\xEF\xBB\xBFv"), std::string("\xe9v")}) {
+    write_bytes(path, "v 0 0 0\n" + first + " 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+    REQUIRE_THROWS_WITH(seam::read_triangle_mesh(path), StartsWith(path + ": line 2: unknown statement"));
+  }
+}
+
+// ======================================================================== OutputFiles
+
+namespace {
+/// The names in `dir` that are seam's temporary files.
+std::vector<std::string> temporaries(const TempDir& dir) {
+  std::vector<std::string> t;
+  for (const auto& e : dir.entries())
+    if (e.rfind(".seam-", 0) == 0) t.push_back(e);
+  return t;
+}
+}  // namespace
+
+TEST_CASE("OutputFiles: no target changes before commit, then all do; a discarded set leaves no temporary file") {
+  TempDir dir;
+  const std::string a = dir.file("a.txt"), b = dir.file("b.txt"), c = dir.file("c.txt");
+  write_bytes(a, "old a\n");
+  write_bytes(b, "old b\n");
+  {
+    seam::OutputFiles files;
+    const std::size_t ia = files.add(a), ib = files.add(b), ic = files.add(c, /*last=*/true);
+    CHECK(files.size() == 3);
+    CHECK(temporaries(dir).size() == 3);  // created by add(), before any work
+    files.write(ia, [](std::ostream& out) { out << "new a\n"; });
+    files.write(ib, [](std::ostream& out) { out << "new b\n"; });
+    files.write(ic, [](std::ostream& out) { out << "new c\n"; });
+    CHECK(read_bytes(a) == "old a\n");
+    CHECK(read_bytes(b) == "old b\n");
+    CHECK_FALSE(fs::exists(c));
+    files.commit();
+  }
+  CHECK(read_bytes(a) == "new a\n");
+  CHECK(read_bytes(b) == "new b\n");
+  CHECK(read_bytes(c) == "new c\n");
+  CHECK(dir.entries() == std::vector<std::string>{"a.txt", "b.txt", "c.txt"});
+  {
+    seam::OutputFiles files;  // never committed: a failure before the end of a run
+    files.write(files.add(a), [](std::ostream& out) { out << "newer a\n"; });
+    files.add(b);
+  }
+  CHECK(read_bytes(a) == "new a\n");
+  CHECK(dir.entries() == std::vector<std::string>{"a.txt", "b.txt", "c.txt"});
+  // The files get the permissions of any new file (mkstemp's 0600 would hide them from others).
+  const mode_t mask = ::umask(022);
+  ::umask(mask);
+  CHECK((fs::status(a).permissions() & fs::perms::all) == static_cast<fs::perms>(0666 & ~mask));
+}
+
+TEST_CASE("OutputFiles: add() refuses what cannot be written with the system's reason, before any work") {
+  TempDir dir;
+  fs::create_directory(dir.path / "sub");
+  write_bytes(dir.file("plain"), "x\n");
+  REQUIRE(::mkfifo(dir.file("fifo").c_str(), 0644) == 0);
+  struct Case {
+    std::string path, message;
+  };
+  const std::vector<Case> cases = {
+      {dir.file("missing/out.txt"), "cannot write (No such file or directory)"},
+      {dir.file("plain/out.txt"), "cannot write (Not a directory)"},
+      {dir.file("sub"), "cannot write (is a directory)"},
+      {dir.file("fifo"), "cannot write (is a FIFO, not a regular file; only regular files are replaced)"},
+      {dir.file(std::string(256, 'n')), "cannot write (File name too long)"},
+      {"/dev/null", "is a character device"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.path);
+    seam::OutputFiles files;
+    REQUIRE_THROWS_AS(files.add(c.path), seam::IOError);
+    REQUIRE_THROWS_WITH(files.add(c.path), StartsWith(c.path + ": ") && Contains(c.message));
+    CHECK_THROWS_AS(seam::check_output_path(c.path), seam::IOError);
+  }
+  seam::OutputFiles files;
+  files.add(dir.file("one.txt"));
+  REQUIRE_THROWS_AS(files.add(dir.path.string() + "/./one.txt"), seam::InvalidInput);
+  CHECK(temporaries(dir).size() == 1);
+  files.discard();
+  CHECK(dir.entries() == std::vector<std::string>{"fifo", "plain", "sub"});
+}
+
+TEST_CASE("OutputFiles: a symbolic link is written through to its target, and stays a link") {
+  TempDir dir;
+  fs::create_directory(dir.path / "real");
+  write_bytes(dir.file("real/r.json"), "old\n");
+  fs::create_symlink("real/r.json", dir.path / "rel.json");  // relative to the link's directory
+  fs::create_symlink(dir.path / "rel.json", dir.path / "chain.json");
+  fs::create_symlink(dir.path / "real/new.json", dir.path / "dangling.json");
+  seam::OutputFiles files;
+  files.write(files.add(dir.file("chain.json")), [](std::ostream& out) { out << "through\n"; });
+  files.write(files.add(dir.file("dangling.json")), [](std::ostream& out) { out << "created\n"; });
+  files.commit();
+  CHECK(fs::is_symlink(dir.path / "chain.json"));
+  CHECK(fs::is_symlink(dir.path / "rel.json"));
+  CHECK(read_bytes(dir.file("real/r.json")) == "through\n");
+  CHECK(read_bytes(dir.file("real/new.json")) == "created\n");
+  CHECK(temporaries(dir).empty());
+}
+
+TEST_CASE("OutputFiles: a write error names the output and its cause, and leaves nothing behind") {
+  // A file size limit (RLIMIT_FSIZE, SIGXFSZ ignored) makes write() fail with EFBIG, as a full
+  // disk makes it fail with ENOSPC: before, both were reported as "unknown error".
+  TempDir dir;
+  const std::string a = dir.file("a.txt"), b = dir.file("b.txt");
+  write_bytes(a, "old a\n");
+  struct rlimit old {};
+  REQUIRE(::getrlimit(RLIMIT_FSIZE, &old) == 0);
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  struct rlimit small = old;
+  small.rlim_cur = 4096;
+  REQUIRE(::setrlimit(RLIMIT_FSIZE, &small) == 0);
+  std::string message;
+  {
+    seam::OutputFiles files;
+    const std::size_t ia = files.add(a), ib = files.add(b);
+    files.write(ia, [](std::ostream& out) { out << "new a\n"; });
+    try {
+      files.write(ib, [](std::ostream& out) { out << std::string(100000, 'x'); });
+    } catch (const seam::IOError& e) {
+      message = e.what();
+    }
+  }
+  ::setrlimit(RLIMIT_FSIZE, &old);
+  std::signal(SIGXFSZ, old_handler);
+  CHECK(message == b + ": cannot write (File too large)");
+  CHECK(read_bytes(a) == "old a\n");
+  CHECK(dir.entries() == std::vector<std::string>{"a.txt"});
+}
+
+TEST_CASE("OutputFiles: remove_temporary_outputs() removes every pending temporary file and made directory") {
+  // What the CLI's signal thread calls on SIGINT / SIGTERM. It closes the registry for good, so
+  // it runs in a child process.
+  TempDir dir;
+  const pid_t pid = ::fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    seam::OutputFiles one, two;
+    one.add(dir.file("a.txt"));
+    two.create_directory(dir.file("made/deeper"));
+    two.add(dir.file("made/deeper/b.txt"));
+    int ok = temporaries(dir).size() == 1 && fs::exists(dir.file("made/deeper")) ? 0 : 1;
+    seam::remove_temporary_outputs();
+    try {
+      seam::OutputFiles three;
+      three.add(dir.file("c.txt"));  // refused from now on
+      ok = 2;
+    } catch (const seam::IOError&) {
+    }
+    ::_exit(ok);
+  }
+  int status = 0;
+  REQUIRE(::waitpid(pid, &status, 0) == pid);
+  CHECK(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 0);
+  CHECK(dir.entries().empty());
+}
+
+TEST_CASE("write_file_atomically: an output name of 250 characters is written") {
+  // The temporary file is ".seam-XXXXXX" beside it: before, "NAME.tmp.PID.N" exceeded NAME_MAX.
+  TempDir dir;
+  const std::string path = dir.file(std::string(246, 'o') + ".off");
+  seam::write_triangle_mesh(tetrahedron(), path);
+  CHECK(same_bits(seam::read_triangle_mesh(path), tetrahedron()));
+  CHECK(dir.entries().size() == 1);
+}
+
+// ======================================================================== memory
+
+namespace {
+/// A field of /proc/self/status in kB ("VmRSS", "VmHWM"); -1 if missing.
+long status_kb(const std::string& field) {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind(field + ":", 0) == 0) return std::stol(line.substr(field.size() + 1));
+  return -1;
+}
+}  // namespace
+
+TEST_CASE("read_polylines: the peak memory of reading a long curve is the file plus its points") {
+  // Issue 22, class 8: the tokens of a line were stored before parsing (16 bytes per coordinate,
+  // 480 MB for a curve of 10 million points, beside the file and the points).
+  if (seam_test::sanitized_build) return;  // ASan's allocator and shadow memory change the figures
+  TempDir dir;
+  const std::size_t n = 400000;
+  std::string text = std::to_string(n);
+  for (std::size_t i = 0; i < n; ++i) text += " 0.123456789012345 " + std::to_string(i) + ".5 -1.25e-3";
+  text += "\n";
+  const std::string path = dir.file("long.txt");
+  write_bytes(path, text);
+  const double file_mb = text.size() / 1e6, points_mb = n * sizeof(Point3d) / 1e6;
+  std::string().swap(text);
+  const pid_t pid = ::fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    // A fresh peak for this child: /proc/self/clear_refs "5" resets VmHWM to VmRSS.
+    std::ofstream("/proc/self/clear_refs") << "5";
+    const long before = status_kb("VmHWM");
+    const auto polylines = seam::read_polylines(path);
+    const long peak = status_kb("VmHWM");
+    const double grown_mb = (peak - before) / 1e3;
+    const bool ok = polylines.size() == 1 && polylines[0].size() == n && grown_mb <= 1.15 * (file_mb + points_mb) + 2;
+    std::printf("read_polylines: %.1f MB file, %.1f MB of points, peak grew by %.1f MB\n", file_mb, points_mb, grown_mb);
+    std::fflush(stdout);
+    ::_exit(before < 0 ? 2 : ok ? 0 : 1);
+  }
+  int status = 0;
+  REQUIRE(::waitpid(pid, &status, 0) == pid);
+  REQUIRE(WIFEXITED(status));
+  if (WEXITSTATUS(status) == 2) return;  // no /proc: nothing to measure
+  CHECK(WEXITSTATUS(status) == 0);
 }

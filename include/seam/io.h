@@ -16,6 +16,7 @@
 #include <array>
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <ostream>
 #include <string>
 #include <string_view>
@@ -87,17 +88,88 @@ std::vector<std::vector<Point3d>> read_polylines(const std::string& path);
 /// The same on a file's content held in memory; `name` starts every message.
 std::vector<std::vector<Point3d>> parse_polylines(std::string_view data, const std::string& name);
 
+/// Throws InvalidInput naming `path` unless its extension (case-insensitive) is a mesh format
+/// write_triangle_mesh writes: .off, .obj, .ply or .stl. Touches no file.
+void check_mesh_extension(const std::string& path);
+
 /// Writes `soup` by extension (.off, .obj, .ply, .stl; OFF and OBJ with 17 significant digits,
-/// so that doubles round-trip bit-exactly). Atomic: writes a temporary file in the same
-/// directory and renames it; on any failure no file is left and IOError is thrown.
+/// so that doubles round-trip bit-exactly). Atomic: an OutputFiles of one file.
 void write_triangle_mesh(const TriangleSoup& soup, const std::string& path);
+
+/// The same into a stream; `format` is the extension ("off" or ".off", ..., case-insensitive).
+void write_triangle_mesh(const TriangleSoup& soup, std::ostream& out, const std::string& format);
 
 /// Writes polylines in the format read_polylines reads, 17 significant digits. Atomic.
 void write_polylines(const std::vector<std::vector<Point3d>>& polylines, const std::string& path);
 
+/// The same into a stream.
+void write_polylines(const std::vector<std::vector<Point3d>>& polylines, std::ostream& out);
+
 /// Writes a text file atomically: `write` fills the stream of a temporary file in the same
-/// directory, which is then renamed to `path`. On failure removes the temporary file and throws.
+/// directory, which is then renamed to `path` (an OutputFiles of one file).
 void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write);
+
+/// A set of output files that replace their targets together, or not at all.
+///
+/// 1. add(path), before any work: checks the path and creates the output's temporary file at
+///    once, "DIR/.seam-XXXXXX" (mkstemp) in the target's directory (a short name: a target name
+///    of up to NAME_MAX bytes works). So a missing or unwritable directory, a name too long, a
+///    target that is a directory, a FIFO or a device (refused: only regular files are replaced)
+///    are found before any work, with the system's reason ("No such file or directory").
+///    A symbolic link is followed to its final target, which is replaced; the link stays.
+/// 2. write(i, fill): fills output i's temporary file. Any write error, e.g. a full disk, throws
+///    IOError naming the output and the reason ("No space left on device").
+/// 3. commit(): renames every temporary file onto its target, in the order of add(), all under
+///    one lock that remove_temporary_outputs() takes too.
+/// Until commit() every existing target is untouched; the destructor, discard() and
+/// remove_temporary_outputs() remove the temporary files (and the directories create_directory()
+/// made, if still empty). A signal handled through remove_temporary_outputs() therefore lands
+/// before the first rename (old outputs intact, no temporary file left) or after the last (all
+/// new). Not covered: SIGKILL or a power loss between two renames, and a rename failing after
+/// earlier ones succeeded (the target replaced by a directory meanwhile, a device error): the
+/// IOError then names the outputs already replaced.
+///
+/// add(), create_directory() and commit() are for one thread; write() may run concurrently for
+/// distinct outputs. Errors: IOError (the path cannot be written), InvalidInput (an empty path,
+/// two outputs with the same target).
+class OutputFiles {
+ public:
+  OutputFiles();
+  ~OutputFiles();
+  OutputFiles(const OutputFiles&) = delete;
+  OutputFiles& operator=(const OutputFiles&) = delete;
+
+  /// Creates `dir` and its missing parents now; the ones created are removed again (if empty)
+  /// when the set is discarded.
+  void create_directory(const std::string& dir);
+  /// Checks `path` and creates its temporary file; returns the output's index. Outputs added with
+  /// `last` are renamed after all the others (a report that describes them).
+  std::size_t add(const std::string& path, bool last = false);
+  /// Fills output `i` (once).
+  void write(std::size_t i, const std::function<void(std::ostream&)>& fill);
+  /// Renames every output onto its target, in the order added (those added with `last` at the
+  /// end). Every output must be written.
+  void commit();
+  /// Removes every temporary file not yet renamed (and the directories made, if empty).
+  void discard() noexcept;
+  /// The number of outputs added.
+  std::size_t size() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// The checks of OutputFiles::add() without creating anything: throws IOError naming `path` when
+/// it cannot be examined or names a directory, a FIFO, a device (not a regular file, also through
+/// symbolic links).
+void check_output_path(const std::string& path);
+
+/// Removes the temporary files of every OutputFiles of the process that is not committed or
+/// discarded (and the directories they made, if empty), and makes every later add() and commit()
+/// fail. For a thread that handles SIGINT / SIGTERM before the process ends (the CLI's): it waits
+/// for a commit() in progress to finish.
+void remove_temporary_outputs() noexcept;
 
 /// Builds a Surface_mesh from a validated soup (exact conversion of the coordinates).
 /// Unreferenced points are dropped. Throws InvalidInput if a face cannot be added.

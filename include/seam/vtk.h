@@ -5,6 +5,7 @@
 
 #include <seam/types.h>
 
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -18,5 +19,14 @@ namespace seam {
 /// Throws InvalidInput for another extension, IOError when the file cannot be written.
 template <class K>
 void write_pair_vtk(const std::string& path, const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyline<K>>& curves);
+
+/// The same into a stream; `format` is "vtk" or "vtu" (with or without the dot, any case).
+template <class K>
+void write_pair_vtk(std::ostream& out, const std::string& format, const Mesh<K>& a, const Mesh<K>& b,
+                    const std::vector<Polyline<K>>& curves);
+
+/// The lower-case extension of `path`, ".vtk" or ".vtu"; throws InvalidInput naming `path` for
+/// any other. Touches no file.
+std::string vtk_format(const std::string& path);
 
 }  // namespace seam
