@@ -485,7 +485,7 @@ template <class K> void measure_meshes(const Mesh<K>& a, const Mesh<K>& b, PairR
 /// and the isolated points of contact made vertices of both. Features thinner than `separation`
 /// (a vertex of one mesh that close to the other surface: a crossing as thin as that cannot be
 /// written in doubles, nor meshed by TetGen) are first closed: such vertices move onto the curve
-/// there, rounded to doubles, and the curves are computed again.
+/// there (exactly), and the curves are computed again.
 template <class K>
 PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options, double separation) {
   PairResult<K> result;
@@ -496,9 +496,10 @@ PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
   std::vector<typename K::Point_3> contacts;  // isolated points of contact
   std::vector<Polyline<K>> curves = curves_and_sites<K>(a, b, &touching, &sites_a, &sites_b, &contacts);
   if (!curves.empty()) {
-    const auto sa = internal::snap_vertices_to_segments<K>(a, curves, separation, true);
-    const auto sb = internal::snap_vertices_to_segments<K>(b, curves, separation, true);
+    const auto sa = internal::snap_vertices_to_segments<K>(a, curves, separation, false, true);
+    const auto sb = internal::snap_vertices_to_segments<K>(b, curves, separation, false, true);
     st.vertices_closed = sa.snapped + sb.snapped;
+    st.max_close_move = std::max(sa.max_move, sb.max_move);
     if (st.vertices_closed > 0) {
       sites_a.sites.clear();
       sites_b.sites.clear();
@@ -607,6 +608,7 @@ void improve_pair(Mesh<K>& a, Mesh<K>& b, PairResult<K>& result, const PairOptio
   ImproveOptions io = options.quality;
   io.tolerance = result.stats.snap_tol;
   io.min_angle_deg = options.embed.min_angle_deg;
+  io.min_separation = min_vertex_separation * diagonal_of<K>(a, b);
   result.stats.improve = internal::improve<K>(meshes, shared, io);
   result.stats.improved = true;
   result.curves = result.a.curves = result.b.curves = shared.curves;

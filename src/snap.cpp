@@ -116,7 +116,7 @@ SnapReport<K> snap_vertices(Mesh<K>& mesh, const std::vector<Polyline<K>>& curve
 
 template <class K>
 SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, double tolerance,
-                                        bool round_to_doubles) {
+                                        bool round_to_doubles, bool skip_on_curves) {
   SnapReport<K> report;
   if (!(tolerance > 0)) return report;
   using Point = typename K::Point_3;
@@ -150,9 +150,14 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
     // the closest point, and with far shorter exact coordinates than the closest point itself
     // (whose parameter is a long rational): every later intersection is computed from them.
     const Point &p = *ends[si].first, &q = *ends[si].second;
+    if (skip_on_curves && typename K::Segment_3(p, q).has_on(mesh.point(v))) continue;  // (exact test)
     const auto pq = q - p;
     const double closest = CGAL::to_double(((mesh.point(v) - p) * pq) / pq.squared_length());
-    const double t = std::clamp(std::round(closest * 65536.0) / 65536.0, 0.0, 1.0);
+    double t = std::clamp(std::round(closest * 65536.0) / 65536.0, 0.0, 1.0);
+    // Onto an end of the segment (a curve node) where that is within the tolerance too.
+    const double length = std::sqrt(CGAL::to_double(pq.squared_length()));
+    if (closest * length <= tolerance) t = 0;
+    else if ((1 - closest) * length <= tolerance) t = 1;
     Point target = t == 0 ? p : t == 1 ? q : p + pq * typename K::FT(t);
     make_exact(target);
     if (round_to_doubles)
@@ -263,15 +268,15 @@ EdgeSnapReport<K> snap_edges_to_points(Mesh<K>& mesh, const std::vector<Polyline
 }
 
 template SnapReport<Exact> snap_vertices<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double);
-template SnapReport<Exact> snap_vertices_to_segments<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double, bool);
+template SnapReport<Exact> snap_vertices_to_segments<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double, bool, bool);
 template EdgeSnapReport<Exact> snap_edges_to_points<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double);
 template bool move_keeps_faces<Exact>(const Mesh<Exact>&, typename MeshTypes<Exact>::V, const Exact::Point_3&);
 template SnapReport<Filtered> snap_vertices<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double);
-template SnapReport<Filtered> snap_vertices_to_segments<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double, bool);
+template SnapReport<Filtered> snap_vertices_to_segments<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double, bool, bool);
 template EdgeSnapReport<Filtered> snap_edges_to_points<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double);
 template bool move_keeps_faces<Filtered>(const Mesh<Filtered>&, typename MeshTypes<Filtered>::V, const Filtered::Point_3&);
 template SnapReport<Float> snap_vertices<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double);
-template SnapReport<Float> snap_vertices_to_segments<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double, bool);
+template SnapReport<Float> snap_vertices_to_segments<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double, bool, bool);
 template EdgeSnapReport<Float> snap_edges_to_points<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double);
 template bool move_keeps_faces<Float>(const Mesh<Float>&, typename MeshTypes<Float>::V, const Float::Point_3&);
 

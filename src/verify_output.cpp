@@ -68,13 +68,14 @@ PairCheckReport check_as_written(const Mesh<K>& a, const Mesh<K>& b, Mesh<K>& a2
   return check_pair<Exact>(ra, rb, ra2, rb2, rc, tol);
 }
 
-/// The tolerance seam::pair's outputs are verified at: the snapping tolerance (vertices moved by
-/// up to it; 1e-9 of the pair's size without snapping), or the given curves' largest move.
+/// The tolerance seam::pair's outputs are verified at: the quality stage's tolerance, plus the
+/// given curves' largest move and stage 1's largest move (features thinner than the vertex
+/// separation closed); at least 1e-9 of the pair's size.
 template <class K> double verification_tolerance(const Mesh<K>& a, const Mesh<K>& b, const PairStats& st) {
   const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(a) + CGAL::Polygon_mesh_processing::bbox(b);
   const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
                                     CGAL::square(box.zmax() - box.zmin()));
-  return std::max(st.snap_tol + st.max_curve_move, 1e-9 * diagonal) * (1 + 1e-9);
+  return std::max(st.snap_tol + st.max_curve_move + st.max_close_move, 1e-9 * diagonal) * (1 + 1e-9);
 }
 
 template <class K>

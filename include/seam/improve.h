@@ -12,7 +12,8 @@
 // constraints: grazing crossings stop being forced.
 //
 // The algorithm: Ruppert's Delaunay refinement, on the surface.
-//   0. Flips (max-min angle: Lawson's flips in the plane) over the band's edges.
+//   0. Curve points closer than `min_separation` merge (the curves may then pass twice through a
+//      point); flips (max-min angle: Lawson's flips in the plane) over the band's edges.
 //   1. Constraints encroached by a vertex of the band (it sees them at more than 90 degrees) are
 //      split at their middle: a curve segment in every mesh holding it (its middle lies on all of
 //      their surfaces), a border edge by letting the face beyond join the band.
@@ -95,6 +96,9 @@ struct ImproveOptions {
   double band_radius = -1.0;
   /// At most this many insertions and splits per face of the initial band.
   std::size_t max_insertions_per_face = 16;
+  /// Curve points closer than this (and joined by an edge in every mesh holding them) merge first,
+  /// whatever the tolerance: a volume mesher takes them for one point. 0: none.
+  double min_separation = 0;
 };
 
 /// Why a face of the band is still below the bound (see the header comment).

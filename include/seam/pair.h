@@ -22,9 +22,9 @@
 //
 // The pipeline, one stage after the other (src/pair.cpp):
 //   1. intersect   the exact intersection curves (above); a vertex of one mesh closer than
-//                  min_vertex_separation of the pair's size to the curves moves onto them
-//                  (rounded to doubles) and the curves are computed again: a crossing that thin
-//                  can be neither written in doubles nor meshed by TetGen;
+//                  min_vertex_separation of the pair's size to the curves (and not on them)
+//                  moves onto them and the curves are computed again: a crossing that thin can be
+//                  neither written in doubles nor meshed by TetGen;
 //   2. embed       into both meshes at once (seam::embed, every curve point kept), and the isolated
 //                  points of contact made vertices of both;
 //   3. contacts    each flat contact becomes one common constrained Delaunay triangulation in both
@@ -75,8 +75,10 @@ struct PairOptions {
 struct PairStats {
   std::size_t curves = 0, curve_vertices = 0, closed_curves = 0;
   double snap_tol = 0;  ///< the quality stage's tolerance (pass at least this to `seam check --tol`)
-  /// Stage 1: vertices moved onto the curves, closer to them than min_vertex_separation.
+  /// Stage 1: vertices moved onto the curves, closer to them than min_vertex_separation, and the
+  /// largest move (verify_tolerance includes it).
   std::size_t vertices_closed = 0;
+  double max_close_move = 0;
   /// Stage 5 (and edges below 1e-9 of the pair's size after the embedding): curve vertices
   /// removed from both meshes, and vertices off the curves merged over such an edge.
   std::size_t curve_vertices_collapsed = 0, tiny_edges_collapsed = 0;

@@ -55,10 +55,9 @@ bool segment_after(const ImproveState<K>& s, const Edit<K>& edit, int x, int y, 
     return false;
   } else {
     curve = s.curve_of_segment(x, y);
-    if (curve < 0 && edit.merged_point >= 0) {  // the segment the merge makes: (other, merged_into)
-      const auto [nu, away] = s.node_away_from(edit.merged_point, edit.merged_into);
-      if (away >= 0 && is(s.nodes[std::size_t(away)].point, edit.merged_into)) curve = s.nodes[std::size_t(nu)].curve;
-    }
+    // A merge of u into w makes every segment (z, u) a segment (z, w).
+    if (curve < 0 && edit.merged_point >= 0 && (x == edit.merged_into || y == edit.merged_into))
+      curve = s.curve_of_segment(x == edit.merged_into ? y : x, edit.merged_point);
   }
   return curve >= 0 && s.holds_curve(m1, curve) && s.holds_curve(m2, curve);
 }

@@ -108,6 +108,7 @@ template <class K> void link_split(ImproveState<K>& s, int a, int b, int x) {
   const int end = s.nodes[std::size_t(start)].next, p = s.nodes[std::size_t(start)].point, q = s.nodes[std::size_t(end)].point;
   const int node = int(s.nodes.size());
   s.nodes.push_back({x, start, end, s.nodes[std::size_t(start)].curve});
+  s.points[std::size_t(x)].nodes.push_back(node);
   s.nodes[std::size_t(start)].next = node;
   s.nodes[std::size_t(end)].prev = node;
   s.segment_node.erase({std::min(a, b), std::max(a, b)});
@@ -115,23 +116,32 @@ template <class K> void link_split(ImproveState<K>& s, int a, int b, int x) {
   s.segment_node[{std::min(x, q), std::max(x, q)}] = node;
 }
 
-/// The links along the curve after point u merges into its neighbour w.
+/// The links along the curves after point u merges into point w: a position of u next to one of
+/// w goes (the segment (u, w) with it); any other becomes w's (the curves pass through w there).
 template <class K> void link_merge(ImproveState<K>& s, int u, int w) {
-  const auto [nu, away] = s.node_away_from(u, w);
-  if (nu < 0) throw InternalError("improve: a merge along a segment that is not a curve segment");
-  auto& node = s.nodes[std::size_t(nu)];
-  const int c = node.curve;
-  s.segment_node.erase({std::min(u, w), std::max(u, w)});
-  if (away >= 0) {
-    const int other = s.nodes[std::size_t(away)].point;
-    s.segment_node.erase({std::min(u, other), std::max(u, other)});
-    // the segment (other, w) starts where (other, u) or (u, w) started, in the curve's direction
-    s.segment_node[{std::min(other, w), std::max(other, w)}] = node.prev == away ? away : node.prev;
+  auto key = [](int a, int b) { return std::make_pair(std::min(a, b), std::max(a, b)); };
+  const std::vector<int> of_u = s.points[std::size_t(u)].nodes;
+  for (const int n : of_u) {
+    auto& node = s.nodes[std::size_t(n)];
+    const int before = node.prev, after = node.next;
+    const int pb = before >= 0 ? s.nodes[std::size_t(before)].point : -1, pa = after >= 0 ? s.nodes[std::size_t(after)].point : -1;
+    if (before >= 0) s.segment_node.erase(key(pb, u));
+    if (after >= 0) s.segment_node.erase(key(u, pa));
+    if (pb == w || pa == w) {  // along the segment (u, w): the position goes
+      if (before >= 0) s.nodes[std::size_t(before)].next = after;
+      if (after >= 0) s.nodes[std::size_t(after)].prev = before;
+      if (before >= 0 && after >= 0 && pb != pa) s.segment_node[key(pb, pa)] = before;
+      auto& curve = s.curves[std::size_t(node.curve)];
+      if (curve.first == n) curve.first = after >= 0 ? after : before;
+      node.prev = node.next = -1;
+    } else {  // elsewhere: the position becomes w's
+      node.point = w;
+      s.points[std::size_t(w)].nodes.push_back(n);
+      if (before >= 0) s.segment_node[key(pb, w)] = before;
+      if (after >= 0) s.segment_node[key(w, pa)] = n;
+    }
   }
-  if (node.prev >= 0) s.nodes[std::size_t(node.prev)].next = node.next;
-  if (node.next >= 0) s.nodes[std::size_t(node.next)].prev = node.prev;
-  if (s.curves[std::size_t(c)].first == nu) s.curves[std::size_t(c)].first = node.next >= 0 ? node.next : node.prev;
-  node.prev = node.next = -1;
+  s.points[std::size_t(u)].nodes.clear();
   s.points[std::size_t(u)].removed = true;
 }
 
@@ -145,7 +155,7 @@ template <class K> Applied<K> apply_edit(ImproveState<K>& s, const Edit<K>& edit
   int fresh_id = -1;
   if (edit.has_fresh && edit.fresh_curve_point) {
     fresh_id = int(s.points.size());
-    s.points.push_back({edit.fresh_point, std::vector<V>(s.meshes.size(), M::null_vertex()), false});
+    s.points.push_back({edit.fresh_point, std::vector<V>(s.meshes.size(), M::null_vertex()), false, {}});
   }
   for (const auto& part : edit.parts) {
     auto& ms = s.meshes[part.mesh];

@@ -33,6 +33,8 @@ ShortfallCause cause_of(Verdict v) {
   }
 }
 
+bool finite(const FP& p) { return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()); }
+
 /// The angle (radians) at corner a of triangle (a, b, c), doubles.
 double angle_at(const FP& a, const FP& b, const FP& c) {
   const FV u = b - a, v = c - a;
@@ -52,6 +54,8 @@ template <class K> class Refiner {
 
   void flip_all();
   void refine();
+  void close_curve_points();
+  bool flip_to_join(std::size_t m, V u, V w);
 
  private:
   S& s_;
@@ -97,7 +101,11 @@ template <class K> void Refiner<K>::push_if_bad(std::size_t m, F f) {
   const auto& ms = s_.meshes[m];
   if (!ms.band[f]) return;
   const double a = angle(m, f);
-  if (a < s_.options.min_angle_deg) queue_.push({a, m, f, ms.version[f]});
+  // With no tolerance the input's edges are creases (constraints): an input face's own small
+  // angle bounds the faces made from it, which are held to that instead (refining towards the
+  // bound there only cascades into smaller faces).
+  const double bound = s_.tolerance > 0 ? s_.options.min_angle_deg : s_.target_angle(m, f);
+  if (a < bound) queue_.push({a, m, f, ms.version[f]});
 }
 
 template <class K> std::optional<Verdict> Refiner<K>::attempt(const Edit<K>& edit, Applied<K>* made) {
@@ -188,6 +196,65 @@ template <class K> void Refiner<K>::push_encroached(std::size_t m, F f) {
   if (!s_.face_in_band(m, f)) return;
   for (H h : CGAL::halfedges_around_face(g.halfedge(f), g))
     if (s_.is_constraint(m, h) && is_encroached(m, h)) encroached_.emplace_back(m, g.source(h), g.target(h));
+}
+
+/// Curve points closer than options.min_separation (not consecutive along a curve, or else the
+/// merge of short edges would take them) merge where an edge joins them in every mesh holding
+/// them: the merge moves faces by less than that, so it is held to that tolerance at least.
+template <class K> void Refiner<K>::close_curve_points() {
+  const double separation = s_.options.min_separation;
+  if (!(separation > 0)) return;
+  std::vector<std::pair<double, int>> by_x;
+  for (std::size_t i = 0; i < s_.points.size(); ++i)
+    if (!s_.points[i].removed) by_x.emplace_back(to_filtered(s_.points[i].p).x(), int(i));
+  std::sort(by_x.begin(), by_x.end());
+  const double tolerance = s_.tolerance;
+  s_.tolerance = std::max(tolerance, 2 * separation);
+  for (std::size_t i = 0; i < by_x.size(); ++i)
+    for (std::size_t j = i + 1; j < by_x.size() && by_x[j].first - by_x[i].first < separation; ++j) {
+      const int u = by_x[i].second, w = by_x[j].second;
+      const auto &pu = s_.points[std::size_t(u)], &pw = s_.points[std::size_t(w)];
+      if (pu.removed || pw.removed ||
+          CGAL::squared_distance(to_filtered(pu.p), to_filtered(pw.p)) >= separation * separation)
+        continue;
+      Edit<K> edit;
+      bool possible = true;
+      for (std::size_t k = 0; k < s_.meshes.size() && possible; ++k) {
+        const V uk = pu.vertex[k], wk = pw.vertex[k];
+        if ((uk == M::null_vertex()) != (wk == M::null_vertex())) possible = false;
+        if (uk == M::null_vertex() || !possible) continue;
+        possible = !s_.mesh(k).is_border(uk) &&
+                   (s_.mesh(k).halfedge(uk, wk) != M::null_halfedge() || flip_to_join(k, uk, wk));
+        if (!possible) break;
+        edit.parts.emplace_back();
+        possible = make_fan<K>(s_, k, star(k, uk), corner(k, wk), edit.parts.back());
+      }
+      if (!possible || edit.parts.empty()) continue;
+      edit.merged_point = u;
+      edit.merged_into = w;
+      if (!attempt(edit)) ++s_.stats.merges;
+    }
+  s_.tolerance = tolerance;
+}
+
+/// Joins u and w by an edge where one edge lies between them (a face (u, x, y) and across (x, y) a
+/// face of w): that edge is flipped, the predicate permitting.
+template <class K> bool Refiner<K>::flip_to_join(std::size_t m, V u, V w) {
+  const M& g = s_.mesh(m);
+  for (H in : CGAL::halfedges_around_target(g.halfedge(u), g)) {
+    if (g.is_border(in)) continue;
+    const H between = g.next(g.next(in));  // the edge of the face opposite u
+    if (g.is_border(g.opposite(between)) || g.target(g.next(g.opposite(between))) != w) continue;
+    if (s_.is_curve_edge(m, g.source(between), g.target(between))) return false;
+    Edit<K> edit;
+    edit.parts.emplace_back();
+    if (!make_fan<K>(s_, m, {g.face(between), g.face(g.opposite(between))}, corner(m, u), edit.parts.back()))
+      return false;
+    if (attempt(edit)) return false;
+    ++s_.stats.flips;
+    return g.halfedge(u, w) != M::null_halfedge();
+  }
+  return false;
 }
 
 /// Ruppert's order: encroached constraints are split first, then faces below the bound mended,
@@ -432,6 +499,7 @@ template <class K> bool Refiner<K>::walk(std::size_t m, F f, FP target, F& lande
     const FP a = s_.fpoint(m, g.source(e)), b = s_.fpoint(m, g.target(e));
     const FP c = s_.fpoint(m, g.target(g.next(g.opposite(e))));
     FV along = b - a;
+    if (!(along.squared_length() > 0)) return false;
     along = along / std::sqrt(along.squared_length());
     const FV n0 = n / std::sqrt(nn);
     const FV n1v = CGAL::cross_product(a - b, c - b);  // the next face's normal (a->b reversed in it)
@@ -469,6 +537,7 @@ template <class K> Outcome Refiner<K>::insert_circumcenter(std::size_t m, F f) {
   const double reach = half / std::tan(0.5 * (s_.options.min_angle_deg + 2) * M_PI / 180);
   const double to_centre = std::sqrt(CGAL::squared_distance(mid, centre));
   const FP target = to_centre > reach ? mid + (centre - mid) * (reach / to_centre) : centre;
+  if (!finite(target)) return {false, ShortfallCause::shape};  // (a face flat in doubles)
   if (!walk(m, f, target, landed, at, crossed)) {
     if (crossed == M::null_halfedge()) return {false, ShortfallCause::shape};
     return split_constraint(m, crossed);
@@ -502,6 +571,7 @@ template <class K> Outcome Refiner<K>::insert_at(std::size_t m, F g, const FP& a
   // The point is put on the input surface (rounded to doubles), where the face is farther than
   // that from it; the predicate checks the faces it makes.
   const FP on_input = s_.meshes[m].input->closest(at).first;
+  if (!finite(on_input)) return {false, ShortfallCause::shape};
   Edit<K> edit;
   edit.has_fresh = true;
   edit.fresh_point = Point(on_input.x(), on_input.y(), on_input.z());
@@ -516,6 +586,7 @@ template <class K> Outcome Refiner<K>::insert_at(std::size_t m, F g, const FP& a
     const FV n = CGAL::cross_product(p1 - p0, p2 - p0);
     const double nn = n.squared_length();
     double l1 = CGAL::cross_product(p2 - at, p0 - at) * n / nn, l2 = CGAL::cross_product(p0 - at, p1 - at) * n / nn;
+    if (!std::isfinite(l1) || !std::isfinite(l2)) return {false, ShortfallCause::shape};
     l1 = std::clamp(l1, 1e-3, 0.998);
     l2 = std::clamp(l2, 1e-3, 1.0 - l1 - 1e-3);
     const auto& q0 = mesh.point(c[0]);
@@ -564,6 +635,7 @@ ImproveStats improve(std::vector<ImproveMesh<K>>& meshes, SharedCurves<K>& curve
   ImproveState<K> s;
   init_state<K>(s, meshes, curves, options);
   Refiner<K> refiner(s);
+  refiner.close_curve_points();
   refiner.flip_all();
   refiner.refine();
   refiner.flip_all();  // (a last pass of flips, and the faces it leaves below the bound once more)

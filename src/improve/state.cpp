@@ -169,7 +169,7 @@ template <class K> void number_curve_points(ImproveState<K>& s, const SharedCurv
     std::vector<int> id(n);
     for (std::size_t i = 0; i < n; ++i) {
       auto [it, added] = ids.emplace(curve[i], int(s.points.size()));
-      if (added) s.points.push_back({curve[i], std::vector<typename Mesh<K>::Vertex_index>(n_meshes), false});
+      if (added) s.points.push_back({curve[i], std::vector<typename Mesh<K>::Vertex_index>(n_meshes), false, {}});
       id[i] = it->second;
       for (std::size_t m : sc.meshes) {
         const auto v = in.vertices[m][c][i];
@@ -179,7 +179,10 @@ template <class K> void number_curve_points(ImproveState<K>& s, const SharedCurv
     }
     // The nodes along the curve, linked; each segment to the node at its start.
     const int first = int(s.nodes.size());
-    for (std::size_t i = 0; i < n; ++i) s.nodes.push_back({id[i], i > 0 ? first + int(i) - 1 : -1, -1, int(c)});
+    for (std::size_t i = 0; i < n; ++i) {
+      s.points[std::size_t(id[i])].nodes.push_back(first + int(i));
+      s.nodes.push_back({id[i], i > 0 ? first + int(i) - 1 : -1, -1, int(c)});
+    }
     for (std::size_t i = 0; i + 1 < n; ++i) s.nodes[std::size_t(first) + i].next = first + int(i) + 1;
     if (sc.closed && n > 1) {
       s.nodes[std::size_t(first)].prev = first + int(n) - 1;

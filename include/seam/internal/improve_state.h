@@ -112,6 +112,7 @@ template <class K> struct ImproveState {
     Point p;
     std::vector<V> vertex;  ///< per mesh; null where the mesh does not hold it (or it was merged away)
     bool removed = false;
+    std::vector<int> nodes;  ///< its positions along the curves
   };
   /// A curve's point at one position along it: a node of a doubly linked list (a point can be
   /// at two positions, where a curve passes through it twice).
@@ -254,9 +255,9 @@ template <class K> struct EditPart {
 };
 
 /// An edit of one or more meshes, made at once. `fresh_point` is the position of the fresh vertex
-/// (if any); `fresh_curve_point` true when it becomes a curve point (a split or move onto a curve
-/// segment (split_a, split_b), or `merged_point` merging into `merged_into` for a merge of curve
-/// points). `keeps_surface`: the new faces cover exactly the removed ones (no test of tolerance
+/// (if any); `fresh_curve_point` true when it becomes a curve point (a split of curve segment
+/// (split_a, split_b)); `merged_point` merging into `merged_into` for a merge of curve points
+/// (along a segment, or two points of the curves that close). `keeps_surface`: the new faces cover exactly the removed ones (no test of tolerance
 /// or crossings is needed, only of shape).
 template <class K> struct Edit {
   std::vector<EditPart<K>> parts;
