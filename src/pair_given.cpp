@@ -591,7 +591,7 @@ std::optional<PairResult<K>> pair_onto_given(Mesh<K>& a, Mesh<K>& b, const std::
   using FS = Filtered::Segment_3;
   PairOptions o = options;
   o.verify_output = false;  // (the caller verifies the moved result)
-  o.improve = improve_before_move;
+  o.improve = false;
   PairResult<K> r = pair<K>(a, b, o);
   if (r.curves.empty()) {
     why = "the meshes do not intersect";
@@ -616,35 +616,51 @@ std::optional<PairResult<K>> pair_onto_given(Mesh<K>& a, Mesh<K>& b, const std::
   using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Filtered, CGAL::AABB_segment_primitive<Filtered, std::vector<FS>::const_iterator>>>;
   Tree tree(segments.begin(), segments.end());
   tree.accelerate_distance_queries();
-  std::vector<Polyline<K>> moved(r.curves.size());
-  for (std::size_t c = 0; c < r.curves.size(); ++c) {
-    const bool closed = is_closed(r.curves[c]);
-    for (std::size_t k = 0; k < r.curves[c].size(); ++k) {
-      if (closed && k + 1 == r.curves[c].size()) {
-        moved[c].push_back(moved[c].front());
-        break;
+  // Each curve point's target: the closest point of the given curves (on a given segment, at a
+  // parameter rounded to a double); false (and `why`) when one is too far or two coincide.
+  double farthest = 0;
+  std::vector<Polyline<K>> moved;
+  auto targets = [&]() {
+    moved.assign(r.curves.size(), {});
+    farthest = 0;
+    for (std::size_t c = 0; c < r.curves.size(); ++c) {
+      const bool closed = is_closed(r.curves[c]);
+      for (std::size_t k = 0; k < r.curves[c].size(); ++k) {
+        if (closed && k + 1 == r.curves[c].size()) {
+          moved[c].push_back(moved[c].front());
+          break;
+        }
+        const Point& p = r.curves[c][k];
+        const auto [closest, id] = tree.closest_point_and_primitive(to_filtered(p));
+        const auto [gc, gi] = which[std::size_t(id - segments.cbegin())];
+        const Point &q0 = given[gc][gi], &q1 = given[gc][gi + 1];
+        const auto d = q1 - q0;
+        const double t = std::clamp(CGAL::to_double(((p - q0) * d) / (d * d)), 0.0, 1.0);
+        Point target = t == 0 ? q0 : t == 1 ? q1 : q0 + d * FT(t);
+        make_exact(target);
+        const double distance = std::sqrt(CGAL::to_double(CGAL::squared_distance(p, target)));
+        farthest = std::max(farthest, distance);
+        if (distance > max_distance) {
+          why = say("the computed intersection passes ", distance, " from the given curves (more than ", max_distance,
+                    ")");
+          return false;
+        }
+        if (!moved[c].empty() && moved[c].back() == target) {
+          why = "two consecutive points of the computed intersection have the same closest point on the given curves";
+          return false;
+        }
+        moved[c].push_back(target);
       }
-      const Point& p = r.curves[c][k];
-      const auto [closest, id] = tree.closest_point_and_primitive(to_filtered(p));
-      const auto [gc, gi] = which[std::size_t(id - segments.cbegin())];
-      const Point &q0 = given[gc][gi], &q1 = given[gc][gi + 1];
-      // The parameter of the closest point of segment q0 q1, rounded to a double, clamped.
-      const auto d = q1 - q0;
-      const double t = std::clamp(CGAL::to_double(((p - q0) * d) / (d * d)), 0.0, 1.0);
-      Point target = t == 0 ? q0 : t == 1 ? q1 : q0 + d * FT(t);
-      make_exact(target);
-      const double distance = std::sqrt(CGAL::to_double(CGAL::squared_distance(p, target)));
-      if (distance > max_distance) {
-        why = say("the computed intersection passes ", distance, " from the given curves (more than ", max_distance,
-                  ")");
-        return std::nullopt;
-      }
-      if (!moved[c].empty() && moved[c].back() == target) {
-        why = "two consecutive points of the computed intersection have the same closest point on the given curves";
-        return std::nullopt;
-      }
-      moved[c].push_back(target);
     }
+    return true;
+  };
+  if (!targets()) return std::nullopt;
+  // Before the move, the quality stage at a tolerance of twice the farthest move: the faces next
+  // to the curves then move by a fraction of their size, instead of folding.
+  if (improve_before_move) {
+    r.stats.snap_tol = std::max(r.stats.snap_tol, 2 * farthest);
+    improve_pair<K>(a, b, r, o);
+    if (!targets()) return std::nullopt;
   }
   auto& st = r.stats;
   for (auto* e : {&r.a, &r.b}) {
@@ -665,8 +681,12 @@ std::optional<PairResult<K>> pair_onto_given(Mesh<K>& a, Mesh<K>& b, const std::
   }
   r.curves = moved;
   st.given_curves = true;
-  // The quality stage on the moved meshes (they are its input surfaces).
-  if (options.improve && !(options.embed.max_area > 0)) improve_pair<K>(a, b, r, options);
+  // The quality stage on the moved meshes (they are its input surfaces), the curves kept.
+  if (options.improve && !(options.embed.max_area > 0)) {
+    PairOptions fixed = options;
+    fixed.quality.curves_fixed = true;
+    improve_pair<K>(a, b, r, fixed);
+  }
   return r;
 }
 
@@ -727,7 +747,11 @@ PairResult<K> pair_with_curves(Mesh<K>& a, Mesh<K>& b, const std::vector<Polylin
     restore();
     throw FoldError(std::string(e.what()) + " (before: " + tried + ")");
   }
-  if (options.improve && !(options.embed.max_area > 0)) improve_pair<K>(a, b, *result, options);
+  if (options.improve && !(options.embed.max_area > 0)) {
+    PairOptions fixed = options;
+    fixed.quality.curves_fixed = true;
+    improve_pair<K>(a, b, *result, fixed);
+  }
   result->stats.note = tried + (result->stats.note.empty() ? "" : "; " + result->stats.note);
   if (passes(*result)) return std::move(*result);
   restore();

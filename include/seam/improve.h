@@ -86,7 +86,8 @@ struct ImproveOptions {
   /// max_insertions.
   double min_angle_deg = 20.0;
   /// How far a changed face may lie from its input surface (sampled), and how far an edit may
-  /// move a vertex. 0: only edits that keep the surface (insertions, splits, coplanar flips).
+  /// move a vertex. 0: only edits that keep the surface (insertions, splits, coplanar flips),
+  /// apart from the merges of curve points closer than min_separation.
   double tolerance = 0.0;
   /// Points closer than this are not made; edges shorter than it are merged where the tolerance
   /// allows. Negative: the larger of `tolerance` and 1/64 of the mean edge length.
@@ -96,6 +97,9 @@ struct ImproveOptions {
   double band_radius = -1.0;
   /// At most this many insertions and splits per face of the initial band.
   std::size_t max_insertions_per_face = 16;
+  /// The curves stay as they are: no curve segment is split, no curve point merged along a segment
+  /// (given curves, after the meshes moved onto them: every curve point stays on them).
+  bool curves_fixed = false;
   /// Curve points closer than this (and joined by an edge in every mesh holding them) merge first,
   /// whatever the tolerance: a volume mesher takes them for one point. 0: none.
   double min_separation = 0;

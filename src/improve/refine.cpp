@@ -341,6 +341,7 @@ template <class K> bool Refiner<K>::merge_plan(std::size_t m, V u, V w, Edit<K>&
     return make_fan<K>(s_, m, star(m, u), corner(m, w), edit.parts.back());
   }
   const int pu = s_.meshes[m].point[u], pw = s_.meshes[m].point[w];
+  if (s_.options.curves_fixed) return false;
   const int c = s_.curve_of_segment(pu, pw);
   if (c < 0 || !s_.holds_curve(m, c)) return false;
   const auto [nu, away] = s_.node_away_from(pu, pw);
@@ -403,6 +404,7 @@ template <class K> Outcome Refiner<K>::split_constraint(std::size_t m, H h) {
     return {false, ShortfallCause::feature_size};
   const F beyond = g.face(g.opposite(h));
   const bool curve = s_.is_curve_edge(m, x, y);
+  if (curve && s_.options.curves_fixed) return {false, ShortfallCause::constraint_angle};
   if (!curve && beyond != M::null_face() && !s_.face_in_band(m, beyond)) {
     // The band's border: the face beyond joins the band (nothing changes in the surface), or, out
     // of reach (farther than band_radius, shared, frozen), the border stays as it is.
