@@ -495,7 +495,7 @@ PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
   internal::KnownSites<K> sites_a, sites_b;  // where each curve point lies in each mesh
   std::vector<typename K::Point_3> contacts;  // isolated points of contact
   std::vector<Polyline<K>> curves = curves_and_sites<K>(a, b, &touching, &sites_a, &sites_b, &contacts);
-  if (!curves.empty()) {
+  if (!curves.empty() && separation > 0) {
     const auto sa = internal::snap_vertices_to_segments<K>(a, curves, separation, false, true);
     const auto sb = internal::snap_vertices_to_segments<K>(b, curves, separation, false, true);
     st.vertices_closed = sa.snapped + sb.snapped;
@@ -623,47 +623,64 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   check_coordinate_range<K>(b, "B");
   validate_options(options.embed);
   const Mesh<K> a0 = a, b0 = b;
-  const double diagonal = diagonal_of<K>(a, b);
+  const double diagonal = diagonal_of<K>(a, b), separation = min_vertex_separation * diagonal;
   const double la = mean_edge_length<K>(a), lb = mean_edge_length<K>(b);
-  PairResult<K> result = embed_into_both<K>(a, b, options, min_vertex_separation * diagonal);
-  auto& st = result.stats;
-  st.snap_tol = options.embed.snap_tol < 0 ? 0.1 * std::min(la, lb) : options.embed.snap_tol;
-  unify_contacts<K>(a, b, result, min_vertex_separation * diagonal);
+  const double snap_tol = options.embed.snap_tol < 0 ? 0.1 * std::min(la, lb) : options.embed.snap_tol;
   // The quality stage works to angles, not to an area: with --max-area the faces are left as the
   // re-triangulation bounded them.
   const bool improve = options.improve && !(options.embed.max_area > 0);
-  std::optional<std::pair<Mesh<K>, Mesh<K>>> embedded;
-  std::optional<PairResult<K>> embedded_result;
-  if (improve && options.verify_output && !result.curves.empty()) {
-    embedded.emplace(a, b);
-    embedded_result = result;
-  }
-  if (improve) improve_pair<K>(a, b, result, options, &a0, &b0);
-  // No two output vertices closer than a volume mesher's tolerance (TetGen's -T twice over).
-  collapse_tiny_edges<K>(a, b, result, min_vertex_separation * diagonal);
-  measure_meshes<K>(a, b, result);
-  if (!options.verify_output) return result;
-  std::string problem;
-  if (internal::verify_outputs<K>(a0, b0, a, b, result, problem)) return result;
-  // The quality stage's result failed once written in doubles: the embedded meshes (exact curves,
-  // the input surfaces) are given instead, if they pass.
-  if (embedded) {
-    const std::string improved_problem = problem;
-    a = std::move(embedded->first);
-    b = std::move(embedded->second);
-    result = std::move(*embedded_result);
-    collapse_tiny_edges<K>(a, b, result, min_vertex_separation * diagonal);
-    measure_meshes<K>(a, b, result);
-    if (internal::verify_outputs<K>(a0, b0, a, b, result, problem)) {
-      st.note += (st.note.empty() ? "" : "; ") + std::string("the quality stage's result failed seam check's tests (") +
-                 improved_problem + "): the embedded meshes are given";
-      return result;
-    }
-    problem = improved_problem + "; without the quality stage: " + problem;
+  // Stages 1-3 on the inputs (closing features thinner than the separation, or not).
+  auto embedded = [&](bool close_thin_features) {
+    a = a0;
+    b = b0;
+    PairResult<K> r = embed_into_both<K>(a, b, options, close_thin_features ? separation : 0.0);
+    r.stats.snap_tol = snap_tol;
+    unify_contacts<K>(a, b, r, separation);
+    return r;
+  };
+  // Stage 5 and the figures.
+  auto finish = [&](PairResult<K>& r) {
+    collapse_tiny_edges<K>(a, b, r, separation);
+    measure_meshes<K>(a, b, r);
+  };
+  // Stage 6. Outputs that fail once written in doubles: the embedded meshes without the quality
+  // stage; then the same two with features thinner than the separation closed (a vertex a few
+  // units in the last place inside the other surface, say). Each is verified alike.
+  std::string problem, problems;
+  auto failed = [&](const std::string& what) {
+    problems += (problems.empty() ? "" : "; ") + what + problem;
+  };
+  for (const bool close : {false, true}) {
+    PairResult<K> result = embedded(close);
+    if (close && result.stats.vertices_closed == 0) break;  // the same meshes again
+    const std::string closed = close ? "with features thinner than the vertex separation closed" : "";
+    std::optional<std::tuple<Mesh<K>, Mesh<K>, PairResult<K>>> before_improve;
+    if (improve && options.verify_output && !result.curves.empty()) before_improve.emplace(a, b, result);
+    if (improve) improve_pair<K>(a, b, result, options, &a0, &b0);
+    finish(result);
+    if (!options.verify_output) return result;
+    auto passes = [&](bool without_improve) {
+      if (!internal::verify_outputs<K>(a0, b0, a, b, result, problem)) return false;
+      if (!problems.empty())
+        result.stats.note += (result.stats.note.empty() ? "" : "; ") + std::string("seam check failed on (") +
+                             problems + "): these outputs are " + (closed.empty() ? "" : closed + ", ") +
+                             (without_improve ? "the embedded meshes without the quality stage" : "improved");
+      return true;
+    };
+    if (passes(false)) return result;
+    failed(closed.empty() ? "" : closed + ": ");
+    if (!before_improve) continue;
+    a = std::move(std::get<0>(*before_improve));
+    b = std::move(std::get<1>(*before_improve));
+    result = std::move(std::get<2>(*before_improve));
+    finish(result);
+    if (passes(true)) return result;
+    failed((closed.empty() ? "" : closed + ", ") + "without the quality stage: ");
+    before_improve.reset();
   }
   a = a0;
   b = b0;
-  throw InternalError("pair: the outputs fail seam check's tests, so none is given (" + problem + ")");
+  throw InternalError("pair: the outputs fail seam check's tests, so none is given (" + problems + ")");
 }
 
 #define SEAM_INSTANTIATE(K)                                                                                   \

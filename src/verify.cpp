@@ -68,6 +68,10 @@ template <class K> std::vector<std::string> check_same_surface(const Mesh<K>& in
     return CGAL::cross_product(t[1] - t[0], t[2] - t[0]);
   };
   std::vector<Vector> sum(input.number_of_faces(), CGAL::NULL_VECTOR);
+  // A lazy (Epeck) sum is a chain of nodes whose exact evaluation recurses once per term: made
+  // exact every so often, it stays shallow (thousands of faces from one input face overflowed
+  // the stack).
+  std::vector<std::uint32_t> terms(input.number_of_faces(), 0);
   for (auto f : output.faces()) {
     const std::size_t s = source[f];
     if (s >= input.number_of_faces()) {
@@ -85,6 +89,7 @@ template <class K> std::vector<std::string> check_same_surface(const Mesh<K>& in
     if (!CGAL::is_positive(n_out * vector_area(in)))
       problems.push_back(say("output face ", std::size_t(f), " is not oriented like input face ", s));
     sum[s] = sum[s] + n_out;
+    if (++terms[s] % 64 == 0) make_exact(sum[s]);
   }
   auto same = [](const Vector& s, const Vector& n) {
     if constexpr (kernel_traits<K>::exact_constructions) {
@@ -117,6 +122,7 @@ template <class K> std::vector<std::string> check_same_surface(const Mesh<K>& in
     auto& [out_sum, in_sum] = sums.try_emplace(group[i], CGAL::NULL_VECTOR, CGAL::NULL_VECTOR).first->second;
     out_sum = out_sum + sum[std::size_t(unmatched[i])];
     in_sum = in_sum + vector_area(corners(input, unmatched[i]));
+    if (i % 64 == 63) make_exact(out_sum), make_exact(in_sum);
   }
   for (const auto& [g, s] : sums)
     if (!same(s.first, s.second))

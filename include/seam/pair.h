@@ -21,10 +21,7 @@
 // number meet (the corner of a flat contact, say).
 //
 // The pipeline, one stage after the other (src/pair.cpp):
-//   1. intersect   the exact intersection curves (above); a vertex of one mesh closer than
-//                  min_vertex_separation of the pair's size to the curves (and not on them)
-//                  moves onto them and the curves are computed again: a crossing that thin can be
-//                  neither written in doubles nor meshed by TetGen;
+//   1. intersect   the exact intersection curves (above);
 //   2. embed       into both meshes at once (seam::embed, every curve point kept), and the isolated
 //                  points of contact made vertices of both;
 //   3. contacts    each flat contact becomes one common constrained Delaunay triangulation in both
@@ -34,16 +31,20 @@
 //   4. improve     the quality stage (seam/improve.h) on both meshes at once, within the snapping
 //                  tolerance: Delaunay refinement of the band around the curves with a stated
 //                  bound, every edit checked by one acceptance predicate; curve segments split in
-//                  both meshes alike, vertices within the tolerance of a curve moved onto it (the
-//                  report's step 1, done where it mends a face), short edges merged;
+//                  both meshes alike, short edges merged (a vertex into a curve point next to it:
+//                  the report's step 1, done where it mends a face);
 //   5. separate    edges shorter than min_vertex_separation of the pair's size collapse (TetGen
 //                  merges points that close);
 //   6. verify      the outputs, rounded to doubles as they are written, checked with
 //                  seam::check_pair under the exact kernel at PairStats::verify_tolerance. If they
 //                  fail, the meshes as they were before stage 4 are verified instead (the exact
-//                  embedding, no quality stage); if those fail too, the inputs are restored and
-//                  InternalError says what failed. A result is therefore always one that
-//                  `seam check` accepts.
+//                  embedding, no quality stage); if those fail too, stages 1-5 run again on the
+//                  inputs with features thinner than min_vertex_separation of the pair's size
+//                  closed (a vertex of one mesh that close to the curves, not on them, moves onto
+//                  them, and the curves are computed again: a crossing that thin can be neither
+//                  written in doubles nor meshed by TetGen), verified with and without stage 4.
+//                  If every one fails, the inputs are restored and InternalError says what each
+//                  failed. A result is therefore always one that `seam check` accepts.
 //
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
@@ -75,8 +76,8 @@ struct PairOptions {
 struct PairStats {
   std::size_t curves = 0, curve_vertices = 0, closed_curves = 0;
   double snap_tol = 0;  ///< the quality stage's tolerance (pass at least this to `seam check --tol`)
-  /// Stage 1: vertices moved onto the curves, closer to them than min_vertex_separation, and the
-  /// largest move (verify_tolerance includes it).
+  /// Stage 6's last fallback: vertices moved onto the curves, closer to them than
+  /// min_vertex_separation, and the largest move (verify_tolerance includes it).
   std::size_t vertices_closed = 0;
   double max_close_move = 0;
   /// Stage 5 (and edges below 1e-9 of the pair's size after the embedding): curve vertices
