@@ -1,5 +1,5 @@
-// The quality sweep: seam::pair with the default options on the generated crossovers the README's
-// quality figures are measured on, each result checked with seam::check_pair at the snapping
+// The quality sweep: seam::pair with the default options on the generated crossovers that the
+// quality figures of docs/results.md are measured on, each result checked with seam::check_pair at the snapping
 // tolerance. Two sets: "sweep" (a weft against a warp of either section, resolutions 5-24,
 // overlaps 0.15-0.3: the set the remeshing was tuned on) and "held-out" (generated differently:
 // a wider, thicker warp, turned by 90 or 65 degrees, tilted by 0 or 9 degrees, both sections on
