@@ -3,6 +3,8 @@
 #include "common.h"
 
 #include <cctype>
+#include <cmath>
+#include <cstdio>
 #include <cerrno>
 #include <locale>
 #include <cstdlib>
@@ -172,6 +174,21 @@ nlohmann::json stats_json(const seam::EmbedStats& s) {
 
 void write_json(const nlohmann::json& j, std::ostream& out) {
   out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
+}
+
+std::string tolerance_text(double t) {
+  char text[40];
+  if (!(t > 0) || !std::isfinite(t)) {
+    std::snprintf(text, sizeof text, "%.17g", t);
+    return text;
+  }
+  for (int digits = 3; digits <= 17; ++digits) {
+    const double unit = std::pow(10.0, std::floor(std::log10(t)) - digits + 1);
+    std::snprintf(text, sizeof text, "%.*g", digits, std::ceil(t / unit) * unit);
+    if (std::strtod(text, nullptr) >= t) return text;
+  }
+  std::snprintf(text, sizeof text, "%.17g", std::nextafter(t, HUGE_VAL));
+  return text;
 }
 
 }  // namespace seam_cli

@@ -91,7 +91,11 @@ void handle_termination_signals();
 /// The JSON of an embedding's statistics (the keys documented in the README).
 nlohmann::json stats_json(const seam::EmbedStats& s);
 
-/// The JSON of the quality stage's report (the keys documented in the README): counts of edits
+/// A tolerance for the user to pass to `seam check --tol`: the shortest decimal of 3 or more
+/// significant digits that is not below `t` (rounding to nearest could make the check fail).
+std::string tolerance_text(double t);
+
+/// The JSON of the quality stage's report (the keys documented in docs/algorithm.md): counts of edits
 /// and refusals, the band's angles before and after, and each face left below the bound with its
 /// cause (mesh names from `mesh_names`).
 nlohmann::json improve_json(const seam::ImproveStats& s, bool done, const std::vector<std::string>& mesh_names);

@@ -131,7 +131,7 @@ int run_pair(PairArgs& args) {
                 << args.options.embed.min_angle_deg << " degrees (" << st.improve.shortfalls.size() << " new ones)";
     if (st.shared_faces > 0)
       std::cout << "; " << st.shared_faces << " faces shared by both (" << st.contact_patches << " flat contacts)";
-    if (st.verified) std::cout << "; verified (seam check --tol " << st.verify_tolerance << ")";
+    if (st.verified) std::cout << "; verified (seam check --tol " << tolerance_text(st.verify_tolerance) << ")";
     if (st.given_curves) std::cout << "; curve vertices moved onto the given curves by at most " << st.max_curve_move;
     if (!st.note.empty()) std::cout << "; " << st.note;
     std::cout << "\n";

@@ -262,6 +262,11 @@ int run_textile(TextileArgs& args) {
       j["intersecting_pairs"] = st.intersecting_pairs;
       j["touching_pairs"] = st.touching_pairs;
       j["triple_points"] = st.triple_points;
+      j["improve"] = improve_json(st.improve, st.improved, names);
+      j["improve_tolerance"] = st.improve_tolerance;
+      j["verified"] = st.verified;
+      j["verify_tolerance"] = st.verify_tolerance;
+      if (!st.note.empty()) j["note"] = st.note;
       nlohmann::json tows = nlohmann::json::array();
       for (std::size_t i = 0; i < meshes.size(); ++i)
         tows.push_back({{"name", names[i]}, {"file", inputs[i]}, {"out", mesh_out(i)}, {"embed", stats_json(result.tows[i])}});
@@ -296,7 +301,13 @@ int run_textile(TextileArgs& args) {
     std::cout << "seam textile: " << meshes.size() << " tows, " << st.candidate_pairs << " candidate pairs, "
               << st.intersecting_pairs << " intersecting (" << curves << " curves), " << st.touching_pairs
               << " touching only; " << snapped << " vertices snapped; " << st.threads
-              << (st.threads == 1 ? " thread" : " threads") << "; outputs in " << args.out_dir << "\n";
+              << (st.threads == 1 ? " thread" : " threads");
+    if (st.improved)
+      std::cout << "; quality stage (tolerance " << st.improve_tolerance << "): " << st.improve.shortfalls.size()
+                << " new faces below " << args.options.embed.min_angle_deg << " degrees";
+    if (st.verified) std::cout << "; verified (seam check --tol " << tolerance_text(st.verify_tolerance) << ")";
+    if (!st.note.empty()) std::cout << "; " << st.note;
+    std::cout << "; outputs in " << args.out_dir << "\n";
     return 0;
   });
 }
@@ -311,8 +322,9 @@ Command add_textile_command(CLI::App& app) {
       "Make every interpenetrating pair among N tows conforming: find the pairs (bounding boxes, then the exact "
       "intersection), compute each pair's curves, and embed into each tow all the curves that involve it, in "
       "parallel. Writes DIR/<name>.off per tow and DIR/<A>__<B>.polylines.txt per intersecting pair (A before B "
-      "in input order); `seam check A B DIR/A.off DIR/B.off DIR/A__B.polylines.txt` passes for each. Vertices within a tiny distance of a curve are "
-      "snapped onto it first. Where three tows overlap in one place the run stops with exit 2 naming them.");
+      "in input order). Vertices within a tiny distance of a curve are snapped onto it first; then the quality stage "
+      "refines the faces along the curves of all tows at once, and every pair is checked as written: "
+      "`seam check A B DIR/A.off DIR/B.off DIR/A__B.polylines.txt --tol T` passes for each, with the T printed. Where three tows overlap in one place the run stops with exit 2 naming them.");
   cmd->add_option("TOW", ta.tows, "Input tow meshes (.off, .obj, .ply, .stl); outputs are named after their base names");
   cmd->add_option("--tows", ta.tows_list,
                   "A file listing tow meshes, one path per line (relative paths from the list's directory; blank "
@@ -322,6 +334,10 @@ Command add_textile_command(CLI::App& app) {
   add_number_option(cmd, "--threads", ta.threads,
                     "Worker threads, 0 to 1024; 0: every core (default). Results are identical for any value");
   cmd->add_flag("--quiet", ta.quiet, "No progress line on stderr");
+  cmd->add_flag_callback(
+      "--no-improve", [&ta] { ta.options.improve = false; },
+      "No quality stage: the faces along the curves are left as the re-triangulation made them (every pair is "
+      "still checked as written)");
   cmd->add_option("--kernel", ta.kernel, "exact (Epeck, default), filtered (Epick) or float (double)")
       ->check(CLI::IsMember({"exact", "filtered", "float"}));
   add_number_option(cmd, "--min-angle", ta.min_angle,

@@ -2,7 +2,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/io.h>
 #include <seam/internal/provenance.h>
+#include <seam/internal/improve_state.h>
 #include <seam/internal/snap.h>
+#include <seam/internal/verify_output.h>
 #include <seam/pair.h>
 #include <seam/quality.h>
 #include <seam/textile.h>
@@ -11,6 +13,7 @@
 #include <CGAL/boost/graph/Euler_operations.h>
 #include <CGAL/box_intersection_d.h>
 #include <CGAL/intersections.h>
+#include <CGAL/Polygon_mesh_processing/bbox.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -25,6 +28,7 @@
 #include <exception>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <type_traits>
@@ -293,6 +297,7 @@ template <class K> struct PairWork {
   std::size_t a = 0, b = 0;
   std::vector<Polyline<K>> for_a, for_b;  ///< the curves, one copy per consuming tow
   std::vector<Polyline<K>> embedded_a, embedded_b;  ///< as embedded into each tow
+  std::vector<std::vector<typename Mesh<K>::Vertex_index>> vertices_a, vertices_b;  ///< their vertices there
   TextilePairStats stats;
 };
 
@@ -303,6 +308,144 @@ double diagonal(const CGAL::Bbox_3& b) {
   return std::sqrt(dx * dx + dy * dy + dz * dz);
 }
 
+
+/// Quality of the new faces of `mesh` with a vertex on the curves whose vertices are given.
+template <class K>
+CurveFaceQuality curve_face_quality(const Mesh<K>& mesh,
+                                    const std::vector<std::vector<typename Mesh<K>::Vertex_index>>& curve_vertices) {
+  const auto is_new = mesh.template property_map<typename Mesh<K>::Face_index, bool>(new_face_property);
+  std::set<typename Mesh<K>::Face_index> faces;
+  for (const auto& vs : curve_vertices)
+    for (auto v : vs)
+      for (auto f : CGAL::faces_around_target(mesh.halfedge(v), mesh))
+        if (f != Mesh<K>::null_face() && (!is_new.second || is_new.first[f])) faces.insert(f);
+  CurveFaceQuality q;
+  q.min_angle_deg = faces.empty() ? 0.0 : 180.0;
+  for (auto f : faces) {
+    const auto h = mesh.halfedge(f);
+    const double angle = min_angle_deg(to_filtered(mesh.point(mesh.source(h))), to_filtered(mesh.point(mesh.target(h))),
+                                       to_filtered(mesh.point(mesh.target(mesh.next(h)))));
+    ++q.faces;
+    q.below_10 += angle < 10 ? 1 : 0;
+    q.below_20 += angle < 20 ? 1 : 0;
+    q.min_angle_deg = std::min(q.min_angle_deg, angle);
+  }
+  return q;
+}
+
+template <class K> using CurveVertices = std::vector<std::vector<typename Mesh<K>::Vertex_index>>;
+
+/// Step 5 (see seam/textile.h): the quality stage on every tow at once.
+template <class K>
+void improve_tows(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& inputs, TextileResult<K>& result,
+                  std::vector<std::array<CurveVertices<K>, 2>>& pair_vertices, const TextileOptions& options) {
+  auto& st = result.stats;
+  const auto t = Clock::now();
+  std::vector<std::vector<double>> input_angles(meshes.size());
+  std::vector<internal::ImproveMesh<K>> tows;
+  double smallest_mean_edge = std::numeric_limits<double>::max();
+  std::vector<bool> in_a_pair(meshes.size(), false);
+  for (const auto& pair : result.pairs)
+    if (!pair.curves.empty()) in_a_pair[pair.stats.a] = in_a_pair[pair.stats.b] = true;
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    for (auto f : inputs[i].faces()) {
+      const auto h = inputs[i].halfedge(f);
+      input_angles[i].push_back(min_angle_deg(to_filtered(inputs[i].point(inputs[i].source(h))),
+                                              to_filtered(inputs[i].point(inputs[i].target(h))),
+                                              to_filtered(inputs[i].point(inputs[i].target(inputs[i].next(h))))));
+    }
+    tows.push_back({&meshes[i], &inputs[i], &input_angles[i]});
+    if (in_a_pair[i]) smallest_mean_edge = std::min(smallest_mean_edge, mean_edge_length<K>(inputs[i]));
+  }
+  // Every curve of every pair, held by its two tows.
+  internal::SharedCurves<K> shared;
+  shared.vertices.resize(meshes.size());
+  std::vector<std::size_t> first(result.pairs.size() + 1, 0);
+  for (std::size_t p = 0; p < result.pairs.size(); ++p) {
+    const auto& pair = result.pairs[p];
+    first[p] = shared.curves.size();
+    for (std::size_t c = 0; c < pair.curves.size(); ++c) {
+      shared.curves.push_back(pair.curves[c]);
+      for (std::size_t i = 0; i < meshes.size(); ++i)
+        shared.vertices[i].push_back(i == pair.stats.a   ? pair_vertices[p][0][c]
+                                     : i == pair.stats.b ? pair_vertices[p][1][c]
+                                                         : std::vector<typename Mesh<K>::Vertex_index>{});
+    }
+  }
+  first[result.pairs.size()] = shared.curves.size();
+  ImproveOptions io = options.quality;
+  io.min_angle_deg = options.embed.min_angle_deg;
+  if (io.tolerance < 0) io.tolerance = 0.1 * smallest_mean_edge;
+  st.improve_tolerance = io.tolerance;
+  st.improve = internal::improve<K>(tows, shared, io);
+  st.improved = true;
+  for (std::size_t p = 0; p < result.pairs.size(); ++p) {
+    auto& pair = result.pairs[p];
+    const auto b = std::ptrdiff_t(first[p]), e = std::ptrdiff_t(first[p + 1]);
+    pair.curves.assign(shared.curves.begin() + b, shared.curves.begin() + e);
+    pair_vertices[p][0].assign(shared.vertices[pair.stats.a].begin() + b, shared.vertices[pair.stats.a].begin() + e);
+    pair_vertices[p][1].assign(shared.vertices[pair.stats.b].begin() + b, shared.vertices[pair.stats.b].begin() + e);
+    pair.stats.curve_vertices = 0;
+    for (const auto& c : pair.curves) pair.stats.curve_vertices += c.size() - (is_closed(c) ? 1 : 0);
+    pair.stats.quality_a = curve_face_quality<K>(meshes[pair.stats.a], pair_vertices[p][0]);
+    pair.stats.quality_b = curve_face_quality<K>(meshes[pair.stats.b], pair_vertices[p][1]);
+  }
+  st.stage_seconds["improve"] = seconds_since(t);
+}
+
+/// Step 6: every pair with curves checked as written; the first failure in `problem`.
+template <class K>
+bool verify_pairs(const std::vector<Mesh<K>>& inputs, std::vector<Mesh<K>>& meshes, const std::vector<std::string>& names,
+                  TextileResult<K>& result, double tolerance, std::string& problem) {
+  for (auto& pair : result.pairs) {
+    const std::size_t a = pair.stats.a, b = pair.stats.b;
+    const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(inputs[a]) + CGAL::Polygon_mesh_processing::bbox(inputs[b]);
+    const double tol = std::max(tolerance, 1e-9 * diagonal(box)) * (1 + 1e-9);
+    PairCheckReport report;
+    try {
+      report = internal::check_as_written<K>(inputs[a], inputs[b], meshes[a], meshes[b], pair.curves, tol);
+    } catch (const InternalError& e) {
+      report.problems.push_back(e.what());
+    }
+    if (!report.ok()) {
+      problem = quoted(names[a]) + " and " + quoted(names[b]) + ": " + report.problems.front();
+      return false;
+    }
+    result.stats.verify_tolerance = std::max(result.stats.verify_tolerance, tol);
+  }
+  return true;
+}
+
+/// Steps 5 and 6, with the fallback of step 6.
+template <class K>
+void improve_and_verify(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& inputs,
+                        const std::vector<std::string>& names, TextileResult<K>& result,
+                        std::vector<std::array<CurveVertices<K>, 2>>& pair_vertices, const std::vector<double>& snap_tol,
+                        const TextileOptions& options) {
+  auto& st = result.stats;
+  const double snapped = snap_tol.empty() ? 0.0 : *std::max_element(snap_tol.begin(), snap_tol.end());
+  const bool improve = options.improve && st.intersecting_pairs > 0 && !(options.embed.max_area > 0);
+  std::optional<std::pair<std::vector<Mesh<K>>, std::vector<TextilePair<K>>>> before;
+  if (improve) {
+    if (options.verify_output) before.emplace(meshes, result.pairs);
+    improve_tows<K>(meshes, inputs, result, pair_vertices, options);
+  }
+  if (!options.verify_output) return;
+  const auto t = Clock::now();
+  std::string problem;
+  st.verified = verify_pairs<K>(inputs, meshes, names, result, snapped + st.improve_tolerance, problem);
+  if (!st.verified && before) {
+    const std::string improved_problem = problem;
+    meshes = std::move(before->first);
+    result.pairs = std::move(before->second);
+    st.verify_tolerance = 0;
+    st.verified = verify_pairs<K>(inputs, meshes, names, result, snapped, problem);
+    if (st.verified) st.note = "the quality stage's result failed seam check's tests (" + improved_problem + "): the tows before it are given";
+    else problem = improved_problem + "; without the quality stage: " + problem;
+  }
+  st.stage_seconds["verify"] = seconds_since(t);
+  if (!st.verified) throw InternalError("textile: the outputs fail seam check's tests, so none is given (" + problem + ")");
+}
 }  // namespace
 
 template <class K>
@@ -338,6 +481,11 @@ TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::st
     if (meshes[i].has_garbage()) meshes[i].collect_garbage();
     frozen[i] = freeze<K>(meshes[i]);
   }
+  // The input tows, for steps 5 and 6 (built from the plain copies: no lazy value is shared with
+  // the tows the tasks change).
+  std::vector<Mesh<K>> inputs;
+  if (options.improve || options.verify_output)
+    for (const auto& f : frozen) inputs.push_back(thaw<K>(f));
   st.stage_seconds["prepare"] = seconds_since(t);
 
   // ---- candidate pairs: overlapping bounding boxes (closed boxes: touching counts)
@@ -600,29 +748,15 @@ TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::st
           throw InternalError("textile: " + names[tow] + ": the embedding returned a different number of curves");
         for (auto& c : r.curves)
           for (auto& p : c) make_exact(p);  // written by two tows: the same tight approximation in both
-        const auto is_new = mesh.template property_map<typename Mesh<K>::Face_index, bool>(new_face_property).first;
         for (std::size_t k = 0; k < pairs_of[tow].size(); ++k) {
           auto& w = work[pairs_of[tow][k]];
           std::vector<Polyline<K>> embedded(r.curves.begin() + std::ptrdiff_t(first_curve[k]),
                                             r.curves.begin() + std::ptrdiff_t(first_curve[k + 1]));
-          // Quality of the new faces with a vertex on these curves.
-          std::set<typename Mesh<K>::Face_index> faces;
-          for (std::size_t c = first_curve[k]; c < first_curve[k + 1]; ++c)
-            for (auto v : r.curve_vertices[c])
-              for (auto f : CGAL::faces_around_target(mesh.halfedge(v), mesh))
-                if (f != Mesh<K>::null_face() && is_new[f]) faces.insert(f);
-          CurveFaceQuality q;
-          q.min_angle_deg = faces.empty() ? 0.0 : 180.0;
-          for (auto f : faces) {
-            const auto h = mesh.halfedge(f);
-            const double angle = min_angle_deg(to_filtered(mesh.point(mesh.source(h))),
-                                               to_filtered(mesh.point(mesh.target(h))),
-                                               to_filtered(mesh.point(mesh.target(mesh.next(h)))));
-            ++q.faces;
-            q.below_10 += angle < 10 ? 1 : 0;
-            q.below_20 += angle < 20 ? 1 : 0;
-            q.min_angle_deg = std::min(q.min_angle_deg, angle);
-          }
+          std::vector<std::vector<typename Mesh<K>::Vertex_index>> vertices(
+              r.curve_vertices.begin() + std::ptrdiff_t(first_curve[k]),
+              r.curve_vertices.begin() + std::ptrdiff_t(first_curve[k + 1]));
+          const CurveFaceQuality q = curve_face_quality<K>(mesh, vertices);
+          (w.a == tow ? w.vertices_a : w.vertices_b) = std::move(vertices);
           if (w.a == tow) {
             w.embedded_a = std::move(embedded);
             w.stats.quality_a = q;
@@ -643,6 +777,7 @@ TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::st
 
   // ---- both tows of every pair received the identical curves
   t = Clock::now();
+  std::vector<std::array<std::vector<std::vector<typename Mesh<K>::Vertex_index>>, 2>> pair_vertices;
   for (auto& w : work) {
     if (w.stats.curves == 0 && !w.stats.touching_only) continue;
     if (w.embedded_a != w.embedded_b) {
@@ -657,8 +792,11 @@ TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::st
     if (pair.stats.curves > 0) ++st.intersecting_pairs;
     if (pair.stats.touching_only) ++st.touching_pairs;
     result.pairs.push_back(std::move(pair));
+    pair_vertices.push_back({std::move(w.vertices_a), std::move(w.vertices_b)});
   }
   st.stage_seconds["compare"] = seconds_since(t);
+  std::vector<FrozenMesh<K>>().swap(frozen);
+  improve_and_verify<K>(meshes, inputs, names, result, pair_vertices, snap_tol, options);
   return result;
 }
 

@@ -67,10 +67,14 @@ seam::TextileResult<K> run_and_check(const Cell& cell, int threads, std::vector<
   seam::TextileOptions options;
   options.threads = threads;
   auto result = seam::textile<K>(meshes, cell.names, options);
+  // Every pair was verified as written (textile throws otherwise), and checks here as it is.
+  CHECK(result.stats.verified);
+  CHECK(result.stats.improved == (result.stats.intersecting_pairs > 0));
+  const double tol = std::max(1e-9, result.stats.verify_tolerance);
   for (const auto& p : result.pairs) {
     INFO(cell.names[p.stats.a] << " x " << cell.names[p.stats.b]);
     const auto report = seam::check_pair<K>(inputs[p.stats.a], inputs[p.stats.b], meshes[p.stats.a],
-                                            meshes[p.stats.b], p.curves, 1e-9);
+                                            meshes[p.stats.b], p.curves, tol);
     for (const auto& problem : report.problems) UNSCOPED_INFO(problem);
     if (close_vertices_known && report.close_vertex_pairs > 0)
       CHECK(report.problems.size() == 1);
@@ -166,6 +170,57 @@ TEST_CASE("textile: a 2x2 plain weave conforms at every crossing", "[textile]") 
   for (const auto& m : out) CHECK(CGAL::is_closed(m));
 }
 
+TEST_CASE("textile: the quality stage refines along every curve of every tow at once, within its tolerance",
+          "[textile][improve]") {
+  // Without it a third of the faces along the curves are below 10 degrees; with it, every face
+  // below the bound is reported with its cause, none for want of budget, and the outputs verify.
+  const Cell cell = weave(small_weave(2, 2));
+  auto below = [](const seam::TextileResult<K>& r, std::size_t seam::CurveFaceQuality::*count) {
+    std::size_t n = 0;
+    for (const auto& p : r.pairs) n += p.stats.quality_a.*count + p.stats.quality_b.*count;
+    return n;
+  };
+  seam::TextileOptions plain;
+  plain.improve = false;
+  auto m1 = cell.meshes<K>(), m2 = m1;
+  const auto r1 = seam::textile<K>(m1, cell.names, plain);
+  const auto r2 = seam::textile<K>(m2, cell.names, seam::TextileOptions{});
+  CHECK_FALSE(r1.stats.improved);
+  REQUIRE(r2.stats.improved);
+  CHECK(r1.stats.verified);
+  CHECK(r2.stats.verified);
+  CHECK(r2.stats.note.empty());  // the improved tows were given, not the fallback
+  const std::size_t before = below(r1, &seam::CurveFaceQuality::below_10);
+  const std::size_t after = below(r2, &seam::CurveFaceQuality::below_10);
+  INFO("below 10 degrees: " << before << " -> " << after);
+  CHECK(before > 100);
+  CHECK(after * 20 <= before);
+  CHECK(below(r2, &seam::CurveFaceQuality::below_20) <= r2.stats.improve.shortfalls.size());
+  for (const auto& s : r2.stats.improve.shortfalls) CHECK(s.cause != seam::ShortfallCause::budget);
+  CHECK(r2.stats.improve_tolerance > 0);
+  CHECK(r2.stats.verify_tolerance >= r2.stats.improve_tolerance);
+  // Every tow holds exactly the curves of its pairs, point for point.
+  auto key = [](const K::Point_3& q) {
+    return std::array<double, 3>{CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z())};
+  };
+  for (const auto& p : r2.pairs)
+    for (const auto* m : {&m2[p.stats.a], &m2[p.stats.b]}) {
+      std::map<std::array<double, 3>, Mesh::Vertex_index> at;
+      for (auto w : m->vertices()) at[key(m->point(w))] = w;
+      auto vertex = [&](const K::Point_3& q) {
+        const auto it = at.find(key(q));
+        return it != at.end() && m->point(it->second) == q ? it->second : Mesh::null_vertex();
+      };
+      for (const auto& c : p.curves)
+        for (std::size_t i = 0; i + 1 < c.size(); ++i) {
+          const auto u = vertex(c[i]), v = vertex(c[i + 1]);
+          REQUIRE(u != Mesh::null_vertex());
+          REQUIRE(v != Mesh::null_vertex());
+          CHECK(m->halfedge(u, v) != Mesh::null_halfedge());
+        }
+    }
+}
+
 TEST_CASE("textile: a 2/1 twill of 3x3 tows conforms at every crossing", "[textile]") {
   seam::WeaveOptions o = small_weave(3, 3);
   o.over = 2;
@@ -183,6 +238,7 @@ TEST_CASE("textile: snapping each tow onto all its curves, then computing them a
   auto meshes = inputs;
   seam::TextileOptions options;
   options.embed.snap_tol = 0.02;  // about 0.15 x the mean edge length
+  options.improve = false;        // (its tolerance would move the surfaces too)
   const auto r = seam::textile<K>(meshes, cell.names, options);
   std::size_t snapped = 0;
   for (const auto& t : r.tows) snapped += t.vertices_snapped;
@@ -337,6 +393,7 @@ TEST_CASE("textile: the curves of each pair are seam::pair's", "[textile]") {
       auto meshes = inputs;
       seam::TextileOptions options;
       options.embed.snap_tol = 0;
+      options.improve = false;  // (the quality stage splits curve segments)
       const auto r = seam::textile<Kernel>(meshes, cell.names, options);
       CHECK(r.stats.intersecting_pairs == 4);
       for (const auto& p : r.pairs) {
@@ -387,6 +444,12 @@ TEST_CASE("cli: seam textile writes every tow and pair, seam check passes on eac
                                              "weft1.off",
                                              "weft1__warp0.polylines.txt",
                                              "weft1__warp1.polylines.txt"};
+  // The tolerance textile verified every pair at, from its summary line.
+  const std::string log = seam_test::read_bytes(dir.file("log1"));
+  const auto at = log.find("verified (seam check --tol ");
+  REQUIRE(at != std::string::npos);
+  const std::string tol = log.substr(at + 27, log.find(')', at) - at - 27);
+  CHECK(std::stod(tol) > 0);
   CHECK(seam_test::entries(out1) == expected);
   CHECK(seam_test::entries(out2) == expected);
   for (const auto& name : expected)  // byte-identical for 1 and 2 threads
@@ -396,7 +459,7 @@ TEST_CASE("cli: seam textile writes every tow and pair, seam check passes on eac
       const std::string a = weft, b = warp;
       const std::string cmd = seam + " check '" + dir.file(a + ".off") + "' '" + dir.file(b + ".off") + "' '" + out1 +
                               "/" + a + ".off' '" + out1 + "/" + b + ".off' '" + out1 + "/" + a + "__" + b +
-                              ".polylines.txt' > /dev/null";
+                              ".polylines.txt' --tol " + tol + " > /dev/null";
       CHECK(run(cmd) == 0);
     }
   const std::string report = seam_test::read_bytes(dir.file("r.json"));

@@ -4,8 +4,8 @@
 //   2. Pairs (concurrently): the intersection curves of each candidate pair, exactly as
 //      seam::intersection_curves computes them for `seam pair` (touching runs kept as curves,
 //      isolated touching points dropped, flat contact reduced to its boundary: unlike seam::pair,
-//      textile does not yet make the inside of a flat contact one common triangulation, nor
-//      verify its outputs). A candidate with no curve is no pair.
+//      textile does not yet make the inside of a flat contact one common triangulation, so such
+//      a pair fails step 6). A candidate with no curve is no pair.
 //   3. Triple overlaps: where the curves of tow A with B and of A with C meet on A, the three tows
 //      overlap in one place, and the meeting point lies exactly on the three surfaces. Under the
 //      exact kernel it is made a vertex of all three tows (the face or edge holding it is cut;
@@ -17,6 +17,14 @@
 //   4. Tows (concurrently): each tow receives every curve that involves it in one seam::embed
 //      call (curve points kept at their own coordinates, as in seam::pair), so that for every
 //      pair both outputs share the pair's curves vertex for vertex and edge for edge.
+//   5. Improve: the quality stage (seam/improve.h) on all tows at once, every curve of every pair
+//      shared by its two tows, within `quality.tolerance` of the input tows (automatic: a tenth
+//      of the smallest mean edge length, as seam::pair). Its acceptance predicate tests every
+//      edit against every tow, so no edit makes two tows cross.
+//   6. Verify: every pair's outputs and curves, rounded to doubles as written, checked with
+//      seam::check_pair (exact kernel) at TextileStats::verify_tolerance. If one fails, the tows
+//      as they were before step 5 are verified instead; if one fails then too, InternalError
+//      names the pair and the problem (the meshes are left modified).
 //
 // Snapping: where an intersection point falls extremely close to a vertex, the new faces are
 // slivers whose orientation rounding to double (writing the outputs) can flip, so that the
@@ -40,6 +48,7 @@
 #pragma once
 
 #include <seam/embed.h>
+#include <seam/improve.h>
 
 #include <cstddef>
 #include <functional>
@@ -67,6 +76,17 @@ struct TextileOptions {
   int threads = 0;
   /// Called after each finished pair and tow, from worker threads but never concurrently.
   std::function<void(const TextileProgress&)> progress;
+  /// Step 5, the quality stage (min_angle_deg is embed.min_angle_deg; tolerance < 0: automatic).
+  bool improve = true;
+  ImproveOptions quality = automatic_quality();
+  /// Step 6: every pair checked as written; off, nothing is checked.
+  bool verify_output = true;
+
+  static ImproveOptions automatic_quality() {
+    ImproveOptions q;
+    q.tolerance = -1;
+    return q;
+  }
 };
 
 /// Quality of the new faces of one tow next to one pair's curves (faces with a curve vertex).
@@ -100,7 +120,17 @@ struct TextileStats {
   std::size_t touching_pairs = 0;      ///< touching without crossing
   std::size_t triple_points = 0;       ///< points where three tows meet, made vertices of all three
   int threads = 0;                     ///< threads of the task arena
-  std::map<std::string, double> stage_seconds;  ///< prepare, boxes, pairs, snap, triples, tows, compare
+  /// Step 5: done (some pair has curves and options.improve), its figures over all tows (mesh
+  /// indices are tow indices), and its tolerance.
+  bool improved = false;
+  ImproveStats improve;
+  double improve_tolerance = 0;
+  /// Step 6: every pair passed seam::check_pair as written at this tolerance (pass it to
+  /// `seam check --tol`); a note when the tows before step 5 were given instead.
+  bool verified = false;
+  double verify_tolerance = 0;
+  std::string note;
+  std::map<std::string, double> stage_seconds;  ///< prepare, boxes, pairs, snap, triples, tows, compare, improve, verify
 };
 
 template <class K> struct TextileResult {
