@@ -651,13 +651,27 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     problems += (problems.empty() ? "" : "; ") + what + problem;
   };
   for (const bool close : {false, true}) {
-    PairResult<K> result = embedded(close);
-    if (close && result.stats.vertices_closed == 0) break;  // the same meshes again
     const std::string closed = close ? "with features thinner than the vertex separation closed" : "";
+    PairResult<K> result;
+    try {
+      result = embedded(close);
+    } catch (const InternalError& e) {  // (a flat contact that does not fit, say): the next way
+      problem = e.what();
+      failed(closed.empty() ? "" : closed + ": ");
+      continue;
+    }
+    if (close && result.stats.vertices_closed == 0) break;  // the same meshes again
     std::optional<std::tuple<Mesh<K>, Mesh<K>, PairResult<K>>> before_improve;
     if (improve && options.verify_output && !result.curves.empty()) before_improve.emplace(a, b, result);
-    if (improve) improve_pair<K>(a, b, result, options, &a0, &b0);
-    finish(result);
+    bool improved = true;  // false: the quality stage stopped (an edit it could not make)
+    try {
+      if (improve) improve_pair<K>(a, b, result, options, &a0, &b0);
+    } catch (const InternalError& e) {
+      if (!before_improve) throw;
+      problem = e.what();
+      improved = false;
+    }
+    if (improved) finish(result);
     if (!options.verify_output) return result;
     auto passes = [&](bool without_improve) {
       if (!internal::verify_outputs<K>(a0, b0, a, b, result, problem)) return false;
@@ -667,7 +681,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
                              (without_improve ? "the embedded meshes without the quality stage" : "improved");
       return true;
     };
-    if (passes(false)) return result;
+    if (improved && passes(false)) return result;
     failed(closed.empty() ? "" : closed + ": ");
     if (!before_improve) continue;
     a = std::move(std::get<0>(*before_improve));
