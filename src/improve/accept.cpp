@@ -6,6 +6,15 @@
 // predicates after certified interval filters (exact under Exact and Filtered). Two faces may meet
 // as seam check allows: in one common vertex or edge of the same mesh, or, faces of two meshes,
 // in a common curve point or along a common curve segment.
+//
+// As written: edits that keep the surface exactly (splits, exact insertions, coplanar flips) make
+// no crossing in exact arithmetic, but their exact new points are rounded when written: an exact
+// curve point that rounds a few units in the last place into the other surface, where two tows
+// touch almost flat, makes faces that cross once written. Under the exact kernel those edits are
+// therefore checked for crossings too, on the corners rounded to doubles as the writer rounds
+// them. (Under the other kernels coordinates are doubles already. The edits that change the
+// surface are checked on the exact corners: rounded, an edit that removes a crossing left by the
+// embedding would be refused for the crossings still around it.)
 // SPDX-License-Identifier: GPL-3.0-or-later
 
 #include <seam/internal/certified.h>
@@ -105,24 +114,33 @@ template <class K> bool meet_as_allowed(const ImproveState<K>& s, const Edit<K>&
   return false;  // the same triangle twice
 }
 
+/// The point as the writer gives it: each coordinate rounded to a double (exact under Exact).
+template <class K> typename K::Point_3 written(const typename K::Point_3& p) {
+  if constexpr (kernel_traits<K>::exact_constructions)
+    return typename K::Point_3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+  else
+    return p;
+}
+
 template <class K>
-Tri<K> existing_tri(const ImproveState<K>& s, std::size_t m, typename Mesh<K>::Face_index f) {
+Tri<K> existing_tri(const ImproveState<K>& s, std::size_t m, typename Mesh<K>::Face_index f, bool as_written) {
   Tri<K> t;
   const auto c = s.corners(m, f);
   for (std::size_t i = 0; i < 3; ++i) {
-    t.p[i] = s.mesh(m).point(c[i]);
+    t.p[i] = as_written ? written<K>(s.mesh(m).point(c[i])) : s.mesh(m).point(c[i]);
     t.id[i] = {m, c[i], false, s.meshes[m].point[c[i]]};
   }
   t.intervals();
   return t;
 }
 
-template <class K> Tri<K> new_tri(const ImproveState<K>& s, const Edit<K>& edit, const EditPart<K>& part, std::size_t i) {
+template <class K>
+Tri<K> new_tri(const ImproveState<K>& s, const Edit<K>& edit, const EditPart<K>& part, std::size_t i, bool as_written) {
   Tri<K> t;
   const int fresh_id = edit.fresh_curve_point ? int(s.points.size()) : -1;
   for (std::size_t k = 0; k < 3; ++k) {
     const auto& c = part.added[i][k];
-    t.p[k] = c.p;
+    t.p[k] = as_written ? written<K>(c.p) : c.p;
     t.id[k] = {part.mesh, c.v, c.fresh, c.fresh ? fresh_id : s.meshes[part.mesh].point[c.v]};
   }
   t.intervals();
@@ -148,21 +166,28 @@ template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) 
     for (const auto& a : part.added)
       if (CGAL::collinear(a[0].p, a[1].p, a[2].p)) return Verdict::shape;
   if (!edit.keeps_surface && !(s.tolerance > 0)) return Verdict::tolerance;  // no tolerance: the surfaces stay
-  if (edit.keeps_surface) {  // the new point lies on the current surface: within the tolerance of the input too?
-    if (!edit.has_fresh) return Verdict::accepted;
-    const double slack = 1e-9 * s.mean_edge;
-    for (const auto& part : edit.parts) {
-      const Filtered::Point_3 p = to_filtered(edit.fresh_point);
-      if (s.meshes[part.mesh].input->sampled_distance(p, p, p) > s.tolerance + slack) return Verdict::tolerance;
-    }
-    return Verdict::accepted;
-  }
+  const bool as_written = edit.keeps_surface && kernel_traits<K>::exact_constructions;
   std::vector<std::vector<Tri<K>>> made(edit.parts.size());
   for (std::size_t k = 0; k < edit.parts.size(); ++k)
     for (std::size_t i = 0; i < edit.parts[k].added.size(); ++i) {
-      made[k].push_back(new_tri<K>(s, edit, edit.parts[k], i));
-      if (const Verdict v = near_input<K>(s, edit.parts[k].mesh, made[k].back()); v != Verdict::accepted) return v;
+      made[k].push_back(new_tri<K>(s, edit, edit.parts[k], i, as_written));
+      const auto& t = made[k].back();
+      if (as_written && CGAL::collinear(t.p[0], t.p[1], t.p[2])) return Verdict::shape;  // once written
     }
+  if (edit.keeps_surface) {  // the new point lies on the current surface: within the tolerance of the input too?
+    if (edit.has_fresh) {
+      const double slack = 1e-9 * s.mean_edge;
+      for (const auto& part : edit.parts) {
+        const Filtered::Point_3 p = to_filtered(edit.fresh_point);
+        if (s.meshes[part.mesh].input->sampled_distance(p, p, p) > s.tolerance + slack) return Verdict::tolerance;
+      }
+    }
+    if constexpr (!kernel_traits<K>::exact_constructions) return Verdict::accepted;
+  } else {
+    for (std::size_t k = 0; k < edit.parts.size(); ++k)
+      for (const Tri<K>& t : made[k])
+        if (const Verdict v = near_input<K>(s, edit.parts[k].mesh, t); v != Verdict::accepted) return v;
+  }
   auto removed = [&](std::size_t m, typename Mesh<K>::Face_index f) {
     for (const auto& part : edit.parts)
       if (part.mesh == m && std::find(part.removed.begin(), part.removed.end(), f) != part.removed.end()) return true;
@@ -176,7 +201,7 @@ template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) 
         const typename Mesh<K>::Face_index f(e.face);
         const auto& g = s.mesh(e.mesh);
         if (g.is_removed(f) || s.meshes[e.mesh].version[f] != e.version || removed(e.mesh, f)) continue;
-        if (!meet_as_allowed<K>(s, edit, t, existing_tri<K>(s, e.mesh, f))) return Verdict::crossing;
+        if (!meet_as_allowed<K>(s, edit, t, existing_tri<K>(s, e.mesh, f, as_written))) return Verdict::crossing;
       }
       for (std::size_t l = k + 1; l < edit.parts.size(); ++l)  // new faces of the other meshes
         for (const Tri<K>& u : made[l])
