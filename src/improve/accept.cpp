@@ -7,14 +7,13 @@
 // as seam check allows: in one common vertex or edge of the same mesh, or, faces of two meshes,
 // in a common curve point or along a common curve segment.
 //
-// As written: edits that keep the surface exactly (splits, exact insertions, coplanar flips) make
-// no crossing in exact arithmetic, but their exact new points are rounded when written: an exact
-// curve point that rounds a few units in the last place into the other surface, where two tows
-// touch almost flat, makes faces that cross once written. Under the exact kernel those edits are
-// therefore checked for crossings too, on the corners rounded to doubles as the writer rounds
-// them. (Under the other kernels coordinates are doubles already. The edits that change the
-// surface are checked on the exact corners: rounded, an edit that removes a crossing left by the
-// embedding would be refused for the crossings still around it.)
+// As written: exact points are rounded when written, and an exact curve point that rounds a few
+// units in the last place into the other surface, where two tows touch almost flat, makes faces
+// that cross once written, even after an edit that keeps the surface exactly (a split, an exact
+// insertion, a coplanar flip). Under the exact kernel every edit is therefore also checked on its
+// corners rounded to doubles as the writer rounds them, unless a face it removes already crosses
+// once rounded (left so by the embedding): then refusing it would only keep that crossing. (Under
+// the other kernels coordinates are doubles already.)
 // SPDX-License-Identifier: GPL-3.0-or-later
 
 #include <seam/internal/certified.h>
@@ -161,33 +160,13 @@ template <class K> Verdict near_input(const ImproveState<K>& s, std::size_t m, c
   return Verdict::accepted;
 }
 
-template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) {
-  for (const auto& part : edit.parts)
-    for (const auto& a : part.added)
-      if (CGAL::collinear(a[0].p, a[1].p, a[2].p)) return Verdict::shape;
-  if (!edit.keeps_surface && !(s.tolerance > 0)) return Verdict::tolerance;  // no tolerance: the surfaces stay
-  const bool as_written = edit.keeps_surface && kernel_traits<K>::exact_constructions;
+/// Whether the new faces of the edit meet the faces of the meshes (those it keeps) and each
+/// other only as allowed; on the corners as they are, or rounded as written.
+template <class K> bool no_crossing(const ImproveState<K>& s, const Edit<K>& edit, bool as_written) {
   std::vector<std::vector<Tri<K>>> made(edit.parts.size());
   for (std::size_t k = 0; k < edit.parts.size(); ++k)
-    for (std::size_t i = 0; i < edit.parts[k].added.size(); ++i) {
+    for (std::size_t i = 0; i < edit.parts[k].added.size(); ++i)
       made[k].push_back(new_tri<K>(s, edit, edit.parts[k], i, as_written));
-      const auto& t = made[k].back();
-      if (as_written && CGAL::collinear(t.p[0], t.p[1], t.p[2])) return Verdict::shape;  // once written
-    }
-  if (edit.keeps_surface) {  // the new point lies on the current surface: within the tolerance of the input too?
-    if (edit.has_fresh) {
-      const double slack = 1e-9 * s.mean_edge;
-      for (const auto& part : edit.parts) {
-        const Filtered::Point_3 p = to_filtered(edit.fresh_point);
-        if (s.meshes[part.mesh].input->sampled_distance(p, p, p) > s.tolerance + slack) return Verdict::tolerance;
-      }
-    }
-    if constexpr (!kernel_traits<K>::exact_constructions) return Verdict::accepted;
-  } else {
-    for (std::size_t k = 0; k < edit.parts.size(); ++k)
-      for (const Tri<K>& t : made[k])
-        if (const Verdict v = near_input<K>(s, edit.parts[k].mesh, t); v != Verdict::accepted) return v;
-  }
   auto removed = [&](std::size_t m, typename Mesh<K>::Face_index f) {
     for (const auto& part : edit.parts)
       if (part.mesh == m && std::find(part.removed.begin(), part.removed.end(), f) != part.removed.end()) return true;
@@ -201,12 +180,63 @@ template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) 
         const typename Mesh<K>::Face_index f(e.face);
         const auto& g = s.mesh(e.mesh);
         if (g.is_removed(f) || s.meshes[e.mesh].version[f] != e.version || removed(e.mesh, f)) continue;
-        if (!meet_as_allowed<K>(s, edit, t, existing_tri<K>(s, e.mesh, f, as_written))) return Verdict::crossing;
+        if (!meet_as_allowed<K>(s, edit, t, existing_tri<K>(s, e.mesh, f, as_written))) return false;
       }
       for (std::size_t l = k + 1; l < edit.parts.size(); ++l)  // new faces of the other meshes
         for (const Tri<K>& u : made[l])
-          if (edit.parts[l].mesh != edit.parts[k].mesh && !meet_as_allowed<K>(s, edit, t, u)) return Verdict::crossing;
+          if (edit.parts[l].mesh != edit.parts[k].mesh && !meet_as_allowed<K>(s, edit, t, u)) return false;
     }
+  return true;
+}
+
+/// Whether a face the edit removes meets a face it keeps otherwise than allowed, rounded as
+/// written: a crossing the edit cannot make worse there.
+template <class K> bool removes_a_written_crossing(const ImproveState<K>& s, const Edit<K>& edit) {
+  const Edit<K> none;  // the curves as they are before the edit
+  for (const auto& part : edit.parts)
+    for (const auto f0 : part.removed) {
+      const Tri<K> t = existing_tri<K>(s, part.mesh, f0, true);
+      CGAL::Bbox_3 box;
+      for (const auto& p : t.p) box += to_filtered(p).bbox();
+      for (const auto& e : s.grid.query(box)) {
+        const typename Mesh<K>::Face_index f(e.face);
+        if ((e.mesh == part.mesh && f == f0) || s.mesh(e.mesh).is_removed(f) || s.meshes[e.mesh].version[f] != e.version)
+          continue;
+        if (!meet_as_allowed<K>(s, none, t, existing_tri<K>(s, e.mesh, f, true))) return true;
+      }
+    }
+  return false;
+}
+
+template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) {
+  for (const auto& part : edit.parts)
+    for (const auto& a : part.added) {
+      if (CGAL::collinear(a[0].p, a[1].p, a[2].p)) return Verdict::shape;
+      if constexpr (kernel_traits<K>::exact_constructions)  // once written
+        if (CGAL::collinear(written<K>(a[0].p), written<K>(a[1].p), written<K>(a[2].p))) return Verdict::shape;
+    }
+  if (!edit.keeps_surface && !(s.tolerance > 0)) return Verdict::tolerance;  // no tolerance: the surfaces stay
+  if (edit.keeps_surface) {  // the new point lies on the current surface: within the tolerance of the input too?
+    if (edit.has_fresh) {
+      const double slack = 1e-9 * s.mean_edge;
+      for (const auto& part : edit.parts) {
+        const Filtered::Point_3 p = to_filtered(edit.fresh_point);
+        if (s.meshes[part.mesh].input->sampled_distance(p, p, p) > s.tolerance + slack) return Verdict::tolerance;
+      }
+    }
+  } else {
+    for (std::size_t k = 0; k < edit.parts.size(); ++k)
+      for (std::size_t i = 0; i < edit.parts[k].added.size(); ++i)
+        if (const Verdict v = near_input<K>(s, edit.parts[k].mesh, new_tri<K>(s, edit, edit.parts[k], i, false));
+            v != Verdict::accepted)
+          return v;
+    if (!no_crossing<K>(s, edit, false)) return Verdict::crossing;  // exactly
+  }
+  if constexpr (kernel_traits<K>::exact_constructions) {
+    // As written; unless a face it removes already crosses once written (the embedding's
+    // rounding): an edit that does not add a crossing where there is one is not refused for it.
+    if (!no_crossing<K>(s, edit, true) && !removes_a_written_crossing<K>(s, edit)) return Verdict::crossing;
+  }
   return Verdict::accepted;
 }
 
