@@ -21,6 +21,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 namespace seam::internal {
 
@@ -39,8 +40,10 @@ template <class K> bool same_corner(const CornerId<K>& a, const CornerId<K>& b) 
   return a.point >= 0 && a.point == b.point;
 }
 
-template <class K> struct Tri {
-  std::array<typename K::Point_3, 3> p;
+/// A triangle to test: its corners in kernel PK (K itself, or Filtered for the corners rounded to
+/// doubles as written: exact predicates on doubles, no lazy construction), and who they are.
+template <class K, class PK = K> struct Tri {
+  std::array<typename PK::Point_3, 3> p;
   std::array<CornerId<K>, 3> id;
   std::array<certified::IP, 3> ip;
   void intervals() {
@@ -72,14 +75,15 @@ bool segment_after(const ImproveState<K>& s, const Edit<K>& edit, int x, int y, 
 
 /// Whether triangles t and u meet only as allowed (see the top of this file). Exact under the
 /// exact and filtered kernels.
-template <class K> bool meet_as_allowed(const ImproveState<K>& s, const Edit<K>& edit, const Tri<K>& t, const Tri<K>& u) {
+template <class K, class PK>
+bool meet_as_allowed(const ImproveState<K>& s, const Edit<K>& edit, const Tri<K, PK>& t, const Tri<K, PK>& u) {
   int shared = 0;
   std::array<int, 3> in_u{-1, -1, -1};  // for each corner of t, the same corner of u
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       if (same_corner<K>(t.id[std::size_t(i)], u.id[std::size_t(j)])) in_u[std::size_t(i)] = j, ++shared;
-  using T3 = typename K::Triangle_3;
-  using S3 = typename K::Segment_3;
+  using T3 = typename PK::Triangle_3;
+  using S3 = typename PK::Segment_3;
   if (shared == 0) {
     if (certified::surely_disjoint({&t.ip[0], &t.ip[1], &t.ip[2]}, {&u.ip[0], &u.ip[1], &u.ip[2]})) return true;
     return !CGAL::do_intersect(T3(t.p[0], t.p[1], t.p[2]), T3(u.p[0], u.p[1], u.p[2]));
@@ -113,33 +117,33 @@ template <class K> bool meet_as_allowed(const ImproveState<K>& s, const Edit<K>&
   return false;  // the same triangle twice
 }
 
-/// The point as the writer gives it: each coordinate rounded to a double (exact under Exact).
-template <class K> typename K::Point_3 written(const typename K::Point_3& p) {
-  if constexpr (kernel_traits<K>::exact_constructions)
-    return typename K::Point_3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
-  else
+/// The point in kernel PK: itself, or rounded to doubles as the writer rounds it (Filtered).
+template <class PK, class P> typename PK::Point_3 point_in(const P& p) {
+  if constexpr (std::is_same_v<typename PK::Point_3, P>)
     return p;
+  else
+    return to_filtered(p);
 }
 
-template <class K>
-Tri<K> existing_tri(const ImproveState<K>& s, std::size_t m, typename Mesh<K>::Face_index f, bool as_written) {
-  Tri<K> t;
+template <class K, class PK>
+Tri<K, PK> existing_tri(const ImproveState<K>& s, std::size_t m, typename Mesh<K>::Face_index f) {
+  Tri<K, PK> t;
   const auto c = s.corners(m, f);
   for (std::size_t i = 0; i < 3; ++i) {
-    t.p[i] = as_written ? written<K>(s.mesh(m).point(c[i])) : s.mesh(m).point(c[i]);
+    t.p[i] = point_in<PK>(s.mesh(m).point(c[i]));
     t.id[i] = {m, c[i], false, s.meshes[m].point[c[i]]};
   }
   t.intervals();
   return t;
 }
 
-template <class K>
-Tri<K> new_tri(const ImproveState<K>& s, const Edit<K>& edit, const EditPart<K>& part, std::size_t i, bool as_written) {
-  Tri<K> t;
+template <class K, class PK>
+Tri<K, PK> new_tri(const ImproveState<K>& s, const Edit<K>& edit, const EditPart<K>& part, std::size_t i) {
+  Tri<K, PK> t;
   const int fresh_id = edit.fresh_curve_point ? int(s.points.size()) : -1;
   for (std::size_t k = 0; k < 3; ++k) {
     const auto& c = part.added[i][k];
-    t.p[k] = as_written ? written<K>(c.p) : c.p;
+    t.p[k] = point_in<PK>(c.p);
     t.id[k] = {part.mesh, c.v, c.fresh, c.fresh ? fresh_id : s.meshes[part.mesh].point[c.v]};
   }
   t.intervals();
@@ -148,7 +152,7 @@ Tri<K> new_tri(const ImproveState<K>& s, const Edit<K>& edit, const EditPart<K>&
 
 /// The new face turns less than 80 degrees from the input surface there and lies within the
 /// tolerance of it (doubles).
-template <class K> Verdict near_input(const ImproveState<K>& s, std::size_t m, const Tri<K>& t) {
+template <class K> Verdict near_input(const ImproveState<K>& s, std::size_t m, const Tri<K, K>& t) {
   const Filtered::Point_3 p = to_filtered(t.p[0]), q = to_filtered(t.p[1]), r = to_filtered(t.p[2]);
   const Filtered::Vector_3 n = CGAL::cross_product(q - p, r - p);
   const double len = std::sqrt(n.squared_length());
@@ -161,30 +165,30 @@ template <class K> Verdict near_input(const ImproveState<K>& s, std::size_t m, c
 }
 
 /// Whether the new faces of the edit meet the faces of the meshes (those it keeps) and each
-/// other only as allowed; on the corners as they are, or rounded as written.
-template <class K> bool no_crossing(const ImproveState<K>& s, const Edit<K>& edit, bool as_written) {
-  std::vector<std::vector<Tri<K>>> made(edit.parts.size());
+/// other only as allowed; on the corners as they are (PK = K), or rounded as written (Filtered).
+template <class K, class PK> bool no_crossing(const ImproveState<K>& s, const Edit<K>& edit) {
+  std::vector<std::vector<Tri<K, PK>>> made(edit.parts.size());
   for (std::size_t k = 0; k < edit.parts.size(); ++k)
     for (std::size_t i = 0; i < edit.parts[k].added.size(); ++i)
-      made[k].push_back(new_tri<K>(s, edit, edit.parts[k], i, as_written));
+      made[k].push_back(new_tri<K, PK>(s, edit, edit.parts[k], i));
   auto removed = [&](std::size_t m, typename Mesh<K>::Face_index f) {
     for (const auto& part : edit.parts)
       if (part.mesh == m && std::find(part.removed.begin(), part.removed.end(), f) != part.removed.end()) return true;
     return false;
   };
   for (std::size_t k = 0; k < edit.parts.size(); ++k)
-    for (const Tri<K>& t : made[k]) {
+    for (const Tri<K, PK>& t : made[k]) {
       CGAL::Bbox_3 box;
       for (const auto& p : t.p) box += to_filtered(p).bbox();
       for (const auto& e : s.grid.query(box)) {
         const typename Mesh<K>::Face_index f(e.face);
         const auto& g = s.mesh(e.mesh);
         if (g.is_removed(f) || s.meshes[e.mesh].version[f] != e.version || removed(e.mesh, f)) continue;
-        if (!meet_as_allowed<K>(s, edit, t, existing_tri<K>(s, e.mesh, f, as_written))) return false;
+        if (!meet_as_allowed<K, PK>(s, edit, t, existing_tri<K, PK>(s, e.mesh, f))) return false;
       }
       for (std::size_t l = k + 1; l < edit.parts.size(); ++l)  // new faces of the other meshes
-        for (const Tri<K>& u : made[l])
-          if (edit.parts[l].mesh != edit.parts[k].mesh && !meet_as_allowed<K>(s, edit, t, u)) return false;
+        for (const Tri<K, PK>& u : made[l])
+          if (edit.parts[l].mesh != edit.parts[k].mesh && !meet_as_allowed<K, PK>(s, edit, t, u)) return false;
     }
   return true;
 }
@@ -195,14 +199,14 @@ template <class K> bool removes_a_written_crossing(const ImproveState<K>& s, con
   const Edit<K> none;  // the curves as they are before the edit
   for (const auto& part : edit.parts)
     for (const auto f0 : part.removed) {
-      const Tri<K> t = existing_tri<K>(s, part.mesh, f0, true);
+      const auto t = existing_tri<K, Filtered>(s, part.mesh, f0);
       CGAL::Bbox_3 box;
       for (const auto& p : t.p) box += to_filtered(p).bbox();
       for (const auto& e : s.grid.query(box)) {
         const typename Mesh<K>::Face_index f(e.face);
         if ((e.mesh == part.mesh && f == f0) || s.mesh(e.mesh).is_removed(f) || s.meshes[e.mesh].version[f] != e.version)
           continue;
-        if (!meet_as_allowed<K>(s, none, t, existing_tri<K>(s, e.mesh, f, true))) return true;
+        if (!meet_as_allowed<K, Filtered>(s, none, t, existing_tri<K, Filtered>(s, e.mesh, f))) return true;
       }
     }
   return false;
@@ -213,7 +217,7 @@ template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) 
     for (const auto& a : part.added) {
       if (CGAL::collinear(a[0].p, a[1].p, a[2].p)) return Verdict::shape;
       if constexpr (kernel_traits<K>::exact_constructions)  // once written
-        if (CGAL::collinear(written<K>(a[0].p), written<K>(a[1].p), written<K>(a[2].p))) return Verdict::shape;
+        if (CGAL::collinear(to_filtered(a[0].p), to_filtered(a[1].p), to_filtered(a[2].p))) return Verdict::shape;
     }
   if (!edit.keeps_surface && !(s.tolerance > 0)) return Verdict::tolerance;  // no tolerance: the surfaces stay
   if (edit.keeps_surface) {  // the new point lies on the current surface: within the tolerance of the input too?
@@ -227,15 +231,15 @@ template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) 
   } else {
     for (std::size_t k = 0; k < edit.parts.size(); ++k)
       for (std::size_t i = 0; i < edit.parts[k].added.size(); ++i)
-        if (const Verdict v = near_input<K>(s, edit.parts[k].mesh, new_tri<K>(s, edit, edit.parts[k], i, false));
+        if (const Verdict v = near_input<K>(s, edit.parts[k].mesh, new_tri<K, K>(s, edit, edit.parts[k], i));
             v != Verdict::accepted)
           return v;
-    if (!no_crossing<K>(s, edit, false)) return Verdict::crossing;  // exactly
+    if (!no_crossing<K, K>(s, edit)) return Verdict::crossing;  // exactly
   }
   if constexpr (kernel_traits<K>::exact_constructions) {
     // As written; unless a face it removes already crosses once written (the embedding's
     // rounding): an edit that does not add a crossing where there is one is not refused for it.
-    if (!no_crossing<K>(s, edit, true) && !removes_a_written_crossing<K>(s, edit)) return Verdict::crossing;
+    if (!no_crossing<K, Filtered>(s, edit) && !removes_a_written_crossing<K>(s, edit)) return Verdict::crossing;
   }
   return Verdict::accepted;
 }
