@@ -592,14 +592,7 @@ void improve_pair(Mesh<K>& a, Mesh<K>& b, PairResult<K>& result, const PairOptio
   const auto t = Clock::now();
   // The smallest angle of each input face: a face is held to the bound or, where less, to that.
   auto angles_of = [](const Mesh<K>* input) {
-    std::vector<double> angles;
-    if (input)
-      for (auto f : input->faces()) {
-        const auto h = input->halfedge(f);
-        angles.push_back(min_angle_deg(input->point(input->source(h)), input->point(input->target(h)),
-                                       input->point(input->target(input->next(h)))));
-      }
-    return angles;
+    return input ? internal::face_min_angles<K>(*input) : std::vector<double>{};
   };
   const std::vector<double> angles_a = angles_of(input_a), angles_b = angles_of(input_b);
   std::vector<internal::ImproveMesh<K>> meshes{{&a, nullptr, input_a ? &angles_a : nullptr},

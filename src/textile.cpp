@@ -348,12 +348,7 @@ void improve_tows(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& inpu
   for (const auto& pair : result.pairs)
     if (!pair.curves.empty()) in_a_pair[pair.stats.a] = in_a_pair[pair.stats.b] = true;
   for (std::size_t i = 0; i < meshes.size(); ++i) {
-    for (auto f : inputs[i].faces()) {
-      const auto h = inputs[i].halfedge(f);
-      input_angles[i].push_back(min_angle_deg(to_filtered(inputs[i].point(inputs[i].source(h))),
-                                              to_filtered(inputs[i].point(inputs[i].target(h))),
-                                              to_filtered(inputs[i].point(inputs[i].target(inputs[i].next(h))))));
-    }
+    input_angles[i] = internal::face_min_angles<K>(inputs[i]);
     tows.push_back({&meshes[i], &inputs[i], &input_angles[i]});
     if (in_a_pair[i]) smallest_mean_edge = std::min(smallest_mean_edge, mean_edge_length<K>(inputs[i]));
   }

@@ -334,7 +334,19 @@ template <class K> void drop_state_properties(ImproveState<K>& s) {
   }
 }
 
+template <class K> std::vector<double> face_min_angles(const Mesh<K>& input) {
+  std::vector<double> angles;
+  angles.reserve(input.number_of_faces());
+  for (auto f : input.faces()) {
+    const auto h = input.halfedge(f);
+    angles.push_back(min_angle_deg(to_filtered(input.point(input.source(h))), to_filtered(input.point(input.target(h))),
+                                   to_filtered(input.point(input.target(input.next(h))))));
+  }
+  return angles;
+}
+
 #define SEAM_INSTANTIATE(K)                                                                                   \
+  template std::vector<double> face_min_angles<K>(const Mesh<K>&);                                           \
   template struct ImproveState<K>;                                                                            \
   template double face_min_angle<K>(const ImproveState<K>&, std::size_t, ImproveState<K>::F);               \
   template void init_state<K>(ImproveState<K>&, std::vector<ImproveMesh<K>>&, const SharedCurves<K>&,        \

@@ -48,6 +48,10 @@ template <class K> struct SharedCurves {
 template <class K>
 ImproveStats improve(std::vector<ImproveMesh<K>>& meshes, SharedCurves<K>& curves, const ImproveOptions& options);
 
+/// The smallest angle (degrees, doubles) of each face of `input`, by face index: what
+/// ImproveMesh::source_min_angle points to.
+template <class K> std::vector<double> face_min_angles(const Mesh<K>& input);
+
 /// Distances to an input surface and its normals: an AABB tree on its faces, in doubles.
 class InputSurface {
  public:
