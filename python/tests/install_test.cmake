@@ -26,8 +26,11 @@ r = seam.pair(*A, *B)
 assert r.curves and r.report["verified"], r.report
 print("installed seam imported from", os.path.dirname(here), "and paired:", len(r.curves), "curve(s)")
 ]=])
+# Run from the prefix: ctest's working directory (build/python) holds the build tree's package,
+# which `python -c` would find first.
 execute_process(COMMAND ${CMAKE_COMMAND} -E env "PYTHONPATH=${site}" PYTHONDONTWRITEBYTECODE=1
                         "${PYTHON}" -c "${script}" "${site}"
+                WORKING_DIRECTORY "${prefix}"
                 RESULT_VARIABLE rc)
 file(REMOVE_RECURSE "${prefix}")
 if(NOT rc EQUAL 0)
