@@ -54,27 +54,8 @@ double default_tolerance(const seam::TriangleSoup& a, const seam::TriangleSoup& 
 }
 
 nlohmann::json report_json(const seam::PairCheckReport& r, const CheckArgs& a) {
-  nlohmann::json j;
-  j["ok"] = r.ok();
-  j["problems"] = r.problems;
-  j["kernel"] = a.kernel;
-  j["tolerance"] = r.tolerance;
+  nlohmann::json j = check_report_json(r, a.kernel);
   j["files"] = {{"a", a.a}, {"b", a.b}, {"a2", a.a2}, {"b2", a.b2}, {"curves", a.curves}};
-  j["curves"] = {{"curves", r.curves}, {"vertices", r.curve_vertices}, {"segments", r.curve_segments}};
-  j["face_pairs"] = {{"candidates", r.candidate_face_pairs},
-                     {"intersecting_on_curves", r.face_pairs_on_curve},
-                     {"intersecting_off_curves", r.intersecting_face_pairs_off_curve}};
-  j["shared_faces"] = r.shared_faces;
-  j["vertex_separation"] = {{"required", r.min_separation}, {"closer_pairs", r.close_vertex_pairs}};
-  j["coverage"] = {{"samples", r.intersection_samples},
-                   {"uncovered", r.uncovered_samples},
-                   {"max_uncovered_distance", r.max_uncovered_distance}};
-  j["a2"] = {{"vertices", r.vertices_a2},       {"faces", r.faces_a2},        {"new_faces", r.new_faces_a},
-             {"max_distance", r.max_distance_a}, {"min_angle_deg", r.min_angle_deg_a},
-             {"new_below_10", r.below_10_a},     {"new_below_20", r.below_20_a}};
-  j["b2"] = {{"vertices", r.vertices_b2},       {"faces", r.faces_b2},        {"new_faces", r.new_faces_b},
-             {"max_distance", r.max_distance_b}, {"min_angle_deg", r.min_angle_deg_b},
-             {"new_below_10", r.below_10_b},     {"new_below_20", r.below_20_b}};
   return j;
 }
 

@@ -117,61 +117,6 @@ void handle_termination_signals() {
   }).detach();
 }
 
-nlohmann::json improve_json(const seam::ImproveStats& s, bool done, const std::vector<std::string>& mesh_names) {
-  nlohmann::json causes = nlohmann::json::object(), faces = nlohmann::json::array();
-  for (const auto& f : s.shortfalls) {
-    const std::string cause = seam::shortfall_cause_name(f.cause);
-    causes[cause] = causes.value(cause, 0) + 1;
-    faces.push_back({{"mesh", f.mesh < mesh_names.size() ? mesh_names[f.mesh] : std::to_string(f.mesh)},
-                     {"face", f.face},
-                     {"min_angle", f.min_angle_deg},
-                     {"cause", cause}});
-  }
-  return {{"done", done},
-          {"band_faces", s.band_faces},
-          {"flips", s.flips},
-          {"insertions", s.insertions},
-          {"curve_splits", s.curve_splits},
-          {"edge_splits", s.edge_splits},
-          {"merges", s.merges},
-          {"faces_absorbed", s.faces_absorbed},
-          {"refused", {{"tolerance", s.refused_tolerance}, {"crossing", s.refused_crossing}, {"shape", s.refused_shape}}},
-          {"below_bound_before", s.below_bound_before},
-          {"below_bound_after", s.below_bound_after},
-          {"min_angle_before", s.min_angle_deg_before},
-          {"min_angle_after", s.min_angle_deg_after},
-          {"shortfalls", causes},
-          {"shortfall_faces", faces},
-          {"seconds", s.seconds}};
-}
-
-nlohmann::json stats_json(const seam::EmbedStats& s) {
-  nlohmann::json j;
-  j["kernel"] = s.kernel;
-  j["input"] = {{"vertices", s.input_vertices}, {"faces", s.input_faces}, {"mean_edge_length", s.mean_edge_length}};
-  j["output"] = {{"vertices", s.output_vertices}, {"faces", s.output_faces}};
-  j["options"] = {{"snap_tol", s.snap_tol}, {"max_distance", s.max_distance}};
-  j["snap"] = {{"vertices_snapped", s.vertices_snapped}, {"snaps_refused", s.snaps_refused},
-               {"max_move", s.max_snap_move}};
-  j["curve"] = {{"curves", s.curves},
-                {"nodes_in", s.curve_nodes_in},
-                {"nodes_out", s.curve_nodes_out},
-                {"crossing_points", s.crossing_points},
-                {"at_mesh_vertices", s.curve_vertices_at_mesh_vertices},
-                {"max_deviation", s.max_curve_deviation}};
-  j["faces"] = {{"crossed", s.faces_crossed},
-                {"added", s.faces_added},
-                {"steiner_points", s.steiner_points},
-                {"refinement_undone", s.faces_refinement_fallback}};
-  j["quality"] = {{"min_angle_deg", s.min_angle_deg_new},
-                  {"input_min_angle_deg", s.min_angle_deg_input},
-                  {"below_10", s.new_faces_below_10},
-                  {"below_20", s.new_faces_below_20},
-                  {"below_10_unforced", s.new_faces_below_10_unforced}};
-  j["seconds"] = s.stage_seconds;
-  return j;
-}
-
 void write_json(const nlohmann::json& j, std::ostream& out) {
   out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
 }

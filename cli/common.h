@@ -6,6 +6,8 @@
 #include <seam/improve.h>
 #include <seam/io.h>
 
+#include "report.h"
+
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -88,17 +90,9 @@ constexpr std::size_t no_output = static_cast<std::size_t>(-1);
 /// main(), before any other thread exists (they inherit the blocked signals).
 void handle_termination_signals();
 
-/// The JSON of an embedding's statistics (the keys documented in the README).
-nlohmann::json stats_json(const seam::EmbedStats& s);
-
 /// A tolerance for the user to pass to `seam check --tol`: the shortest decimal of 3 or more
 /// significant digits that is not below `t` (rounding to nearest could make the check fail).
 std::string tolerance_text(double t);
-
-/// The JSON of the quality stage's report (the keys documented in docs/algorithm.md): counts of edits
-/// and refusals, the band's angles before and after, and each face left below the bound with its
-/// cause (mesh names from `mesh_names`).
-nlohmann::json improve_json(const seam::ImproveStats& s, bool done, const std::vector<std::string>& mesh_names);
 
 /// Writes JSON to a stream; file names need not be UTF-8 (invalid bytes are replaced).
 void write_json(const nlohmann::json& j, std::ostream& out);

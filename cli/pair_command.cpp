@@ -88,31 +88,8 @@ int run_pair(PairArgs& args) {
     {
       st.stage_seconds["write"] = std::chrono::duration<double>(Clock::now() - t1).count();
       if (!args.report.empty()) {
-        nlohmann::json j;
-        j["kernel"] = seam::kernel_name(seam::kernel_traits<K>::kind);
-        j["a"] = stats_json(result.a.stats);
-        j["b"] = stats_json(result.b.stats);
-        nlohmann::json curves = nlohmann::json::array();
-        for (const auto& c : result.curves)
-          curves.push_back({{"vertices", seam::is_closed(c) ? c.size() - 1 : c.size()}, {"closed", seam::is_closed(c)}});
-        j["curves"] = {{"count", st.curves}, {"vertices", st.curve_vertices}, {"closed", st.closed_curves},
-                       {"list", curves}};
-        j["tolerance"] = st.snap_tol;
-        j["separate"] = {{"vertices_closed", st.vertices_closed},
-                         {"curve_vertices_collapsed", st.curve_vertices_collapsed},
-                         {"tiny_edges_collapsed", st.tiny_edges_collapsed}};
-        j["touching_only"] = st.touching_only;
-        j["given_curves"] = st.given_curves;
-        j["max_curve_move"] = st.max_curve_move;
-        j["improve"] = improve_json(st.improve, st.improved, {"A", "B"});
-        j["contact"] = {{"patches", st.contact_patches},
-                        {"shared_faces", st.shared_faces},
-                        {"patches_left", st.contact_patches_left},
-                        {"points", st.contact_points}};
-        j["verified"] = st.verified;
-        j["verify_tolerance"] = st.verify_tolerance;
-        j["note"] = st.note;
-        j["seconds"] = st.stage_seconds;
+        nlohmann::json j = pair_report_json(seam::kernel_traits<K>::kind, st, result.a.stats, result.b.stats,
+                                            curve_summaries<K>(result.curves));
         j["files"] = {{"a", args.a}, {"b", args.b}, {"out_a", args.out_a}, {"out_b", args.out_b}};
         if (!args.curves.empty()) j["files"]["curves"] = args.curves;
         files.write(out[4], [&](std::ostream& os) { write_json(j, os); });

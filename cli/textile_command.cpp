@@ -255,43 +255,15 @@ int run_textile(TextileArgs& args) {
     });
     st.stage_seconds["write"] = std::chrono::duration<double>(Clock::now() - t1).count();
     if (report_file != no_output) {
-      nlohmann::json j;
-      j["kernel"] = seam::kernel_name(seam::kernel_traits<K>::kind);
-      j["threads"] = st.threads;
-      j["candidate_pairs"] = st.candidate_pairs;
-      j["intersecting_pairs"] = st.intersecting_pairs;
-      j["touching_pairs"] = st.touching_pairs;
-      j["triple_points"] = st.triple_points;
-      j["improve"] = improve_json(st.improve, st.improved, names);
-      j["improve_tolerance"] = st.improve_tolerance;
-      j["verified"] = st.verified;
-      j["verify_tolerance"] = st.verify_tolerance;
-      if (!st.note.empty()) j["note"] = st.note;
-      nlohmann::json tows = nlohmann::json::array();
-      for (std::size_t i = 0; i < meshes.size(); ++i)
-        tows.push_back({{"name", names[i]}, {"file", inputs[i]}, {"out", mesh_out(i)}, {"embed", stats_json(result.tows[i])}});
-      j["tows"] = tows;
-      auto quality = [](const seam::CurveFaceQuality& q) {
-        return nlohmann::json{
-            {"new_faces", q.faces}, {"min_angle_deg", q.min_angle_deg}, {"below_10", q.below_10}, {"below_20", q.below_20}};
-      };
-      nlohmann::json pairs = nlohmann::json::array();
-      for (const auto& p : result.pairs) {
-        const auto& s = p.stats;
-        nlohmann::json e = {{"a", names[s.a]},
-                            {"b", names[s.b]},
-                            {"curves", s.curves},
-                            {"closed_curves", s.closed_curves},
-                            {"curve_vertices", s.curve_vertices},
-                            {"touching_only", s.touching_only},
-                            {"quality", {{"a", quality(s.quality_a)}, {"b", quality(s.quality_b)}}},
-                            {"intersect_seconds", s.intersect_seconds},
-                            {"copy_seconds", s.copy_seconds}};
-        e["polylines"] = s.curves > 0 ? nlohmann::json(curves_out(s.a, s.b)) : nlohmann::json(nullptr);
-        pairs.push_back(e);
+      nlohmann::json j = textile_report_json<K>(result, names);
+      for (std::size_t i = 0; i < meshes.size(); ++i) {
+        j["tows"][i]["file"] = inputs[i];
+        j["tows"][i]["out"] = mesh_out(i);
       }
-      j["pairs"] = pairs;
-      j["seconds"] = st.stage_seconds;
+      for (std::size_t k = 0; k < result.pairs.size(); ++k) {
+        const auto& s = result.pairs[k].stats;
+        j["pairs"][k]["polylines"] = s.curves > 0 ? nlohmann::json(curves_out(s.a, s.b)) : nlohmann::json(nullptr);
+      }
       files.write(report_file, [&](std::ostream& os) { write_json(j, os); });
     }
     files.commit();

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Checks that the Debian packages seam needs are installed; installs the missing ones when run
 # as root, otherwise prints the command to run and fails. Quiet when everything is there.
+# The Python packages are for the bindings (python/) and their tests.
 # --fuzz: also what scripts/fuzz.sh needs (clang, compiler-rt).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -10,6 +11,7 @@ packages=(
   libcgal-dev libboost-dev libgmp-dev libmpfr-dev
   catch2 libcli11-dev nlohmann-json3-dev libbenchmark-dev libtbb-dev
   tetgen
+  python3-dev python3-numpy pybind11-dev python3-pybind11 python3-pytest python3-meshio
 )
 # scripts/fuzz.sh needs clang and its libFuzzer/sanitizer runtimes.
 if [[ "${1:-}" == "--fuzz" ]]; then

@@ -1,0 +1,153 @@
+// seam CLI and Python bindings: the JSON reports. See report.h.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "report.h"
+
+namespace seam_cli {
+
+nlohmann::json improve_json(const seam::ImproveStats& s, bool done, const std::vector<std::string>& mesh_names) {
+  nlohmann::json causes = nlohmann::json::object(), faces = nlohmann::json::array();
+  for (const auto& f : s.shortfalls) {
+    const std::string cause = seam::shortfall_cause_name(f.cause);
+    causes[cause] = causes.value(cause, 0) + 1;
+    faces.push_back({{"mesh", f.mesh < mesh_names.size() ? mesh_names[f.mesh] : std::to_string(f.mesh)},
+                     {"face", f.face},
+                     {"min_angle", f.min_angle_deg},
+                     {"cause", cause}});
+  }
+  return {{"done", done},
+          {"band_faces", s.band_faces},
+          {"flips", s.flips},
+          {"insertions", s.insertions},
+          {"curve_splits", s.curve_splits},
+          {"edge_splits", s.edge_splits},
+          {"merges", s.merges},
+          {"faces_absorbed", s.faces_absorbed},
+          {"refused", {{"tolerance", s.refused_tolerance}, {"crossing", s.refused_crossing}, {"shape", s.refused_shape}}},
+          {"below_bound_before", s.below_bound_before},
+          {"below_bound_after", s.below_bound_after},
+          {"min_angle_before", s.min_angle_deg_before},
+          {"min_angle_after", s.min_angle_deg_after},
+          {"shortfalls", causes},
+          {"shortfall_faces", faces},
+          {"seconds", s.seconds}};
+}
+
+nlohmann::json stats_json(const seam::EmbedStats& s) {
+  nlohmann::json j;
+  j["kernel"] = s.kernel;
+  j["input"] = {{"vertices", s.input_vertices}, {"faces", s.input_faces}, {"mean_edge_length", s.mean_edge_length}};
+  j["output"] = {{"vertices", s.output_vertices}, {"faces", s.output_faces}};
+  j["options"] = {{"snap_tol", s.snap_tol}, {"max_distance", s.max_distance}};
+  j["snap"] = {{"vertices_snapped", s.vertices_snapped}, {"snaps_refused", s.snaps_refused},
+               {"max_move", s.max_snap_move}};
+  j["curve"] = {{"curves", s.curves},
+                {"nodes_in", s.curve_nodes_in},
+                {"nodes_out", s.curve_nodes_out},
+                {"crossing_points", s.crossing_points},
+                {"at_mesh_vertices", s.curve_vertices_at_mesh_vertices},
+                {"max_deviation", s.max_curve_deviation}};
+  j["faces"] = {{"crossed", s.faces_crossed},
+                {"added", s.faces_added},
+                {"steiner_points", s.steiner_points},
+                {"refinement_undone", s.faces_refinement_fallback}};
+  j["quality"] = {{"min_angle_deg", s.min_angle_deg_new},
+                  {"input_min_angle_deg", s.min_angle_deg_input},
+                  {"below_10", s.new_faces_below_10},
+                  {"below_20", s.new_faces_below_20},
+                  {"below_10_unforced", s.new_faces_below_10_unforced}};
+  j["seconds"] = s.stage_seconds;
+  return j;
+}
+
+nlohmann::json pair_report_json(seam::KernelKind kernel, const seam::PairStats& st, const seam::EmbedStats& a,
+                                 const seam::EmbedStats& b, const std::vector<CurveSummary>& curves) {
+  nlohmann::json j;
+  j["kernel"] = seam::kernel_name(kernel);
+  j["a"] = stats_json(a);
+  j["b"] = stats_json(b);
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& c : curves) list.push_back({{"vertices", c.vertices}, {"closed", c.closed}});
+  j["curves"] = {{"count", st.curves}, {"vertices", st.curve_vertices}, {"closed", st.closed_curves}, {"list", list}};
+  j["tolerance"] = st.snap_tol;
+  j["separate"] = {{"vertices_closed", st.vertices_closed},
+                   {"curve_vertices_collapsed", st.curve_vertices_collapsed},
+                   {"tiny_edges_collapsed", st.tiny_edges_collapsed}};
+  j["touching_only"] = st.touching_only;
+  j["given_curves"] = st.given_curves;
+  j["max_curve_move"] = st.max_curve_move;
+  j["improve"] = improve_json(st.improve, st.improved, {"A", "B"});
+  j["contact"] = {{"patches", st.contact_patches},
+                  {"shared_faces", st.shared_faces},
+                  {"patches_left", st.contact_patches_left},
+                  {"points", st.contact_points}};
+  j["verified"] = st.verified;
+  j["verify_tolerance"] = st.verify_tolerance;
+  j["note"] = st.note;
+  j["seconds"] = st.stage_seconds;
+  return j;
+}
+
+nlohmann::json check_report_json(const seam::PairCheckReport& r, const std::string& kernel) {
+  nlohmann::json j;
+  j["ok"] = r.ok();
+  j["problems"] = r.problems;
+  j["kernel"] = kernel;
+  j["tolerance"] = r.tolerance;
+  j["curves"] = {{"curves", r.curves}, {"vertices", r.curve_vertices}, {"segments", r.curve_segments}};
+  j["face_pairs"] = {{"candidates", r.candidate_face_pairs},
+                     {"intersecting_on_curves", r.face_pairs_on_curve},
+                     {"intersecting_off_curves", r.intersecting_face_pairs_off_curve}};
+  j["shared_faces"] = r.shared_faces;
+  j["vertex_separation"] = {{"required", r.min_separation}, {"closer_pairs", r.close_vertex_pairs}};
+  j["coverage"] = {{"samples", r.intersection_samples},
+                   {"uncovered", r.uncovered_samples},
+                   {"max_uncovered_distance", r.max_uncovered_distance}};
+  j["a2"] = {{"vertices", r.vertices_a2},       {"faces", r.faces_a2},        {"new_faces", r.new_faces_a},
+             {"max_distance", r.max_distance_a}, {"min_angle_deg", r.min_angle_deg_a},
+             {"new_below_10", r.below_10_a},     {"new_below_20", r.below_20_a}};
+  j["b2"] = {{"vertices", r.vertices_b2},       {"faces", r.faces_b2},        {"new_faces", r.new_faces_b},
+             {"max_distance", r.max_distance_b}, {"min_angle_deg", r.min_angle_deg_b},
+             {"new_below_10", r.below_10_b},     {"new_below_20", r.below_20_b}};
+  return j;
+}
+
+nlohmann::json textile_report_json(seam::KernelKind kernel, const seam::TextileStats& st,
+                                   const std::vector<seam::TextilePairStats>& pairs,
+                                   const std::vector<seam::EmbedStats>& tows, const std::vector<std::string>& names) {
+  const auto name = [&](std::size_t i) { return i < names.size() ? names[i] : std::to_string(i); };
+  nlohmann::json j;
+  j["kernel"] = seam::kernel_name(kernel);
+  j["threads"] = st.threads;
+  j["candidate_pairs"] = st.candidate_pairs;
+  j["intersecting_pairs"] = st.intersecting_pairs;
+  j["touching_pairs"] = st.touching_pairs;
+  j["triple_points"] = st.triple_points;
+  j["improve"] = improve_json(st.improve, st.improved, names);
+  j["improve_tolerance"] = st.improve_tolerance;
+  j["verified"] = st.verified;
+  j["verify_tolerance"] = st.verify_tolerance;
+  if (!st.note.empty()) j["note"] = st.note;
+  nlohmann::json tow_list = nlohmann::json::array();
+  for (std::size_t i = 0; i < tows.size(); ++i) tow_list.push_back({{"name", name(i)}, {"embed", stats_json(tows[i])}});
+  j["tows"] = tow_list;
+  const auto quality = [](const seam::CurveFaceQuality& q) {
+    return nlohmann::json{
+        {"new_faces", q.faces}, {"min_angle_deg", q.min_angle_deg}, {"below_10", q.below_10}, {"below_20", q.below_20}};
+  };
+  nlohmann::json pair_list = nlohmann::json::array();
+  for (const auto& s : pairs)
+    pair_list.push_back({{"a", name(s.a)},
+                         {"b", name(s.b)},
+                         {"curves", s.curves},
+                         {"closed_curves", s.closed_curves},
+                         {"curve_vertices", s.curve_vertices},
+                         {"touching_only", s.touching_only},
+                         {"quality", {{"a", quality(s.quality_a)}, {"b", quality(s.quality_b)}}},
+                         {"intersect_seconds", s.intersect_seconds},
+                         {"copy_seconds", s.copy_seconds}});
+  j["pairs"] = pair_list;
+  j["seconds"] = st.stage_seconds;
+  return j;
+}
+
+}  // namespace seam_cli
