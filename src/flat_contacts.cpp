@@ -247,6 +247,24 @@ template <class K> struct FaceCorners {
   }
 };
 
+/// Why triangle t could not be added after triangles 0..t-1: the first of its directed edges
+/// that an earlier triangle holds already (a patch triangle or a face kept outside the patches).
+template <class V>
+std::string misfit_cause(const std::vector<std::array<V, 3>>& triangles, const std::vector<char>& in_patch, std::size_t t) {
+  const auto& tri = triangles[t];
+  for (int k = 0; k < 3; ++k) {
+    const V u = tri[std::size_t(k)], v = tri[std::size_t((k + 1) % 3)];
+    if (u == v) return say("a triangle of ", in_patch[t] ? "a patch" : "the mesh", " has two equal corners");
+    for (std::size_t s = 0; s < t; ++s)
+      for (int i = 0; i < 3; ++i)
+        if (triangles[s][std::size_t(i)] == u && triangles[s][std::size_t((i + 1) % 3)] == v)
+          return say("triangle ", t, in_patch[t] ? " (of a patch)" : " (kept)", " and triangle ", s,
+                     in_patch[s] ? " (of a patch)" : " (kept)", " have the edge ", std::size_t(u), "-", std::size_t(v),
+                     " on one side");
+  }
+  return say("triangle ", t, " has a corner out of range");
+}
+
 /// The mesh with the faces of the unified patches replaced (see the header): vertices kept in
 /// order, the patches' other points appended, faces in order, each patch's triangles where its
 /// first face was.
@@ -356,8 +374,9 @@ Mesh<K> rebuilt(const Mesh<K>& mesh, const FaceCorners<K>& fc, const std::vector
       frozen_mark.push_back(0);
     }
   }
-  if (add_triangles<K>(out, triangles) != triangles.size())
-    throw InternalError("flat contacts: the common triangulation of a contact does not fit into the mesh");
+  if (const std::size_t t = add_triangles<K>(out, triangles); t != triangles.size())
+    throw InternalError("flat contacts: the common triangulation of a contact does not fit into the mesh (" +
+                        misfit_cause(triangles, shared, t) + ")");
   auto out_source = out.template add_property_map<F, std::uint32_t>(source_face_property, 0).first;
   auto out_new = out.template add_property_map<F, bool>(new_face_property, false).first;
   auto out_shared = out.template add_property_map<F, bool>(shared_face_property, false).first;

@@ -38,13 +38,15 @@
 // vertex or edge of the same mesh, or a curve point or curve segment of another mesh. An edit
 // that fails it is not made.
 //
-// Termination. Every point inserted or made by a split lies at least `feature_size` from every
-// vertex, and only curve segments at least twice that long are split; merges remove only edges
-// shorter than it, which splits and insertions never make. So the vertices inserted are bounded
-// by the band's area over feature_size^2 and the curve points by the curves' length over
-// feature_size, and between two changes of the vertices, flips strictly raise the sorted vector
-// of angles, of which there are finitely many. (`max_insertions_per_face` is a second, explicit
-// bound.)
+// Termination. Every point inserted lies at least `feature_size` from the vertices around the
+// face it goes into (tested on the point as finally placed: rounded onto the input surface, or
+// exactly in the face), and only curve segments at least twice that long are split. A vertex the
+// stage made is never merged away, so a merge removes a vertex of the input or of the embedding:
+// at most as many merges as those vertices, and no cycle of insertions undone by merges. The
+// vertices inserted are bounded by the band's area over feature_size^2 and the curve points by
+// the curves' length over feature_size, and between two changes of the vertices, flips strictly
+// raise the sorted vector of angles, of which there are finitely many. (`max_insertions_per_face`
+// is a second, explicit bound; a face left for it is reported as `budget`.)
 //
 // The bound. In the plane, Ruppert's algorithm with diametral balls ends with every angle at
 // least arcsin(1/(2 sqrt 2)) = 20.7 degrees where the input's angles between constraints are at

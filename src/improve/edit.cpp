@@ -152,6 +152,10 @@ template <class K> Applied<K> apply_edit(ImproveState<K>& s, const Edit<K>& edit
   using V = typename M::Vertex_index;
   using F = typename M::Face_index;
   Applied<K> made;
+  const FaceGrid::Liveness is_live = [&s](const FaceGrid::Entry& e) {
+    const F f(e.face);
+    return !s.mesh(e.mesh).is_removed(f) && s.meshes[e.mesh].version[f] == e.version;
+  };
   int fresh_id = -1;
   if (edit.has_fresh && edit.fresh_curve_point) {
     fresh_id = int(s.points.size());
@@ -176,6 +180,7 @@ template <class K> Applied<K> apply_edit(ImproveState<K>& s, const Edit<K>& edit
           if (fresh == M::null_vertex()) {
             fresh = g.add_vertex(edit.fresh_point);
             ms.point[fresh] = fresh_id;
+            ms.made[fresh] = true;
             if (fresh_id >= 0) s.points[std::size_t(fresh_id)].vertex[part.mesh] = fresh;
           }
           vs[std::size_t(k)] = fresh;
@@ -192,7 +197,7 @@ template <class K> Applied<K> apply_edit(ImproveState<K>& s, const Edit<K>& edit
       ms.version[f] = ++s.last_version;  // (Surface_mesh resets a recycled face's properties)
       CGAL::Bbox_3 box;
       for (V v : vs) box += s.fpoint(part.mesh, v).bbox();
-      s.grid.insert({std::uint32_t(part.mesh), std::uint32_t(std::size_t(f)), ms.version[f]}, box);
+      s.grid.insert({std::uint32_t(part.mesh), std::uint32_t(std::size_t(f)), ms.version[f]}, box, &is_live);
       made.faces.emplace_back(part.mesh, f);
     }
     made.fresh.push_back(fresh);

@@ -336,6 +336,7 @@ template <class K> Outcome Refiner<K>::mend(std::size_t m, F f) {
 /// inner point of one curve only, away from the band's border.
 template <class K> bool Refiner<K>::merge_plan(std::size_t m, V u, V w, Edit<K>& edit) const {
   edit = Edit<K>();
+  if (s_.meshes[m].made[u]) return false;  // an insertion or a split is never undone
   if (s_.is_free(m, u)) {
     edit.parts.emplace_back();
     return make_fan<K>(s_, m, star(m, u), corner(m, w), edit.parts.back());
@@ -564,16 +565,24 @@ template <class K> Outcome Refiner<K>::insert_circumcenter(std::size_t m, F f) {
 /// Lawson's flips around it.
 template <class K> Outcome Refiner<K>::insert_at(std::size_t m, F g, const FP& at) {
   const M& mesh = s_.mesh(m);
-  for (V v : s_.corners(m, g))
-    for (H h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh))
-      if (CGAL::squared_distance(at, s_.fpoint(m, mesh.source(h))) < s_.feature_size * s_.feature_size ||
-          CGAL::squared_distance(at, s_.fpoint(m, v)) < s_.feature_size * s_.feature_size)
-        return {false, ShortfallCause::feature_size};
+  // Closer than feature_size to a vertex around g: refused (the point inserted in the end, on the
+  // input surface or exactly in g, is tested again). So no edge the insertion makes is short
+  // enough to merge, and Lawson's flips only lengthen them.
+  auto too_close = [&](const FP& q) {
+    for (V v : s_.corners(m, g))
+      for (H h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh))
+        if (CGAL::squared_distance(q, s_.fpoint(m, mesh.source(h))) < s_.feature_size * s_.feature_size ||
+            CGAL::squared_distance(q, s_.fpoint(m, v)) < s_.feature_size * s_.feature_size)
+          return true;
+    return false;
+  };
+  if (too_close(at)) return {false, ShortfallCause::feature_size};
   const auto c = s_.corners(m, g);
   // The point is put on the input surface (rounded to doubles), where the face is farther than
   // that from it; the predicate checks the faces it makes.
   const FP on_input = s_.meshes[m].input->closest(at).first;
   if (!finite(on_input)) return {false, ShortfallCause::shape};
+  const bool rounded_too_close = too_close(on_input);
   Edit<K> edit;
   edit.has_fresh = true;
   edit.fresh_point = Point(on_input.x(), on_input.y(), on_input.z());
@@ -582,7 +591,8 @@ template <class K> Outcome Refiner<K>::insert_at(std::size_t m, F g, const FP& a
     return {false, ShortfallCause::shape};
   Applied<K> made;
   // (With no tolerance, exactly in g at once.)
-  if (auto refused = s_.tolerance > 0 ? attempt(edit, &made) : std::optional<Verdict>(Verdict::tolerance)) {
+  if (auto refused = s_.tolerance > 0 && !rounded_too_close ? attempt(edit, &made)
+                                                             : std::optional<Verdict>(Verdict::tolerance)) {
     // Exactly in g: barycentric coordinates (doubles) of the point, the point made from them.
     const FP p0 = s_.fpoint(m, c[0]), p1 = s_.fpoint(m, c[1]), p2 = s_.fpoint(m, c[2]);
     const FV n = CGAL::cross_product(p1 - p0, p2 - p0);
@@ -594,6 +604,7 @@ template <class K> Outcome Refiner<K>::insert_at(std::size_t m, F g, const FP& a
     const auto& q0 = mesh.point(c[0]);
     edit.fresh_point = q0 + (mesh.point(c[1]) - q0) * typename K::FT(l1) + (mesh.point(c[2]) - q0) * typename K::FT(l2);
     make_exact(edit.fresh_point);
+    if (too_close(to_filtered(edit.fresh_point))) return {false, ShortfallCause::feature_size};
     edit.keeps_surface = kernel_traits<K>::exact_constructions;
     for (auto& a : edit.parts.back().added)
       for (auto& corner : a)

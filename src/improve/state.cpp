@@ -85,7 +85,7 @@ bool FaceGrid::cell_range(const CGAL::Bbox_3& box, std::array<long, 6>& range) c
   return cells <= 512;
 }
 
-void FaceGrid::insert(const Entry& entry, const CGAL::Bbox_3& box) {
+void FaceGrid::insert(const Entry& entry, const CGAL::Bbox_3& box, const Liveness* is_live) {
   std::array<long, 6> r;
   if (!cell_range(box, r)) {
     oversized_.emplace_back(entry, box);
@@ -93,7 +93,16 @@ void FaceGrid::insert(const Entry& entry, const CGAL::Bbox_3& box) {
   }
   for (long i = r[0]; i <= r[3]; ++i)
     for (long j = r[1]; j <= r[4]; ++j)
-      for (long k = r[2]; k <= r[5]; ++k) cells_[cell_key(i, j, k)].push_back(entry);
+      for (long k = r[2]; k <= r[5]; ++k) {
+        Cell& cell = cells_[cell_key(i, j, k)];
+        if (is_live && cell.entries.size() >= 2 * cell.size_at_purge + 8) {
+          cell.entries.erase(std::remove_if(cell.entries.begin(), cell.entries.end(),
+                                            [&](const Entry& e) { return !(*is_live)(e); }),
+                             cell.entries.end());
+          cell.size_at_purge = cell.entries.size();
+        }
+        cell.entries.push_back(entry);
+      }
 }
 
 std::vector<FaceGrid::Entry> FaceGrid::query(const CGAL::Bbox_3& box) const {
@@ -104,9 +113,9 @@ std::vector<FaceGrid::Entry> FaceGrid::query(const CGAL::Bbox_3& box) const {
       for (long j = r[1]; j <= r[4]; ++j)
         for (long k = r[2]; k <= r[5]; ++k)
           if (const auto it = cells_.find(cell_key(i, j, k)); it != cells_.end())
-            found.insert(found.end(), it->second.begin(), it->second.end());
+            found.insert(found.end(), it->second.entries.begin(), it->second.entries.end());
   } else {  // a huge box (a hostile input): every entry
-    for (const auto& [key, entries] : cells_) found.insert(found.end(), entries.begin(), entries.end());
+    for (const auto& [key, cell] : cells_) found.insert(found.end(), cell.entries.begin(), cell.entries.end());
   }
   for (const auto& [entry, b] : oversized_)
     if (CGAL::do_overlap(b, box)) found.push_back(entry);
@@ -211,6 +220,7 @@ template <class K> void add_properties(typename ImproveState<K>::MeshState& ms) 
   using F = typename M::Face_index;
   M& g = *ms.mesh;
   ms.point = g.template add_property_map<V, std::int32_t>("v:seam_improve_point", -1).first;
+  ms.made = g.template add_property_map<V, bool>("v:seam_improve_made", false).first;
   ms.band = g.template add_property_map<F, bool>("f:seam_improve_band", false).first;
   ms.version = g.template add_property_map<F, std::uint32_t>("f:seam_improve_version", 0).first;
   ms.cause = g.template add_property_map<F, std::uint8_t>("f:seam_improve_cause", 0).first;
@@ -328,6 +338,7 @@ template <class K> void finish_state(ImproveState<K>& s, SharedCurves<K>& out) {
 template <class K> void drop_state_properties(ImproveState<K>& s) {
   for (auto& ms : s.meshes) {
     ms.mesh->remove_property_map(ms.point);
+    ms.mesh->remove_property_map(ms.made);
     ms.mesh->remove_property_map(ms.band);
     ms.mesh->remove_property_map(ms.version);
     ms.mesh->remove_property_map(ms.cause);

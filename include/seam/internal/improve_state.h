@@ -19,6 +19,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <functional>
 #include <memory>
 #include <unordered_map>
 #include <utility>
@@ -71,22 +72,31 @@ class InputSurface {
 };
 
 /// A uniform grid of face bounding boxes, for the predicate's search of faces near a new one.
-/// Entries are never removed: an entry whose face was removed or remade (another version) is
-/// skipped by the caller.
+/// An entry whose face was removed or remade (another version) is dead: the caller skips it, and
+/// `insert` drops the dead entries of a cell whenever the cell has grown to twice its size at its
+/// last purge. So a cell holds at most about twice its live entries, however many edits were made
+/// at one place (without the purge, repeated edits in one spot made every query there longer, and
+/// the stage quadratic), at an amortised cost of O(1) liveness tests per insertion.
 class FaceGrid {
  public:
   struct Entry {
     std::uint32_t mesh, face, version;
   };
+  using Liveness = std::function<bool(const Entry&)>;
   FaceGrid() = default;
   explicit FaceGrid(double cell) : cell_(cell) {}
-  void insert(const Entry& entry, const CGAL::Bbox_3& box);
-  /// The entries whose cells meet `box` (each once).
+  /// `is_live` (optional): whether an entry's face is still the one it was made for.
+  void insert(const Entry& entry, const CGAL::Bbox_3& box, const Liveness* is_live = nullptr);
+  /// The entries whose cells meet `box` (each once), dead ones included.
   std::vector<Entry> query(const CGAL::Bbox_3& box) const;
 
  private:
+  struct Cell {
+    std::vector<Entry> entries;
+    std::size_t size_at_purge = 0;
+  };
   double cell_ = 1;
-  std::unordered_map<std::uint64_t, std::vector<Entry>> cells_;
+  std::unordered_map<std::uint64_t, Cell> cells_;
   std::vector<std::pair<Entry, CGAL::Bbox_3>> oversized_;  ///< boxes over too many cells
   bool cell_range(const CGAL::Bbox_3& box, std::array<long, 6>& range) const;
 };
@@ -103,6 +113,9 @@ template <class K> struct ImproveState {
     M* mesh = nullptr;
     std::unique_ptr<InputSurface> input;
     typename M::template Property_map<V, std::int32_t> point;  ///< curve point id, -1 for others
+    /// Made by the stage (an insertion or a split): never merged away, so that no merge undoes an
+    /// insertion (the termination argument of seam/improve.h).
+    typename M::template Property_map<V, bool> made;
     typename M::template Property_map<F, bool> band;
     typename M::template Property_map<F, std::uint32_t> version;
     typename M::template Property_map<F, std::uint8_t> cause;  ///< 1 + ShortfallCause, 0: none recorded
