@@ -35,8 +35,9 @@
 // not degenerate (exact), turn less than 80 degrees from their input surface (doubles), lie
 // within `tolerance` of it (corners, edge middles and centroid, doubles), and meet no face of any
 // mesh except where seam check allows it (exact under the exact and filtered kernels): a common
-// vertex or edge of the same mesh, or a curve point or curve segment of another mesh. An edit
-// that fails it is not made.
+// vertex or edge of the same mesh, or a curve point or curve segment of another mesh; a new
+// point lies at least `min_separation` from every vertex of a mesh that does not get it (as
+// rounded to doubles). An edit that fails it is not made.
 //
 // Termination. Every point inserted lies at least `feature_size` from the vertices around the
 // face it goes into (tested on the point as finally placed: rounded onto the input surface, or
@@ -125,7 +126,7 @@ struct ImproveStats {
   /// a mesh's border split, merges (short edges removed).
   std::size_t flips = 0, insertions = 0, curve_splits = 0, edge_splits = 0, merges = 0;
   /// Edits the acceptance predicate refused, by reason.
-  std::size_t refused_tolerance = 0, refused_crossing = 0, refused_shape = 0;
+  std::size_t refused_tolerance = 0, refused_crossing = 0, refused_shape = 0, refused_separation = 0;
   std::size_t faces_absorbed = 0;  ///< faces that joined the band
   /// Faces of the band below the bound at the start and at the end.
   std::size_t below_bound_before = 0, below_bound_after = 0;

@@ -212,6 +212,27 @@ template <class K> bool removes_a_written_crossing(const ImproveState<K>& s, con
   return false;
 }
 
+/// Whether the edit's fresh point, rounded as written, lies closer than min_separation to a
+/// vertex of a mesh that does not get it (distance 0 included: two distinct vertices at one point).
+template <class K> bool too_near_another_mesh(const ImproveState<K>& s, const Edit<K>& edit) {
+  const double sep = s.options.min_separation;
+  const Filtered::Point_3 p = to_filtered(edit.fresh_point);
+  const CGAL::Bbox_3 box(p.x() - sep, p.y() - sep, p.z() - sep, p.x() + sep, p.y() + sep, p.z() + sep);
+  auto gets_it = [&](std::size_t m) {
+    for (const auto& part : edit.parts)
+      if (part.mesh == m) return true;
+    return false;
+  };
+  for (const auto& e : s.grid.query(box)) {
+    if (gets_it(e.mesh)) continue;
+    const typename Mesh<K>::Face_index f(e.face);
+    if (s.mesh(e.mesh).is_removed(f) || s.meshes[e.mesh].version[f] != e.version) continue;
+    for (const auto v : s.corners(e.mesh, f))
+      if (CGAL::squared_distance(p, s.fpoint(e.mesh, v)) < sep * sep) return true;
+  }
+  return false;
+}
+
 template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) {
   for (const auto& part : edit.parts)
     for (const auto& a : part.added) {
@@ -219,6 +240,7 @@ template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) 
       if constexpr (kernel_traits<K>::exact_constructions)  // once written
         if (CGAL::collinear(to_filtered(a[0].p), to_filtered(a[1].p), to_filtered(a[2].p))) return Verdict::shape;
     }
+  if (edit.has_fresh && s.options.min_separation > 0 && too_near_another_mesh<K>(s, edit)) return Verdict::separation;
   if (!edit.keeps_surface && !(s.tolerance > 0)) return Verdict::tolerance;  // no tolerance: the surfaces stay
   if (edit.keeps_surface) {  // the new point lies on the current surface: within the tolerance of the input too?
     if (edit.has_fresh) {
@@ -256,6 +278,7 @@ template <class K> Verdict accept_edit(ImproveState<K>& s, const Edit<K>& edit) 
   if (v == Verdict::tolerance) ++s.stats.refused_tolerance;
   if (v == Verdict::crossing) ++s.stats.refused_crossing;
   if (v == Verdict::shape) ++s.stats.refused_shape;
+  if (v == Verdict::separation) ++s.stats.refused_separation;
   return v;
 }
 

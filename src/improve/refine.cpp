@@ -29,6 +29,7 @@ ShortfallCause cause_of(Verdict v) {
   switch (v) {
     case Verdict::tolerance: return ShortfallCause::tolerance;
     case Verdict::crossing: return ShortfallCause::crossing;
+    case Verdict::separation: return ShortfallCause::feature_size;
     default: return ShortfallCause::shape;
   }
 }

@@ -309,7 +309,9 @@ template <class K> Applied<K> apply_edit(ImproveState<K>& s, const Edit<K>& edit
 
 // ---------------------------------------------------------------- acceptance (src/improve/accept.cpp)
 
-enum class Verdict { accepted, tolerance, crossing, shape };
+/// separation: a fresh point closer than options.min_separation to a vertex of another mesh
+/// (a volume mesher takes the two for one point).
+enum class Verdict { accepted, tolerance, crossing, shape, separation };
 
 /// The acceptance predicate (seam/improve.h). Counts refusals in s.stats.
 template <class K> Verdict accept_edit(ImproveState<K>& s, const Edit<K>& edit);
