@@ -262,7 +262,7 @@ std::string misfit_cause(const std::vector<std::array<V, 3>>& triangles, const s
                      in_patch[s] ? " (of a patch)" : " (kept)", " have the edge ", std::size_t(u), "-", std::size_t(v),
                      " on one side");
   }
-  return say("triangle ", t, " has a corner out of range");
+  return say("triangle ", t, in_patch[t] ? " (of a patch)" : " (kept)", " would make a vertex non-manifold");
 }
 
 /// The mesh with the faces of the unified patches replaced (see the header): vertices kept in

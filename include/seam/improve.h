@@ -18,7 +18,7 @@
 //      split at their middle: a curve segment in every mesh holding it (its middle lies on all of
 //      their surfaces), a border edge by letting the face beyond join the band.
 //   2. Each face below `min_angle_deg`, worst first:
-//      a. an edge of it shorter than `feature_size` goes: a free vertex merges into the other end
+//      a. an edge of it shorter than `feature_size` goes (never at a vertex the stage made): a free vertex merges into the other end
 //         (onto a curve point: the report's snapping of nodes near the curve), or two curve points
 //         merge along their segment, in every mesh holding the curve;
 //      b. otherwise Üngör's off-center of the face (on the bisector of its shortest edge, at most
@@ -36,18 +36,20 @@
 // within `tolerance` of it (corners, edge middles and centroid, doubles), and meet no face of any
 // mesh except where seam check allows it (exact under the exact and filtered kernels): a common
 // vertex or edge of the same mesh, or a curve point or curve segment of another mesh; a new
-// point lies at least `min_separation` from every vertex of a mesh that does not get it (as
+// point lies at least `min_separation` from every vertex of every mesh (as
 // rounded to doubles). An edit that fails it is not made.
 //
-// Termination. Every point inserted lies at least `feature_size` from the vertices around the
-// face it goes into (tested on the point as finally placed: rounded onto the input surface, or
-// exactly in the face), and only curve segments at least twice that long are split. A vertex the
-// stage made is never merged away, so a merge removes a vertex of the input or of the embedding:
-// at most as many merges as those vertices, and no cycle of insertions undone by merges. The
-// vertices inserted are bounded by the band's area over feature_size^2 and the curve points by
-// the curves' length over feature_size, and between two changes of the vertices, flips strictly
-// raise the sorted vector of angles, of which there are finitely many. (`max_insertions_per_face`
-// is a second, explicit bound; a face left for it is reported as `budget`.)
+// Termination. A vertex the stage made (an insertion or a split) is never merged away, so a
+// merge removes a vertex of the input or of the embedding: at most as many merges as those
+// vertices, and no insertion is undone. Insertions and splits each use one of
+// `max_insertions_per_face` x (band faces at the start), and between two changes of the vertices
+// flips strictly raise the sorted vector of angles, of which there are finitely many: the stage
+// ends. A face left when that budget runs out is reported as `budget`. Why the budget is rarely
+// reached: every inserted point lies at least `feature_size` from the vertices around the face it
+// goes into (tested where it is finally placed: rounded onto the input surface, or exactly in the
+// face), and only curve segments at least twice that long are split, so the points packed into
+// the band are bounded by its area over about feature_size^2 (a local test: not a proof of
+// spacing from every vertex, which Lawson's flips may join to the new point).
 //
 // The bound. In the plane, Ruppert's algorithm with diametral balls ends with every angle at
 // least arcsin(1/(2 sqrt 2)) = 20.7 degrees where the input's angles between constraints are at

@@ -213,18 +213,13 @@ template <class K> bool removes_a_written_crossing(const ImproveState<K>& s, con
 }
 
 /// Whether the edit's fresh point, rounded as written, lies closer than min_separation to a
-/// vertex of a mesh that does not get it (distance 0 included: two distinct vertices at one point).
-template <class K> bool too_near_another_mesh(const ImproveState<K>& s, const Edit<K>& edit) {
+/// vertex of any mesh (distance 0 included: two distinct vertices at one point; the fresh point
+/// is no vertex yet, so none may be there, in the meshes that get it or in the others).
+template <class K> bool too_near_a_vertex(const ImproveState<K>& s, const Edit<K>& edit) {
   const double sep = s.options.min_separation;
   const Filtered::Point_3 p = to_filtered(edit.fresh_point);
   const CGAL::Bbox_3 box(p.x() - sep, p.y() - sep, p.z() - sep, p.x() + sep, p.y() + sep, p.z() + sep);
-  auto gets_it = [&](std::size_t m) {
-    for (const auto& part : edit.parts)
-      if (part.mesh == m) return true;
-    return false;
-  };
   for (const auto& e : s.grid.query(box)) {
-    if (gets_it(e.mesh)) continue;
     const typename Mesh<K>::Face_index f(e.face);
     if (s.mesh(e.mesh).is_removed(f) || s.meshes[e.mesh].version[f] != e.version) continue;
     for (const auto v : s.corners(e.mesh, f))
@@ -240,7 +235,7 @@ template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) 
       if constexpr (kernel_traits<K>::exact_constructions)  // once written
         if (CGAL::collinear(to_filtered(a[0].p), to_filtered(a[1].p), to_filtered(a[2].p))) return Verdict::shape;
     }
-  if (edit.has_fresh && s.options.min_separation > 0 && too_near_another_mesh<K>(s, edit)) return Verdict::separation;
+  if (edit.has_fresh && s.options.min_separation > 0 && too_near_a_vertex<K>(s, edit)) return Verdict::separation;
   if (!edit.keeps_surface && !(s.tolerance > 0)) return Verdict::tolerance;  // no tolerance: the surfaces stay
   if (edit.keeps_surface) {  // the new point lies on the current surface: within the tolerance of the input too?
     if (edit.has_fresh) {

@@ -567,8 +567,7 @@ template <class K> Outcome Refiner<K>::insert_circumcenter(std::size_t m, F f) {
 template <class K> Outcome Refiner<K>::insert_at(std::size_t m, F g, const FP& at) {
   const M& mesh = s_.mesh(m);
   // Closer than feature_size to a vertex around g: refused (the point inserted in the end, on the
-  // input surface or exactly in g, is tested again). So no edge the insertion makes is short
-  // enough to merge, and Lawson's flips only lengthen them.
+  // input surface or exactly in g, is tested again).
   auto too_close = [&](const FP& q) {
     for (V v : s_.corners(m, g))
       for (H h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh))

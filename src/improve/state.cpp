@@ -88,6 +88,12 @@ bool FaceGrid::cell_range(const CGAL::Bbox_3& box, std::array<long, 6>& range) c
 void FaceGrid::insert(const Entry& entry, const CGAL::Bbox_3& box, const Liveness* is_live) {
   std::array<long, 6> r;
   if (!cell_range(box, r)) {
+    if (is_live && oversized_.size() >= 2 * oversized_at_purge_ + 8) {  // (the same rule as a cell's)
+      oversized_.erase(std::remove_if(oversized_.begin(), oversized_.end(),
+                                      [&](const std::pair<Entry, CGAL::Bbox_3>& e) { return !(*is_live)(e.first); }),
+                       oversized_.end());
+      oversized_at_purge_ = oversized_.size();
+    }
     oversized_.emplace_back(entry, box);
     return;
   }
@@ -224,7 +230,7 @@ template <class K> void add_properties(typename ImproveState<K>::MeshState& ms) 
   ms.band = g.template add_property_map<F, bool>("f:seam_improve_band", false).first;
   ms.version = g.template add_property_map<F, std::uint32_t>("f:seam_improve_version", 0).first;
   ms.cause = g.template add_property_map<F, std::uint8_t>("f:seam_improve_cause", 0).first;
-  for (auto v : g.vertices()) ms.point[v] = -1;
+  for (auto v : g.vertices()) ms.point[v] = -1, ms.made[v] = false;
   for (auto f : g.faces()) ms.band[f] = false, ms.version[f] = 0, ms.cause[f] = 0;
   bool added_source = false;
   std::tie(ms.source, added_source) = g.template add_property_map<F, std::uint32_t>(source_face_property, 0);

@@ -98,6 +98,7 @@ class FaceGrid {
   double cell_ = 1;
   std::unordered_map<std::uint64_t, Cell> cells_;
   std::vector<std::pair<Entry, CGAL::Bbox_3>> oversized_;  ///< boxes over too many cells
+  std::size_t oversized_at_purge_ = 0;
   bool cell_range(const CGAL::Bbox_3& box, std::array<long, 6>& range) const;
 };
 
@@ -309,7 +310,7 @@ template <class K> Applied<K> apply_edit(ImproveState<K>& s, const Edit<K>& edit
 
 // ---------------------------------------------------------------- acceptance (src/improve/accept.cpp)
 
-/// separation: a fresh point closer than options.min_separation to a vertex of another mesh
+/// separation: a fresh point closer than options.min_separation to a vertex of any mesh
 /// (a volume mesher takes the two for one point).
 enum class Verdict { accepted, tolerance, crossing, shape, separation };
 
