@@ -38,21 +38,6 @@ bool has_no_polyline(const std::string& path) {
   return !in.bad();
 }
 
-/// 1e-9 x the diagonal of the bounding box of both inputs.
-double default_tolerance(const seam::TriangleSoup& a, const seam::TriangleSoup& b) {
-  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  for (const auto* soup : {&a, &b})
-    for (const auto& t : soup->triangles)
-      for (auto i : t)
-        for (int k = 0; k < 3; ++k) {
-          lo[k] = std::min(lo[k], soup->points[i][k]);
-          hi[k] = std::max(hi[k], soup->points[i][k]);
-        }
-  double d2 = 0;
-  for (int k = 0; k < 3; ++k) d2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
-  return 1e-9 * std::sqrt(d2);
-}
-
 nlohmann::json report_json(const seam::PairCheckReport& r, const CheckArgs& a) {
   nlohmann::json j = check_report_json(r, a.kernel);
   j["files"] = {{"a", a.a}, {"b", a.b}, {"a2", a.a2}, {"b2", a.b2}, {"curves", a.curves}};
@@ -96,7 +81,7 @@ int run_check(CheckArgs a) {
   } catch (const seam::InvalidInput&) {
     if (!has_no_polyline(a.curves)) throw;  // an empty curves file means: no curves
   }
-  if (a.tol < 0) a.tol = default_tolerance(sa, sb);
+  if (a.tol < 0) a.tol = default_check_tolerance(sa, sb);
   const double read_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
 
   return seam::with_kernel(parse_kernel(a.kernel), [&](auto kernel) {

@@ -2,7 +2,24 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "report.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace seam_cli {
+
+double default_check_tolerance(const seam::TriangleSoup& a, const seam::TriangleSoup& b) {
+  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (const auto* soup : {&a, &b})
+    for (const auto& t : soup->triangles)
+      for (auto i : t)
+        for (int k = 0; k < 3; ++k) {
+          lo[k] = std::min(lo[k], soup->points[i][k]);
+          hi[k] = std::max(hi[k], soup->points[i][k]);
+        }
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) d2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+  return 1e-9 * std::sqrt(d2);
+}
 
 nlohmann::json improve_json(const seam::ImproveStats& s, bool done, const std::vector<std::string>& mesh_names) {
   nlohmann::json causes = nlohmann::json::object(), faces = nlohmann::json::array();

@@ -8,6 +8,7 @@
 #include <seam/check.h>
 #include <seam/embed.h>
 #include <seam/improve.h>
+#include <seam/io.h>
 #include <seam/pair.h>
 #include <seam/textile.h>
 
@@ -18,6 +19,9 @@
 #include <vector>
 
 namespace seam_cli {
+
+/// `seam check`'s default tolerance: 1e-9 x the diagonal of the bounding box of both inputs.
+double default_check_tolerance(const seam::TriangleSoup& a, const seam::TriangleSoup& b);
 
 /// The JSON of an embedding's statistics (the keys documented in the README).
 nlohmann::json stats_json(const seam::EmbedStats& s);

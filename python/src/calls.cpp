@@ -246,19 +246,7 @@ CheckOut check(const MeshView& av, const MeshView& bv, const MeshView& a2v, cons
     const seam::TriangleSoup sa = soup_from_view(av, false), sb = soup_from_view(bv, false),
                              sa2 = soup_from_view(a2v, false), sb2 = soup_from_view(b2v, false);
     const auto polylines = curves_from_views(curve_views, 1);
-    if (tol < 0) {  // 1e-9 x the diagonal of the bounding box of both inputs, as `seam check`
-      double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-      for (const auto* soup : {&sa, &sb})
-        for (const auto& t : soup->triangles)
-          for (auto i : t)
-            for (int k = 0; k < 3; ++k) {
-              lo[k] = std::min(lo[k], soup->points[i][k]);
-              hi[k] = std::max(hi[k], soup->points[i][k]);
-            }
-      double d2 = 0;
-      for (int k = 0; k < 3; ++k) d2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
-      tol = 1e-9 * std::sqrt(d2);
-    }
+    if (tol < 0) tol = seam_cli::default_check_tolerance(sa, sb);  // as `seam check`
     return seam::with_kernel(kind, [&](auto k) {
       using K = decltype(k);
       const auto ma = seam::mesh_from_soup<K>(sa, av.faces_name), mb = seam::mesh_from_soup<K>(sb, bv.faces_name);
