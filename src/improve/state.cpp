@@ -85,15 +85,23 @@ bool FaceGrid::cell_range(const CGAL::Bbox_3& box, std::array<long, 6>& range) c
   return cells <= 512;
 }
 
+namespace {
+/// Drops the dead entries of a grid list once it has grown to twice its size at its last purge
+/// (amortised O(1) liveness tests per insertion). `entry_of` gives an item's entry.
+template <class T, class EntryOf>
+void purge_when_grown(std::vector<T>& items, std::size_t& size_at_purge, const FaceGrid::Liveness* is_live,
+                      const EntryOf& entry_of) {
+  if (!is_live || items.size() < 2 * size_at_purge + 8) return;
+  items.erase(std::remove_if(items.begin(), items.end(), [&](const T& x) { return !(*is_live)(entry_of(x)); }),
+              items.end());
+  size_at_purge = items.size();
+}
+}  // namespace
+
 void FaceGrid::insert(const Entry& entry, const CGAL::Bbox_3& box, const Liveness* is_live) {
   std::array<long, 6> r;
   if (!cell_range(box, r)) {
-    if (is_live && oversized_.size() >= 2 * oversized_at_purge_ + 8) {  // (the same rule as a cell's)
-      oversized_.erase(std::remove_if(oversized_.begin(), oversized_.end(),
-                                      [&](const std::pair<Entry, CGAL::Bbox_3>& e) { return !(*is_live)(e.first); }),
-                       oversized_.end());
-      oversized_at_purge_ = oversized_.size();
-    }
+    purge_when_grown(oversized_, oversized_at_purge_, is_live, [](const auto& x) { return x.first; });
     oversized_.emplace_back(entry, box);
     return;
   }
@@ -101,12 +109,7 @@ void FaceGrid::insert(const Entry& entry, const CGAL::Bbox_3& box, const Livenes
     for (long j = r[1]; j <= r[4]; ++j)
       for (long k = r[2]; k <= r[5]; ++k) {
         Cell& cell = cells_[cell_key(i, j, k)];
-        if (is_live && cell.entries.size() >= 2 * cell.size_at_purge + 8) {
-          cell.entries.erase(std::remove_if(cell.entries.begin(), cell.entries.end(),
-                                            [&](const Entry& e) { return !(*is_live)(e); }),
-                             cell.entries.end());
-          cell.size_at_purge = cell.entries.size();
-        }
+        purge_when_grown(cell.entries, cell.size_at_purge, is_live, [](const Entry& x) { return x; });
         cell.entries.push_back(entry);
       }
 }
