@@ -567,34 +567,47 @@ void check_coverage(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyli
 
 namespace {
 
+/// Shared faces: a face of A2 whose three corners are the corners of a face of B2 (exact
+/// coordinates). Where the surfaces coincide (a flat contact) both must hold one common
+/// triangulation, so the faces there are shared and the merged outputs are a valid PLC.
 template <class K>
-PairCheckReport check_pair_unguarded(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2, const Mesh<K>& b2,
-                                     const std::vector<Polyline<K>>& curves, double tol, const CheckFocus* focus,
-                                     bool separation) {
-  // Faces are restricted only when some are marked: an empty focus restricts nothing (and still
-  // leaves check 4 and the figures to the caller).
-  const bool restricted = focus && !(focus->faces_a.empty() && focus->faces_b.empty());
-  const std::vector<char>* focus_a = restricted ? &focus->faces_a : nullptr;
-  const std::vector<char>* focus_b = restricted ? &focus->faces_b : nullptr;
+void mark_shared_faces(MeshView<K>& va, MeshView<K>& vb, const std::vector<std::uint32_t>& b_to_a,
+                       std::vector<char>& shared_a, std::vector<char>& shared_b, PairCheckReport& report) {
+  using F = typename Mesh<K>::Face_index;
+  std::map<std::array<std::uint32_t, 3>, F> a_faces;
+  for (auto f : va.mesh.faces()) {
+    const auto c = va.corners(f);
+    std::array<std::uint32_t, 3> key = {std::uint32_t(c[0]), std::uint32_t(c[1]), std::uint32_t(c[2])};
+    std::sort(key.begin(), key.end());
+    a_faces.emplace(key, f);
+  }
+  for (auto g : vb.mesh.faces()) {
+    const auto c = vb.corners(g);
+    std::array<std::uint32_t, 3> key;
+    bool all = true;
+    for (int k = 0; k < 3; ++k) all = all && (key[k] = b_to_a[std::size_t(c[k])]) != none;
+    if (!all) continue;
+    std::sort(key.begin(), key.end());
+    const auto it = a_faces.find(key);
+    if (it == a_faces.end()) continue;
+    shared_a[std::size_t(it->second)] = shared_b[std::size_t(g)] = 1;
+    ++report.shared_faces;
+  }
+}
+
+/// Check 2: every curve point is a vertex, and every curve segment an edge, of both outputs (with
+/// identical coordinates). Returns the curve points; `curve_edges_a` gets the curve segments as
+/// pairs of A2 vertex indices (both ends present in A2), smaller index first.
+template <class K>
+std::set<typename K::Point_3, PointLess> check_curves_present(const std::vector<Polyline<K>>& curves, MeshView<K>& va,
+                                                              MeshView<K>& vb,
+                                                              std::set<std::pair<std::uint32_t, std::uint32_t>>& curve_edges_a,
+                                                              PairCheckReport& report) {
   using M = Mesh<K>;
   using Point = typename K::Point_3;
   using V = typename M::Vertex_index;
-  using F = typename M::Face_index;
-  PairCheckReport report;
-  auto& problems = report.problems;
-  report.tolerance = tol;
-  report.vertices_a2 = a2.number_of_vertices();
-  report.faces_a2 = a2.number_of_faces();
-  report.vertices_b2 = b2.number_of_vertices();
-  report.faces_b2 = b2.number_of_faces();
-
-  // ------------------------------------------------------------ 1. valid meshes
-  MeshView<K> va(a2, "A2"), vb(b2, "B2");
-  check_mesh(va, CGAL::is_closed(a), problems, report.conflict_faces_a, focus_a);
-  check_mesh(vb, CGAL::is_closed(b), problems, report.conflict_faces_b, focus_b);
-
-  // ------------------------------------------------------------ 2. curves present in both
   std::set<Point, PointLess> curve_points;
+  auto& problems = report.problems;
   report.curves = curves.size();
   for (std::size_t c = 0; c < curves.size(); ++c) {
     const auto& pts = curves[c];
@@ -605,8 +618,6 @@ PairCheckReport check_pair_unguarded(const Mesh<K>& a, const Mesh<K>& b, const M
       if (pts[i] == pts[i + 1]) problems.push_back(say("curve ", c, " segment ", i, " has zero length at ", point_text(pts[i])));
     curve_points.insert(pts.begin(), pts.end());
   }
-  // Curve edges as pairs of A2 vertex indices (both ends present in A2), smaller index first.
-  std::set<std::pair<std::uint32_t, std::uint32_t>> curve_edges_a;
   for (MeshView<K>* view : {&va, &vb}) {
     if (!view->structure_ok) continue;
     std::size_t missing_points = 0, missing_edges = 0;
@@ -640,125 +651,143 @@ PairCheckReport check_pair_unguarded(const Mesh<K>& a, const Mesh<K>& b, const M
       problems.push_back(say(view->name, ": ", missing_edges, " curve segments are not edges (first: ", first_edge, ")"));
   }
 
+  return curve_points;
+}
+
+/// Check 3: A2 and B2 meet only along the curves, or where both faces are shared (one common
+/// triangulation of a flat contact); with `restricted`, only the pairs with a face in focus.
+/// Returns which faces of A2 are shared (for check 6).
+template <class K>
+std::vector<char> check_no_intersection_off_curves(MeshView<K>& va, MeshView<K>& vb,
+                                                   const std::set<typename K::Point_3, PointLess>& curve_points,
+                                                   const std::set<std::pair<std::uint32_t, std::uint32_t>>& curve_edges_a,
+                                                   bool restricted, const std::vector<char>* focus_a,
+                                                   const std::vector<char>* focus_b, PairCheckReport& report) {
+  using F = typename Mesh<K>::Face_index;
+  auto& problems = report.problems;
+  // B2 vertex -> A2 vertex at the same point; A2 vertices that are curve points.
+  std::vector<std::uint32_t> b_to_a(vb.vertex_slots(), none);
+  for (auto v : vb.mesh.vertices()) {
+    const auto it = va.vertex_at.find(vb.mesh.point(v));
+    if (it != va.vertex_at.end()) b_to_a[std::size_t(v)] = std::uint32_t(it->second);
+  }
+  std::vector<char> on_curve_a(va.vertex_slots(), 0);
+  for (const auto& p : curve_points) {
+    const auto it = va.vertex_at.find(p);
+    if (it != va.vertex_at.end()) on_curve_a[std::size_t(it->second)] = 1;
+  }
+  std::vector<char> shared_a(va.face_slots(), 0), shared_b(vb.face_slots(), 0);
+  mark_shared_faces(va, vb, b_to_a, shared_a, shared_b, report);
+  std::vector<std::string> examples;
+  auto off_curve = [&](F fa, F fb, const char* why) {
+    report.conflict_faces_a.push_back(std::size_t(fa));
+    report.conflict_faces_b.push_back(std::size_t(fb));
+    if (report.intersecting_face_pairs_off_curve++ < max_examples)
+      examples.push_back(say("A2 face ", std::size_t(fa), " / B2 face ", std::size_t(fb), " ", why));
+  };
+  auto callback = [&](const Box& box_a, const Box& box_b) {
+    ++report.candidate_face_pairs;
+    const F fa(box_a.info()), fb(box_b.info());
+    const auto ca = va.corners(fa), cb = vb.corners(fb);
+    // Corners at the same point: ia[k] is the corner of fa equal to corner k of fb, or -1.
+    int ia[3] = {-1, -1, -1};
+    int shared = 0;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t w = b_to_a[std::size_t(cb[k])];
+      if (w == none) continue;
+      for (int j = 0; j < 3; ++j)
+        if (std::uint32_t(ca[j]) == w) {
+          ia[k] = j;
+          ++shared;
+        }
+    }
+    if (shared == 3) return;  // the same triangle: a shared face (counted above)
+    // Two shared faces may meet in any common vertex or edge (inside a flat contact); every
+    // other meeting must be a curve point or segment.
+    const bool both_shared = shared_a[std::size_t(fa)] && shared_b[std::size_t(fb)];
+    const Meet how = meet<K>(va.geometry(ca), vb.geometry(cb), ia, shared);
+    switch (how) {
+      case Meet::apart:
+        return;
+      case Meet::beyond:
+        off_curve(fa, fb,
+                  coplanar_faces(va.geometry(ca), vb.geometry(cb))
+                      ? "overlap in a common plane (a flat contact that is not one common triangulation)"
+                      : beyond_text(shared));
+        return;
+      case Meet::at_vertex: {
+        int k = 0;
+        while (ia[k] < 0) ++k;
+        if (on_curve_a[std::size_t(ca[ia[k]])] || both_shared)
+          ++report.face_pairs_on_curve;
+        else
+          off_curve(fa, fb, "touch at a vertex that is not a curve point");
+        return;
+      }
+      case Meet::along_edge: {
+        int k = 0;
+        while (ia[k] >= 0) ++k;
+        const auto u = std::uint32_t(ca[ia[(k + 1) % 3]]), w = std::uint32_t(ca[ia[(k + 2) % 3]]);
+        if (curve_edges_a.count({std::min(u, w), std::max(u, w)}) || both_shared)
+          ++report.face_pairs_on_curve;
+        else
+          off_curve(fa, fb, "share an edge that is not a curve segment");
+        return;
+      }
+    }
+  };
+  if (restricted) {
+    // The pairs with a face in focus: A2's in focus against all of B2, the rest of A2 against
+    // B2's in focus.
+    std::vector<Box> focused_a = face_boxes(va, focus_a, 1), all_b = face_boxes(vb);
+    CGAL::box_intersection_d(focused_a.begin(), focused_a.end(), all_b.begin(), all_b.end(), callback);
+    std::vector<Box> rest_a = face_boxes(va, focus_a, 0), focused_b = face_boxes(vb, focus_b, 1);
+    CGAL::box_intersection_d(rest_a.begin(), rest_a.end(), focused_b.begin(), focused_b.end(), callback);
+  } else {
+    std::vector<Box> boxes_a = face_boxes(va), boxes_b = face_boxes(vb);
+    CGAL::box_intersection_d(boxes_a.begin(), boxes_a.end(), boxes_b.begin(), boxes_b.end(), callback);
+  }
+  if (report.intersecting_face_pairs_off_curve) {
+    std::string list;
+    for (const auto& e : examples) list += (list.empty() ? "" : "; ") + e;
+    if (report.intersecting_face_pairs_off_curve > examples.size()) list += "; ...";
+    problems.push_back(say("A2 and B2 intersect off the curves: ", report.intersecting_face_pairs_off_curve,
+                           " face pairs (", list, ")"));
+  }
+  return shared_a;
+}
+
+template <class K>
+PairCheckReport check_pair_unguarded(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2, const Mesh<K>& b2,
+                                     const std::vector<Polyline<K>>& curves, double tol, const CheckFocus* focus,
+                                     bool separation) {
+  // Faces are restricted only when some are marked: an empty focus restricts nothing (and still
+  // leaves check 4 and the figures to the caller).
+  const bool restricted = focus && !(focus->faces_a.empty() && focus->faces_b.empty());
+  const std::vector<char>* focus_a = restricted ? &focus->faces_a : nullptr;
+  const std::vector<char>* focus_b = restricted ? &focus->faces_b : nullptr;
+  PairCheckReport report;
+  auto& problems = report.problems;
+  report.tolerance = tol;
+  report.vertices_a2 = a2.number_of_vertices();
+  report.faces_a2 = a2.number_of_faces();
+  report.vertices_b2 = b2.number_of_vertices();
+  report.faces_b2 = b2.number_of_faces();
+
+  // ------------------------------------------------------------ 1. valid meshes
+  MeshView<K> va(a2, "A2"), vb(b2, "B2");
+  check_mesh(va, CGAL::is_closed(a), problems, report.conflict_faces_a, focus_a);
+  check_mesh(vb, CGAL::is_closed(b), problems, report.conflict_faces_b, focus_b);
+
+  // ------------------------------------------------------------ 2. curves present in both
+  std::set<std::pair<std::uint32_t, std::uint32_t>> curve_edges_a;
+  const auto curve_points = check_curves_present<K>(curves, va, vb, curve_edges_a, report);
+
   // ------------------------------------------------------------ 3. no intersection off the curves
   std::vector<char> shared_faces_a;  // per A2 face index: a shared face (kept for check 6)
-  if (va.structure_ok && vb.structure_ok) {
-    // B2 vertex -> A2 vertex at the same point; A2 vertices that are curve points.
-    std::vector<std::uint32_t> b_to_a(vb.vertex_slots(), none);
-    for (auto v : b2.vertices()) {
-      const auto it = va.vertex_at.find(b2.point(v));
-      if (it != va.vertex_at.end()) b_to_a[std::size_t(v)] = std::uint32_t(it->second);
-    }
-    std::vector<char> on_curve_a(va.vertex_slots(), 0);
-    for (const auto& p : curve_points) {
-      const auto it = va.vertex_at.find(p);
-      if (it != va.vertex_at.end()) on_curve_a[std::size_t(it->second)] = 1;
-    }
-
-
-    // Shared faces: a face of A2 whose three corners are the corners of a face of B2 (exact
-    // coordinates). Where the surfaces coincide (a flat contact) both must hold one common
-    // triangulation, so the faces there are shared and the merged outputs are a valid PLC.
-    std::vector<char> shared_a(va.face_slots(), 0), shared_b(vb.face_slots(), 0);
-    {
-      std::map<std::array<std::uint32_t, 3>, F> a_faces;
-      for (auto f : a2.faces()) {
-        const auto c = va.corners(f);
-        std::array<std::uint32_t, 3> key = {std::uint32_t(c[0]), std::uint32_t(c[1]), std::uint32_t(c[2])};
-        std::sort(key.begin(), key.end());
-        a_faces.emplace(key, f);
-      }
-      for (auto g : b2.faces()) {
-        const auto c = vb.corners(g);
-        std::array<std::uint32_t, 3> key;
-        bool all = true;
-        for (int k = 0; k < 3; ++k) all = all && (key[k] = b_to_a[std::size_t(c[k])]) != none;
-        if (!all) continue;
-        std::sort(key.begin(), key.end());
-        const auto it = a_faces.find(key);
-        if (it == a_faces.end()) continue;
-        shared_a[std::size_t(it->second)] = shared_b[std::size_t(g)] = 1;
-        ++report.shared_faces;
-      }
-    }
-    shared_faces_a = shared_a;
-    std::vector<std::string> examples;
-    auto off_curve = [&](F fa, F fb, const char* why) {
-      report.conflict_faces_a.push_back(std::size_t(fa));
-      report.conflict_faces_b.push_back(std::size_t(fb));
-      if (report.intersecting_face_pairs_off_curve++ < max_examples)
-        examples.push_back(say("A2 face ", std::size_t(fa), " / B2 face ", std::size_t(fb), " ", why));
-    };
-    auto callback = [&](const Box& box_a, const Box& box_b) {
-      ++report.candidate_face_pairs;
-      const F fa(box_a.info()), fb(box_b.info());
-      const auto ca = va.corners(fa), cb = vb.corners(fb);
-      // Corners at the same point: ia[k] is the corner of fa equal to corner k of fb, or -1.
-      int ia[3] = {-1, -1, -1};
-      int shared = 0;
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t w = b_to_a[std::size_t(cb[k])];
-        if (w == none) continue;
-        for (int j = 0; j < 3; ++j)
-          if (std::uint32_t(ca[j]) == w) {
-            ia[k] = j;
-            ++shared;
-          }
-      }
-      if (shared == 3) return;  // the same triangle: a shared face (counted above)
-      // Two shared faces may meet in any common vertex or edge (inside a flat contact); every
-      // other meeting must be a curve point or segment.
-      const bool both_shared = shared_a[std::size_t(fa)] && shared_b[std::size_t(fb)];
-      const Meet how = meet<K>(va.geometry(ca), vb.geometry(cb), ia, shared);
-      switch (how) {
-        case Meet::apart:
-          return;
-        case Meet::beyond:
-          off_curve(fa, fb,
-                    coplanar_faces(va.geometry(ca), vb.geometry(cb))
-                        ? "overlap in a common plane (a flat contact that is not one common triangulation)"
-                        : beyond_text(shared));
-          return;
-        case Meet::at_vertex: {
-          int k = 0;
-          while (ia[k] < 0) ++k;
-          if (on_curve_a[std::size_t(ca[ia[k]])] || both_shared)
-            ++report.face_pairs_on_curve;
-          else
-            off_curve(fa, fb, "touch at a vertex that is not a curve point");
-          return;
-        }
-        case Meet::along_edge: {
-          int k = 0;
-          while (ia[k] >= 0) ++k;
-          const auto u = std::uint32_t(ca[ia[(k + 1) % 3]]), w = std::uint32_t(ca[ia[(k + 2) % 3]]);
-          if (curve_edges_a.count({std::min(u, w), std::max(u, w)}) || both_shared)
-            ++report.face_pairs_on_curve;
-          else
-            off_curve(fa, fb, "share an edge that is not a curve segment");
-          return;
-        }
-      }
-    };
-    if (restricted) {
-      // The pairs with a face in focus: A2's in focus against all of B2, the rest of A2 against
-      // B2's in focus.
-      std::vector<Box> focused_a = face_boxes(va, focus_a, 1), all_b = face_boxes(vb);
-      CGAL::box_intersection_d(focused_a.begin(), focused_a.end(), all_b.begin(), all_b.end(), callback);
-      std::vector<Box> rest_a = face_boxes(va, focus_a, 0), focused_b = face_boxes(vb, focus_b, 1);
-      CGAL::box_intersection_d(rest_a.begin(), rest_a.end(), focused_b.begin(), focused_b.end(), callback);
-    } else {
-      std::vector<Box> boxes_a = face_boxes(va), boxes_b = face_boxes(vb);
-      CGAL::box_intersection_d(boxes_a.begin(), boxes_a.end(), boxes_b.begin(), boxes_b.end(), callback);
-    }
-    if (report.intersecting_face_pairs_off_curve) {
-      std::string list;
-      for (const auto& e : examples) list += (list.empty() ? "" : "; ") + e;
-      if (report.intersecting_face_pairs_off_curve > examples.size()) list += "; ...";
-      problems.push_back(say("A2 and B2 intersect off the curves: ", report.intersecting_face_pairs_off_curve,
-                             " face pairs (", list, ")"));
-    }
-  }
+  if (va.structure_ok && vb.structure_ok)
+    shared_faces_a = check_no_intersection_off_curves<K>(va, vb, curve_points, curve_edges_a, restricted, focus_a,
+                                                         focus_b, report);
 
   for (auto* faces : {&report.conflict_faces_a, &report.conflict_faces_b}) {
     std::sort(faces->begin(), faces->end());
