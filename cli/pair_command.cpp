@@ -106,6 +106,8 @@ int run_pair(PairArgs& args) {
     if (st.improved)
       std::cout << "; quality stage (tolerance " << st.snap_tol << "): " << st.improve.below_bound_after << " of the band's faces below "
                 << args.options.embed.min_angle_deg << " degrees (" << st.improve.shortfalls.size() << " new ones)";
+    if (st.curve_ends.unexplained > 0)
+      std::cout << "; " << st.curve_ends.unexplained << " curve end(s) where the intersection is not a closed curve for no known reason";
     if (st.shared_faces > 0)
       std::cout << "; " << st.shared_faces << " faces shared by both (" << st.contact_patches << " flat contacts)";
     if (st.verified) std::cout << "; verified (seam check --tol " << tolerance_text(st.verify_tolerance) << ")";

@@ -85,6 +85,10 @@ nlohmann::json pair_report_json(seam::KernelKind kernel, const seam::PairStats& 
   nlohmann::json list = nlohmann::json::array();
   for (const auto& c : curves) list.push_back({{"vertices", c.vertices}, {"closed", c.closed}});
   j["curves"] = {{"count", st.curves}, {"vertices", st.curve_vertices}, {"closed", st.closed_curves}, {"list", list}};
+  j["curves"]["open_ends"] = {{"junction", st.curve_ends.junction},
+                              {"touching", st.curve_ends.touching},
+                              {"border", st.curve_ends.border},
+                              {"unexplained", st.curve_ends.unexplained}};
   j["tolerance"] = st.snap_tol;
   j["separate"] = {{"vertices_closed", st.vertices_closed},
                    {"curve_vertices_collapsed", st.curve_vertices_collapsed},

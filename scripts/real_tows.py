@@ -201,7 +201,7 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     tows = {name: read_stl(os.path.join(args.data, f)) for name, f in FILES.items()}
     only = [int(x) for x in args.only.split(',') if x]
-    header = '| # | configuration | exit | time (s) | seam check | tetgen -d | curves closed / open / loose ends | shared faces | new faces | below 10 deg | below 20 deg |'
+    header = '| # | configuration | exit | time (s) | seam check | tetgen -d | curves closed / open / loose ends (causes) | shared faces | new faces | below 10 deg | below 20 deg |'
     rows = [header, '|' + '---|' * 11]
     print(header)
     print(rows[1])
@@ -231,7 +231,9 @@ def main():
         verdict = tet = 'n/a'
         closed = open_ = loose = shared = new = b10 = b20 = '-'
         if code == 0:
-            tol = json.load(open(report))['verify_tolerance']
+            pair_report = json.load(open(report))
+            tol = pair_report['verify_tolerance']
+            ends = pair_report['curves']['open_ends']
             c = subprocess.run([args.seam, 'check', a, b, a2, b2, curves, '--tol', repr(tol), '--report', check],
                                capture_output=True, text=True)
             verdict = {0: 'OK', 1: 'FAILED'}.get(c.returncode, 'exit %d' % c.returncode)
@@ -245,6 +247,8 @@ def main():
                 b20 = '%d (%.1f%%)' % (nb20, 100.0 * nb20 / max(new, 1))
             tet = tetgen_verdict(a2, b2, os.path.join(d, 'merged.off'), d)
             closed, open_, loose = curve_counts(curves)
+            # seam's own account of the loose ends: where the surfaces only touch, or unexplained
+            loose = '%d (%d touching, %d unexplained)' % (loose, ends['touching'], ends['unexplained'])
         row = '| %d | %s | %s | %.1f | %s | %s | %s / %s / %s | %s | %s | %s | %s |' % (
             k, name, code, seconds, verdict, tet, closed, open_, loose, shared, new, b10, b20)
         if code != 0 and message:

@@ -8,9 +8,6 @@
 #include <seam/internal/splice.h>
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
-#include <CGAL/Projection_traits_xy_3.h>
-#include <CGAL/Projection_traits_xz_3.h>
-#include <CGAL/Projection_traits_yz_3.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 #include <CGAL/box_intersection_d.h>
@@ -131,7 +128,10 @@ template <class K> struct Patch {
   std::vector<std::array<std::size_t, 3>> triangles;  ///< the result, positively oriented in the projection
 };
 
-template <class K, class Traits> bool triangulate(Patch<K>& patch, double expected_area, std::string& why) {
+/// The constrained Delaunay triangulation of the patch, projected along its axis: each point's two
+/// kept coordinates (exact: a projection constructs nothing), with the 3D points kept by index.
+template <class K> bool triangulate(Patch<K>& patch, double expected_area, std::string& why) {
+  using Traits = K;
   struct FaceInfo {
     int nesting = -1;
   };
@@ -143,10 +143,11 @@ template <class K, class Traits> bool triangulate(Patch<K>& patch, double expect
   using FH = typename CDT::Face_handle;
   using Edge = typename CDT::Edge;
   CDT cdt;
+  const auto [u, v] = kept_coordinates(patch.axis);
   std::vector<typename CDT::Vertex_handle> handle(patch.points.size());
   for (std::size_t i = 0; i < patch.points.size(); ++i) {
     if (patch.alias[i] >= 0) continue;
-    handle[i] = cdt.insert(patch.points[i]);
+    handle[i] = cdt.insert(typename K::Point_2(patch.points[i][u], patch.points[i][v]));
     handle[i]->info() = i;
   }
   for (std::size_t i = 0; i < patch.points.size(); ++i)
@@ -201,7 +202,6 @@ template <class K, class Traits> bool triangulate(Patch<K>& patch, double expect
     if (n->info().nesting == -1) flood(n, e.first->info().nesting + 1);
   }
   double area = 0;
-  const auto [u, v] = kept_coordinates(patch.axis);
   for (FH f : cdt.finite_face_handles()) {
     if (f->info().nesting % 2 != 1) continue;
     std::array<std::size_t, 3> t;
@@ -218,17 +218,6 @@ template <class K, class Traits> bool triangulate(Patch<K>& patch, double expect
     return false;
   }
   return true;
-}
-
-template <class K> bool triangulate(Patch<K>& patch, double expected_area, std::string& why) {
-  switch (patch.axis) {
-    case 0:
-      return triangulate<K, CGAL::Projection_traits_yz_3<K>>(patch, expected_area, why);
-    case 1:
-      return triangulate<K, CGAL::Projection_traits_xz_3<K>>(patch, expected_area, why);
-    default:
-      return triangulate<K, CGAL::Projection_traits_xy_3<K>>(patch, expected_area, why);
-  }
 }
 
 template <class K> struct FaceCorners {

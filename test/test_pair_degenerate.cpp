@@ -229,6 +229,9 @@ TEMPLATE_TEST_CASE("pair degenerate: surfaces touching along one edge share that
       const auto res = pair_and_check<K>(a, b, snap);
       REQUIRE(res.curves.size() == 1);
       CHECK_FALSE(seam::is_closed(res.curves.front()));
+      // Both ends are explained: the surfaces only touch along the curve.
+      CHECK(res.stats.curve_ends.touching == 2);
+      CHECK(res.stats.curve_ends.junction + res.stats.curve_ends.border + res.stats.curve_ends.unexplained == 0);
       // Every curve point lies on the edge pq, and both of its ends are curve points.
       const typename K::Segment_3 pq(point<K>(cs.p), point<K>(cs.q));
       for (const auto& x : res.curves.front()) CHECK(pq.has_on(x));

@@ -160,6 +160,12 @@ TEST_CASE("real-like: a terraced tow against turned and shifted copies comes out
       INFO(r.stats.note);
       CHECK(r.stats.verified);
       if (cs.flat) CHECK(r.stats.shared_faces > 0);
+      // The intersection of two closed surfaces is closed curves; a curve ends only where
+      // crossings meet a flat contact's border or where a touching contact stops.
+      CHECK(r.stats.curve_ends.unexplained == 0);
+      CHECK(r.stats.curve_ends.border == 0);
+      const auto& e = r.stats.curve_ends;
+      if (e.junction + e.touching == 0) CHECK(r.stats.closed_curves + r.stats.contact_points == r.stats.curves);
       // As written: seam check passes (the shared faces are the same triangles in both), and the
       // real volume mesher finds no intersecting faces in the merged surface.
       const Mesh wa = as_written(a2), wb = as_written(b2);

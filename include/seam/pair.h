@@ -73,8 +73,24 @@ struct PairOptions {
   bool verify_output = true;
 };
 
+/// Where the open curves end, and why (one count per end of an open curve). Two closed surfaces
+/// that cross transversally meet in closed curves; a curve ends only where the intersection is not
+/// such a curve:
+///   - junction: an odd number (3 or more) of curve pieces meet there, such as where a crossing
+///     reaches the border of a flat contact (its boundary comes in and goes out);
+///   - touching: the last piece is where the surfaces only touch (an edge of one lying in a face
+///     of the other, both on one side of each other), and a touching contact can stop anywhere;
+///   - border: the end lies on a border edge of an open input;
+///   - unexplained: none of these; part of the intersection would be missing (seam check's
+///     curve-cover test then fails too).
+/// Decided on the intersection curves as computed (exact tests under the exact kernel).
+struct CurveEnds {
+  std::size_t junction = 0, touching = 0, border = 0, unexplained = 0;
+};
+
 struct PairStats {
   std::size_t curves = 0, curve_vertices = 0, closed_curves = 0;
+  CurveEnds curve_ends;  ///< why each open curve ends where it does
   double snap_tol = 0;  ///< the quality stage's tolerance (pass at least this to `seam check --tol`)
   /// Stage 6's last fallback: vertices moved onto the curves, closer to them than
   /// min_vertex_separation, and the largest move (verify_tolerance includes it).
