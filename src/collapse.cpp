@@ -281,22 +281,50 @@ void compact_keeping_curve_vertices(Mesh<K>& m, std::vector<std::vector<typename
 }
 
 
-template <class K>
-CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::vector<Polyline<K>>& curves,
-                                                  VertexLists<K>& cva, VertexLists<K>& cvb, double max_length,
-                                                  double tiny_length, std::size_t input_vertices_a,
-                                                  std::size_t input_vertices_b, const MergedFaceTest& accept_face,
-                                                  double only_next_to_faces_below, bool merge_onto_curves) {
+namespace {
+
+/// collapse_short_curve_segments, as a sequence of rounds: each proposes merges (curve segments
+/// in both meshes, tiny edges off the curves in one), chooses those whose neighbourhoods do not
+/// overlap and that are allowed, applies them, and undoes those whose faces cross the other mesh.
+template <class K> class CurveSegmentCollapser {
+ public:
   using V = typename MeshTypes<K>::V;
   using F = typename MeshTypes<K>::F;
-  constexpr std::size_t no_curve = std::numeric_limits<std::size_t>::max();
-  CurveCollapseReport report;
-  if (!(max_length > 0) && !(tiny_length > 0)) return report;
-  if (cva.size() != curves.size() || cvb.size() != curves.size())
-    throw InternalError("collapse: curve vertex lists do not match the curves");
-  Mesh<K>* meshes[2] = {&a, &b};
-  VertexLists<K>* lists[2] = {&cva, &cvb};
-  const std::size_t input_vertices[2] = {input_vertices_a, input_vertices_b};
+
+  struct Parameters {
+    double max_length, tiny_length;
+    std::size_t input_vertices[2];
+    const MergedFaceTest& accept_face;
+    double only_next_to_faces_below;
+    bool merge_onto_curves;
+  };
+
+  CurveSegmentCollapser(Mesh<K>& a, Mesh<K>& b, std::vector<Polyline<K>>& curves, VertexLists<K>& cva,
+                        VertexLists<K>& cvb, const Parameters& parameters)
+      : a_(a), b_(b), curves_(curves), cva_(cva), cvb_(cvb), meshes_{&a, &b}, lists_{&cva, &cvb}, par_(parameters) {}
+
+  CurveCollapseReport run() {
+    for (int round = 0; round < 16; ++round) {
+      count_uses();
+      std::vector<Op> ops = curve_segment_merges();
+      if (par_.tiny_length > 0) add_tiny_edge_merges(ops);
+      if (ops.empty()) break;
+      sort_by_priority(ops);
+      std::vector<Op> chosen = choose(ops);
+      if (chosen.empty()) break;
+      if (!apply_undoing_crossings(chosen)) continue;
+      compact_keeping_curve_vertices<K>(a_, cva_);
+      compact_keeping_curve_vertices<K>(b_, cvb_);
+      excluded_.clear();  // indices moved: the next round evaluates every candidate again
+    }
+    for (const auto& c : curves_)  // what is left
+      for (std::size_t i = 0; i + 1 < c.size(); ++i)
+        if (rounded_distance(c[i], c[i + 1]) <= par_.max_length) ++report_.refused;
+    return report_;
+  }
+
+ private:
+  static constexpr std::size_t no_curve = std::numeric_limits<std::size_t>::max();
 
   /// P merged into Q in A (mask 1), B (mask 2) or both (3: a curve segment, at positions
   /// at_p / at_q of curve `curve`). With `to` (only with accept_face: it keeps the moved faces
@@ -315,229 +343,277 @@ CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::v
     /// volume mesher). Its index then goes, as with snapping's own merges.
     bool input_ok = false;
   };
-  // (mask + 4 quarters; P in A, P in B, Q in A or B) refused or undone
-  std::set<std::array<std::size_t, 4>> excluded;
-  auto key = [](const Op& op) {
-    return std::array<std::size_t, 4>{std::size_t(op.mask) + 4 * std::size_t(op.quarters),
-                                      op.mask & 1 ? std::size_t(op.p[0]) : 0,
-                                      op.mask & 2 ? std::size_t(op.p[1]) : 0,
-                                      op.mask & 1 ? std::size_t(op.q[0]) : std::size_t(op.q[1])};
-  };
+  /// (mask + 4 quarters; P in A, P in B, Q in A or B): the identity of a merge refused or undone.
+  static std::array<std::size_t, 4> key(const Op& op) {
+    return {std::size_t(op.mask) + 4 * std::size_t(op.quarters), op.mask & 1 ? std::size_t(op.p[0]) : 0,
+            op.mask & 2 ? std::size_t(op.p[1]) : 0, op.mask & 1 ? std::size_t(op.q[0]) : std::size_t(op.q[1])};
+  }
 
-  for (int round = 0; round < 16; ++round) {
-    // How often each vertex appears on the curves (closing repeats once): only vertices on one
-    // curve, once, are merged along the curve; vertices off the curves only in tiny edges.
-    std::vector<int> uses[2];
+  /// How often each vertex appears on the curves (closing repeats once): only vertices on one
+  /// curve, once, are merged along the curve; vertices off the curves only in tiny edges.
+  void count_uses() {
     for (int m = 0; m < 2; ++m) {
-      uses[m].assign(meshes[m]->number_of_vertices() + meshes[m]->number_of_removed_vertices(), 0);
-      for (std::size_t c = 0; c < curves.size(); ++c) {
-        const auto& vs = (*lists[m])[c];
-        for (std::size_t i = 0; i + (is_closed(curves[c]) ? 1 : 0) < vs.size(); ++i) ++uses[m][std::size_t(vs[i])];
+      uses_[m].assign(meshes_[m]->number_of_vertices() + meshes_[m]->number_of_removed_vertices(), 0);
+      for (std::size_t c = 0; c < curves_.size(); ++c) {
+        const auto& vs = (*lists_[m])[c];
+        for (std::size_t i = 0; i + (is_closed(curves_[c]) ? 1 : 0) < vs.size(); ++i) ++uses_[m][std::size_t(vs[i])];
       }
     }
+  }
+
+  /// Curve segments short enough, merged in both meshes (into either end, or at a point between).
+  std::vector<Op> curve_segment_merges() const {
     std::vector<Op> ops;
-    for (std::size_t c = 0; c < curves.size(); ++c) {
-      const bool closed = is_closed(curves[c]);
-      const std::size_t n = closed ? curves[c].size() - 1 : curves[c].size();
+    for (std::size_t c = 0; c < curves_.size(); ++c) {
+      const bool closed = is_closed(curves_[c]);
+      const std::size_t n = closed ? curves_[c].size() - 1 : curves_[c].size();
       if (n < (closed ? 4u : 3u)) continue;  // keep at least a triangle / a segment
       for (std::size_t i = closed ? 0 : 1; i < (closed ? n : n - 1); ++i)
         for (int dir : {-1, 1}) {
           const std::size_t j = (i + n + std::size_t(dir)) % n;
-          const double len = rounded_distance(curves[c][i], curves[c][j]);
-          if (!(len <= std::max(max_length, tiny_length))) continue;
-          if (only_next_to_faces_below > 0 && len > tiny_length &&
-              !has_face_below<K>(a, cva[c][i], only_next_to_faces_below) &&
-              !has_face_below<K>(b, cvb[c][i], only_next_to_faces_below))
+          const double len = rounded_distance(curves_[c][i], curves_[c][j]);
+          if (!(len <= std::max(par_.max_length, par_.tiny_length))) continue;
+          if (par_.only_next_to_faces_below > 0 && len > par_.tiny_length &&
+              !has_face_below<K>(a_, cva_[c][i], par_.only_next_to_faces_below) &&
+              !has_face_below<K>(b_, cvb_[c][i], par_.only_next_to_faces_below))
             continue;
-          ops.push_back({3, {cva[c][i], cvb[c][i]}, {cva[c][j], cvb[c][j]}, c, i, j, len, len <= tiny_length});
+          ops.push_back({3, {cva_[c][i], cvb_[c][i]}, {cva_[c][j], cvb_[c][j]}, c, i, j, len, len <= par_.tiny_length});
           // Where merging either end into the other moves its faces out of the tolerance, both
           // may merge at a point between (a quarter, half or three quarters along, both ways).
-          if (accept_face && len > tiny_length && len <= max_length && (closed || (j >= 1 && j + 1 < n)))
+          if (par_.accept_face && len > par_.tiny_length && len <= par_.max_length && (closed || (j >= 1 && j + 1 < n)))
             for (int quarter : {2, 3})
-              ops.push_back({3, {cva[c][i], cvb[c][i]}, {cva[c][j], cvb[c][j]}, c, i, j, len, false,
-                             curves[c][i] + (curves[c][j] - curves[c][i]) * typename K::FT(quarter) / 4, quarter});
+              ops.push_back({3, {cva_[c][i], cvb_[c][i]}, {cva_[c][j], cvb_[c][j]}, c, i, j, len, false,
+                             curves_[c][i] + (curves_[c][j] - curves_[c][i]) * typename K::FT(quarter) / 4, quarter});
         }
     }
-    // Tiny edges off the curves (one end off the curves and new): merged in their mesh alone.
-    if (tiny_length > 0)
-      for (int m = 0; m < 2; ++m) {
-        const Mesh<K>& mesh = *meshes[m];
-        for (auto e : mesh.edges()) {
-          const V u = mesh.vertex(e, 0), w = mesh.vertex(e, 1);
-          const double len = rounded_distance(mesh.point(u), mesh.point(w));
-          if (!(len <= tiny_length)) continue;
-          auto movable = [&](V v) { return uses[m][std::size_t(v)] == 0 && std::size_t(v) >= input_vertices[m]; };
-          auto onto_curve = [&](V v, V on) {
-            return merge_onto_curves && uses[m][std::size_t(v)] == 0 && uses[m][std::size_t(on)] > 0;
-          };
-          Op op{1 << m, {}, {}, no_curve, 0, 0, len, true};
-          if (movable(u)) op.p[m] = u, op.q[m] = w;
-          else if (movable(w)) op.p[m] = w, op.q[m] = u;
-          else if (onto_curve(u, w)) op.p[m] = u, op.q[m] = w, op.input_ok = true;
-          else if (onto_curve(w, u)) op.p[m] = w, op.q[m] = u, op.input_ok = true;
-          else continue;
-          ops.push_back(op);
-        }
+    return ops;
+  }
+
+  /// Tiny edges off the curves (one end off the curves and new): merged in their mesh alone.
+  void add_tiny_edge_merges(std::vector<Op>& ops) const {
+    for (int m = 0; m < 2; ++m) {
+      const Mesh<K>& mesh = *meshes_[m];
+      for (auto e : mesh.edges()) {
+        const V u = mesh.vertex(e, 0), w = mesh.vertex(e, 1);
+        const double len = rounded_distance(mesh.point(u), mesh.point(w));
+        if (!(len <= par_.tiny_length)) continue;
+        auto movable = [&](V v) { return uses_[m][std::size_t(v)] == 0 && std::size_t(v) >= par_.input_vertices[m]; };
+        auto onto_curve = [&](V v, V on) {
+          return par_.merge_onto_curves && uses_[m][std::size_t(v)] == 0 && uses_[m][std::size_t(on)] > 0;
+        };
+        Op op{1 << m, {}, {}, no_curve, 0, 0, len, true};
+        if (movable(u)) op.p[m] = u, op.q[m] = w;
+        else if (movable(w)) op.p[m] = w, op.q[m] = u;
+        else if (onto_curve(u, w)) op.p[m] = u, op.q[m] = w, op.input_ok = true;
+        else if (onto_curve(w, u)) op.p[m] = w, op.q[m] = u, op.input_ok = true;
+        else continue;
+        ops.push_back(op);
       }
-    if (ops.empty()) break;
-    // Tiny ones first, then the shortest; of a segment, merges into an end before the midpoint.
+    }
+  }
+
+  /// Tiny ones first, then the shortest; of a segment, merges into an end before the midpoint.
+  static void sort_by_priority(std::vector<Op>& ops) {
     std::sort(ops.begin(), ops.end(), [&](const Op& x, const Op& y) {
       if (x.tiny != y.tiny) return x.tiny;
       if (x.length != y.length) return x.length < y.length;
       if (bool(x.to) != bool(y.to)) return !x.to;
       return key(x) < key(y);
     });
+  }
 
-    // Choose collapses whose neighbourhoods do not overlap: tiny ones whenever allowed, the
-    // others when they improve the angles of both meshes together.
+  /// Collapses whose neighbourhoods do not overlap: tiny ones whenever allowed, the others when
+  /// they improve the angles of both meshes together. (Faces next to a frozen stretch of curve
+  /// stay as they are: see frozen_face_property. A tiny curve segment collapsed in both meshes may
+  /// touch shared faces: it changes them the same way in both, and left it would be two vertices a
+  /// volume mesher cannot tell apart.)
+  std::vector<Op> choose(const std::vector<Op>& ops) {
     std::vector<char> locked[2];
-    for (int m = 0; m < 2; ++m) locked[m].assign(uses[m].size(), 0);
+    for (int m = 0; m < 2; ++m) locked[m].assign(uses_[m].size(), 0);
     std::vector<Op> chosen;
     std::vector<V> near[2];
-    // (Faces next to a frozen stretch of curve stay as they are: see frozen_face_property. A
-    // tiny curve segment collapsed in both meshes may touch shared faces: it changes them the
-    // same way in both, and left it would be two vertices a volume mesher cannot tell apart.)
-    const internal::FrozenFaces<K> frozen[2] = {internal::FrozenFaces<K>(a), internal::FrozenFaces<K>(b)};
+    const internal::FrozenFaces<K> frozen[2] = {internal::FrozenFaces<K>(a_), internal::FrozenFaces<K>(b_)};
     for (const auto& op : ops) {
-      if (excluded.count(key(op))) continue;
-      if (op.mask == 3 && (uses[0][std::size_t(op.p[0])] != 1 || uses[1][std::size_t(op.p[1])] != 1)) continue;
-      if (op.to && (uses[0][std::size_t(op.q[0])] != 1 || uses[1][std::size_t(op.q[1])] != 1)) continue;  // Q moves
+      if (excluded_.count(key(op))) continue;
+      if (op.mask == 3 && (uses_[0][std::size_t(op.p[0])] != 1 || uses_[1][std::size_t(op.p[1])] != 1)) continue;
+      if (op.to && (uses_[0][std::size_t(op.q[0])] != 1 || uses_[1][std::size_t(op.q[1])] != 1)) continue;  // Q moves
       bool free = true;
       const bool both_tiny = op.tiny && op.mask == 3 && !op.to;
       for (int m = 0; m < 2 && free; ++m) {
         near[m].clear();
         if (!(op.mask & (1 << m))) continue;
-        ring<K>(*meshes[m], op.p[m], near[m]), ring<K>(*meshes[m], op.q[m], near[m]);
+        ring<K>(*meshes_[m], op.p[m], near[m]), ring<K>(*meshes_[m], op.q[m], near[m]);
         free = std::none_of(near[m].begin(), near[m].end(), [&](V v) { return locked[m][std::size_t(v)]; }) &&
-               !frozen[m].around(*meshes[m], op.p[m], !both_tiny) && !frozen[m].around(*meshes[m], op.q[m], !both_tiny);
+               !frozen[m].around(*meshes_[m], op.p[m], !both_tiny) &&
+               !frozen[m].around(*meshes_[m], op.q[m], !both_tiny);
       }
       if (!free) continue;
-      Angles before, after;
-      bool allowed = true;
-      for (int m = 0; m < 2 && allowed; ++m) {
-        if (!(op.mask & (1 << m))) continue;
-        Angles bm, am;
-        allowed = collapse_allowed<K>(*meshes[m], op.p[m], op.q[m], op.input_ok ? 0 : input_vertices[m], bm, am,
-                                      accept_face, m, op.to);
-        before.min = std::min(before.min, bm.min), before.below_10 += bm.below_10;
-        after.min = std::min(after.min, am.min), after.below_10 += am.below_10;
-      }
-      if (!allowed || (!op.tiny && !after.better_than(before))) {
-        excluded.insert(key(op));
+      if (!allowed_and_better(op)) {
+        excluded_.insert(key(op));
         continue;
       }
       for (int m = 0; m < 2; ++m)
         for (V v : near[m]) locked[m][std::size_t(v)] = 1;
       chosen.push_back(op);
     }
-    if (chosen.empty()) break;
+    return chosen;
+  }
 
-    // Apply them; undo (start again from the copies without them) those whose faces cross.
-    const Mesh<K> a0 = a, b0 = b;
-    for (;;) {
+  /// The merge is allowed in each mesh it changes, and (unless tiny) improves their angles.
+  bool allowed_and_better(const Op& op) const {
+    Angles before, after;
+    for (int m = 0; m < 2; ++m) {
+      if (!(op.mask & (1 << m))) continue;
+      Angles bm, am;
+      if (!collapse_allowed<K>(*meshes_[m], op.p[m], op.q[m], op.input_ok ? 0 : par_.input_vertices[m], bm, am,
+                               par_.accept_face, m, op.to))
+        return false;
+      before.min = std::min(before.min, bm.min), before.below_10 += bm.below_10;
+      after.min = std::min(after.min, am.min), after.below_10 += am.below_10;
+    }
+    return op.tiny || after.better_than(before);
+  }
+
+  /// Each mesh's curve vertex lists once the chosen merges are made (`kept`: the vertex each
+  /// leaves).
+  std::array<VertexLists<K>, 2> lists_after(const std::vector<Op>& chosen,
+                                            const std::vector<std::array<V, 2>>& kept) const {
+    std::array<VertexLists<K>, 2> after = {cva_, cvb_};
+    for (int m = 0; m < 2; ++m) {
+      auto& ls = after[m];
+      std::vector<std::vector<char>> drop(ls.size());
+      for (std::size_t c = 0; c < ls.size(); ++c) drop[c].assign(ls[c].size(), 0);
+      for (std::size_t k = 0; k < chosen.size(); ++k) {
+        const Op& op = chosen[k];
+        if (!(op.mask & (1 << m))) continue;
+        if (op.curve == no_curve) {  // Q may be a curve vertex whose index went to P's
+          if (kept[k][m] != op.q[m])
+            for (auto& vs : ls)
+              for (auto& v : vs)
+                if (v == op.q[m]) v = kept[k][m];
+          continue;
+        }
+        auto& vs = ls[op.curve];
+        const bool closed = vs.size() > 1 && vs.front() == vs.back();
+        drop[op.curve][op.at_p] = 1;
+        vs[op.at_q] = kept[k][m];
+        if (closed && op.at_q == 0) vs.back() = kept[k][m];
+        if (closed && op.at_p == 0) drop[op.curve].back() = 1;
+      }
+      for (std::size_t c = 0; c < ls.size(); ++c) {
+        const bool closed = ls[c].size() > 1 && ls[c].front() == ls[c].back();
+        std::vector<V> out;
+        for (std::size_t i = 0; i < ls[c].size(); ++i)
+          if (!drop[c][i]) out.push_back(ls[c][i]);
+        if (closed && drop[c].back() && !out.empty()) out.push_back(out.front());
+        ls[c] = std::move(out);
+      }
+    }
+    return after;
+  }
+
+  /// The shared curves lose the merged points (and a segment merged at a point between moves Q).
+  void update_curves(const std::vector<Op>& chosen) {
+    std::vector<std::vector<char>> drop(curves_.size());
+    for (std::size_t c = 0; c < curves_.size(); ++c) drop[c].assign(curves_[c].size(), 0);
+    for (const auto& op : chosen) {
+      if (op.curve == no_curve) continue;
+      if (op.to) {  // Q moved to the point between
+        if (op.at_q == 0 && is_closed(curves_[op.curve])) curves_[op.curve].back() = *op.to;
+        curves_[op.curve][op.at_q] = *op.to;
+      }
+      drop[op.curve][op.at_p] = 1;
+      if (op.at_p == 0 && is_closed(curves_[op.curve])) drop[op.curve].back() = 1;
+    }
+    for (std::size_t c = 0; c < curves_.size(); ++c) {
+      const bool closed = is_closed(curves_[c]);
+      Polyline<K> out;
+      for (std::size_t i = 0; i < curves_[c].size(); ++i)
+        if (!drop[c][i]) out.push_back(curves_[c][i]);
+      if (closed && drop[c].back()) out.push_back(out.front());
+      curves_[c] = std::move(out);
+    }
+  }
+
+  /// Makes the chosen merges; where a merged vertex's faces cross the other mesh, starts again
+  /// from the meshes as they were without those merges. False when none is left.
+  bool apply_undoing_crossings(std::vector<Op>& chosen) {
+    const Mesh<K> a0 = a_, b0 = b_;
+    while (!chosen.empty()) {
       std::vector<std::array<V, 2>> kept(chosen.size());
       for (std::size_t k = 0; k < chosen.size(); ++k)
         for (int m = 0; m < 2; ++m)
-          if (chosen[k].mask & (1 << m)) kept[k][m] = merge<K>(*meshes[m], chosen[k].p[m], chosen[k].q[m], chosen[k].to);
-      // The curves after the collapses, by the vertices that stay.
-      VertexLists<K> after_lists[2] = {cva, cvb};
-      for (int m = 0; m < 2; ++m) {
-        auto& ls = after_lists[m];
-        std::vector<std::vector<char>> drop(ls.size());
-        for (std::size_t c = 0; c < ls.size(); ++c) drop[c].assign(ls[c].size(), 0);
-        for (std::size_t k = 0; k < chosen.size(); ++k) {
-          const Op& op = chosen[k];
-          if (!(op.mask & (1 << m))) continue;
-          if (op.curve == no_curve) {  // Q may be a curve vertex whose index went to P's
-            if (kept[k][m] != op.q[m])
-              for (auto& vs : ls)
-                for (auto& v : vs)
-                  if (v == op.q[m]) v = kept[k][m];
-            continue;
-          }
-          auto& vs = ls[op.curve];
-          const bool closed = vs.size() > 1 && vs.front() == vs.back();
-          drop[op.curve][op.at_p] = 1;
-          vs[op.at_q] = kept[k][m];
-          if (closed && op.at_q == 0) vs.back() = kept[k][m];
-          if (closed && op.at_p == 0) drop[op.curve].back() = 1;
-        }
-        for (std::size_t c = 0; c < ls.size(); ++c) {
-          const bool closed = ls[c].size() > 1 && ls[c].front() == ls[c].back();
-          std::vector<V> out;
-          for (std::size_t i = 0; i < ls[c].size(); ++i)
-            if (!drop[c][i]) out.push_back(ls[c][i]);
-          if (closed && drop[c].back() && !out.empty()) out.push_back(out.front());
-          ls[c] = std::move(out);
-        }
-      }
-
+          if (chosen[k].mask & (1 << m))
+            kept[k][m] = merge<K>(*meshes_[m], chosen[k].p[m], chosen[k].q[m], chosen[k].to);
+      auto after = lists_after(chosen, kept);
       std::vector<char> on_curve[2];
       std::set<std::pair<std::uint32_t, std::uint32_t>> curve_edges[2];
-      for (int m = 0; m < 2; ++m) curve_marks<K>(*meshes[m], after_lists[m], on_curve[m], curve_edges[m]);
+      for (int m = 0; m < 2; ++m) curve_marks<K>(*meshes_[m], after[m], on_curve[m], curve_edges[m]);
       std::vector<char> undo(chosen.size(), 0);
       std::vector<F> faces[2];
       for (int m = 0; m < 2; ++m) {
         std::vector<std::size_t> owner;
         for (std::size_t k = 0; k < chosen.size(); ++k)
           if (chosen[k].mask & (1 << m))
-            for (auto f : CGAL::faces_around_target(meshes[m]->halfedge(kept[k][m]), *meshes[m]))
+            for (auto f : CGAL::faces_around_target(meshes_[m]->halfedge(kept[k][m]), *meshes_[m]))
               faces[m].push_back(f), owner.push_back(k);
-        const auto bad = crossing_faces<K>(*meshes[m], faces[m], *meshes[1 - m], on_curve[1 - m], curve_edges[1 - m]);
+        const auto bad = crossing_faces<K>(*meshes_[m], faces[m], *meshes_[1 - m], on_curve[1 - m], curve_edges[1 - m]);
         for (std::size_t i = 0; i < faces[m].size(); ++i)
           if (bad[i]) undo[owner[i]] = 1;
       }
       if (std::none_of(undo.begin(), undo.end(), [](char u) { return u != 0; })) {
         for (int m = 0; m < 2; ++m) {
-          auto is_new = meshes[m]->template property_map<F, bool>(new_face_property);
+          auto is_new = meshes_[m]->template property_map<F, bool>(new_face_property);
           if (is_new.second)
             for (auto f : faces[m]) is_new.first[f] = true;
         }
-        // The shared curves lose the merged points.
-        std::vector<std::vector<char>> drop(curves.size());
-        for (std::size_t c = 0; c < curves.size(); ++c) drop[c].assign(curves[c].size(), 0);
-        for (const auto& op : chosen) {
-          if (op.curve == no_curve) continue;
-          if (op.to) {  // Q moved to the midpoint
-            if (op.at_q == 0 && is_closed(curves[op.curve])) curves[op.curve].back() = *op.to;
-            curves[op.curve][op.at_q] = *op.to;
-          }
-          drop[op.curve][op.at_p] = 1;
-          if (op.at_p == 0 && is_closed(curves[op.curve])) drop[op.curve].back() = 1;
-        }
-        for (std::size_t c = 0; c < curves.size(); ++c) {
-          const bool closed = is_closed(curves[c]);
-          Polyline<K> out;
-          for (std::size_t i = 0; i < curves[c].size(); ++i)
-            if (!drop[c][i]) out.push_back(curves[c][i]);
-          if (closed && drop[c].back()) out.push_back(out.front());
-          curves[c] = std::move(out);
-        }
-        cva = std::move(after_lists[0]);
-        cvb = std::move(after_lists[1]);
-        for (const auto& op : chosen) (op.curve == no_curve ? report.tiny_edges_collapsed : report.collapsed) += 1;
-        break;
+        update_curves(chosen);
+        cva_ = std::move(after[0]);
+        cvb_ = std::move(after[1]);
+        for (const auto& op : chosen) (op.curve == no_curve ? report_.tiny_edges_collapsed : report_.collapsed) += 1;
+        return true;
       }
-      a = a0;
-      b = b0;
+      a_ = a0;
+      b_ = b0;
       std::vector<Op> keep;
       for (std::size_t k = 0; k < chosen.size(); ++k)
         if (undo[k])
-          excluded.insert(key(chosen[k]));
+          excluded_.insert(key(chosen[k]));
         else
           keep.push_back(chosen[k]);
       chosen = std::move(keep);
-      if (chosen.empty()) break;
     }
-    if (chosen.empty()) continue;
-    compact_keeping_curve_vertices<K>(a, cva);
-    compact_keeping_curve_vertices<K>(b, cvb);
-    excluded.clear();  // indices moved: the next round evaluates every candidate again
+    return false;
   }
-  for (const auto& c : curves)  // what is left
-    for (std::size_t i = 0; i + 1 < c.size(); ++i)
-      if (rounded_distance(c[i], c[i + 1]) <= max_length) ++report.refused;
-  return report;
+
+  Mesh<K>& a_;
+  Mesh<K>& b_;
+  std::vector<Polyline<K>>& curves_;
+  VertexLists<K>& cva_;
+  VertexLists<K>& cvb_;
+  Mesh<K>* meshes_[2];
+  VertexLists<K>* lists_[2];
+  Parameters par_;
+  std::vector<int> uses_[2];
+  std::set<std::array<std::size_t, 4>> excluded_;  ///< merges refused or undone (by key)
+  CurveCollapseReport report_;
+};
+
+}  // namespace
+
+template <class K>
+CurveCollapseReport collapse_short_curve_segments(Mesh<K>& a, Mesh<K>& b, std::vector<Polyline<K>>& curves,
+                                                  VertexLists<K>& cva, VertexLists<K>& cvb, double max_length,
+                                                  double tiny_length, std::size_t input_vertices_a,
+                                                  std::size_t input_vertices_b, const MergedFaceTest& accept_face,
+                                                  double only_next_to_faces_below, bool merge_onto_curves) {
+  if (!(max_length > 0) && !(tiny_length > 0)) return {};
+  if (cva.size() != curves.size() || cvb.size() != curves.size())
+    throw InternalError("collapse: curve vertex lists do not match the curves");
+  const typename CurveSegmentCollapser<K>::Parameters parameters{
+      max_length, tiny_length, {input_vertices_a, input_vertices_b}, accept_face, only_next_to_faces_below,
+      merge_onto_curves};
+  return CurveSegmentCollapser<K>(a, b, curves, cva, cvb, parameters).run();
 }
 
 #define SEAM_INSTANTIATE(K)                                                                                     \

@@ -119,29 +119,191 @@ double polyline_deviation(const std::vector<Polyline<K>>& input, const std::vect
   return worst;
 }
 
-}  // namespace
+using namespace internal;  // (the steps' types: MeshTypes, Where, CoarsenOutput, FacePatch, ...)
 
-namespace internal {
+/// Step 5's input, per element of the mesh: the coarsened curve points (ids into the coarse
+/// points) inside each edge (ordered from the source of its halfedge 0) and inside each face, and
+/// the curve segments inside each face; each point's vertex index in the output (`out_id`: a
+/// mesh vertex's own, or nv + its position in `new_points`).
+template <class K> struct FaceConstraintsByElement {
+  using T = MeshTypes<K>;
+  std::vector<std::size_t> out_id;
+  std::vector<typename K::Point_3> new_points;
+  std::map<typename T::E, std::vector<std::size_t>> edge_points;
+  std::map<typename T::F, std::vector<std::size_t>> face_points;
+  std::map<typename T::F, std::vector<std::pair<std::size_t, std::size_t>>> face_segments;
+  std::set<typename T::F> crossed;  ///< the faces to re-triangulate
+};
 
 template <class K>
-EmbedResult<K> embed_with_known_sites(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves,
-                                      const EmbedOptions& options, const KnownSites<K>* known) {
-  using T = MeshTypes<K>;
-  using V = typename T::V;
-  using E = typename T::E;
-  using F = typename T::F;
-  using Point = typename K::Point_3;
-
-  EmbedResult<K> result;
-  EmbedStats& st = result.stats;
-  st.kernel = kernel_name(kernel_traits<K>::kind);
-
-  // ---- options and preconditions
-  if (!CGAL::is_triangle_mesh(mesh) || mesh.is_empty()) throw InvalidInput("the mesh is not a triangle mesh");
-  if (mesh.has_garbage()) {
-    mesh.collect_garbage();
-    known = nullptr;  // the indices it holds changed
+FaceConstraintsByElement<K> constraints_by_element(const Mesh<K>& mesh, const CoarsenOutput<K>& coarse,
+                                                   EmbedStats& st) {
+  using F = typename MeshTypes<K>::F;
+  FaceConstraintsByElement<K> g;
+  const std::size_t nv = mesh.number_of_vertices();
+  const auto& cps = coarse.points.points;
+  g.out_id.resize(cps.size());
+  for (std::size_t i = 0; i < cps.size(); ++i) {
+    const auto& sp = cps[i];
+    if (sp.where == Where::vertex) {
+      g.out_id[i] = std::size_t(sp.v);
+      ++st.curve_vertices_at_mesh_vertices;
+      continue;
+    }
+    g.out_id[i] = nv + g.new_points.size();
+    g.new_points.push_back(sp.p);
+    if (sp.where == Where::edge) {
+      g.edge_points[sp.e].push_back(i);
+      ++st.crossing_points;
+    } else {
+      g.face_points[sp.f].push_back(i);
+    }
   }
+  // Along each edge, order the points from the source of its halfedge 0 (exact comparison).
+  for (auto& [e, ids] : g.edge_points) {
+    const auto& s = mesh.point(mesh.source(mesh.halfedge(e, 0)));
+    std::sort(ids.begin(), ids.end(), [&](std::size_t x, std::size_t y) {
+      return CGAL::compare_distance_to_point(s, cps[x].p, cps[y].p) == CGAL::SMALLER;
+    });
+  }
+  std::set<std::tuple<std::size_t, std::size_t, std::size_t>> segments_seen;  // a face may hold 100,000
+  for (const auto& cc : coarse.curves) {
+    const std::size_t ns = cc.segment_face.size();
+    for (std::size_t j = 0; j < ns; ++j) {
+      const F f = cc.segment_face[j];
+      if (f == Mesh<K>::null_face()) continue;
+      std::size_t a = cc.ids[j], b = cc.ids[(j + 1) % cc.ids.size()];
+      if (a > b) std::swap(a, b);
+      if (segments_seen.emplace(std::size_t(f), a, b).second) g.face_segments[f].emplace_back(a, b);
+    }
+  }
+  for (const auto& [e, ids] : g.edge_points)
+    for (int i = 0; i < 2; ++i)
+      if (!mesh.is_border(mesh.halfedge(e, i))) g.crossed.insert(mesh.face(mesh.halfedge(e, i)));
+  for (const auto& [f, ids] : g.face_points) g.crossed.insert(f);
+  for (const auto& [f, segs] : g.face_segments) g.crossed.insert(f);
+  st.faces_crossed = g.crossed.size();
+  return g;
+}
+
+/// Step 5: each crossed face re-triangulated with its split edges and the curve segments inside
+/// it as constraints. `source_min_angle` receives each crossed face's smallest angle.
+template <class K>
+std::map<typename MeshTypes<K>::F, FacePatch<K>>
+retriangulate_crossed_faces(const Mesh<K>& mesh, const FaceConstraintsByElement<K>& g, const CoarsenOutput<K>& coarse,
+                            const EmbedOptions& options, EmbedStats& st, std::vector<double>& source_min_angle) {
+  using F = typename MeshTypes<K>::F;
+  const auto& cps = coarse.points.points;
+  RetriangulateOptions ropt;
+  ropt.min_angle_deg = options.min_angle_deg;
+  ropt.max_area = options.max_area;
+  ropt.max_steiner = options.max_steiner_per_face;
+  std::map<F, FacePatch<K>> patches;
+  st.min_angle_deg_input = 180;
+  for (F f : g.crossed) {
+    FaceConstraints<K> fc;
+    auto h = mesh.halfedge(f);
+    for (int i = 0; i < 3; ++i, h = mesh.next(h)) {
+      const auto s = mesh.source(h);
+      fc.corner_ids[i] = std::size_t(s);
+      fc.corners[i] = mesh.point(s);
+      auto it = g.edge_points.find(mesh.edge(h));
+      if (it != g.edge_points.end()) {
+        std::vector<std::size_t> ids = it->second;
+        if (mesh.halfedge(mesh.edge(h), 0) != h) std::reverse(ids.begin(), ids.end());
+        for (std::size_t id : ids) fc.edge_points[i].emplace_back(g.out_id[id], cps[id].p);
+      }
+    }
+    if (auto it = g.face_points.find(f); it != g.face_points.end())
+      for (std::size_t id : it->second) fc.interior_points.emplace_back(g.out_id[id], cps[id].p);
+    if (auto it = g.face_segments.find(f); it != g.face_segments.end())
+      for (auto [a, b] : it->second) fc.segments.emplace_back(g.out_id[a], g.out_id[b]);
+    try {
+      patches.emplace(f, retriangulate_face<K>(fc, ropt));
+    } catch (const InvalidInput& e) {
+      std::ostringstream msg;
+      msg << e.what() << " (input face " << std::size_t(f) << ")";
+      throw InvalidInput(msg.str());
+    }
+    source_min_angle[std::size_t(f)] = min_angle_deg(fc.corners[0], fc.corners[1], fc.corners[2]);
+    st.min_angle_deg_input = std::min(st.min_angle_deg_input, source_min_angle[std::size_t(f)]);
+  }
+  if (g.crossed.empty()) st.min_angle_deg_input = 0;
+  for (const auto& [f, patch] : patches) {
+    st.steiner_points += patch.steiner_points.size();
+    st.faces_added += patch.triangles.size();
+    st.faces_refinement_fallback += patch.refinement_undone ? 1 : 0;
+  }
+  return patches;
+}
+
+/// Input edges joining two curve vertices that are mesh vertices (segments along an edge).
+template <class K>
+std::map<std::pair<typename MeshTypes<K>::V, typename MeshTypes<K>::V>, typename MeshTypes<K>::E>
+input_edges_along_curves(const Mesh<K>& mesh, const CoarsenOutput<K>& coarse) {
+  const auto& cps = coarse.points.points;
+  std::map<std::pair<typename MeshTypes<K>::V, typename MeshTypes<K>::V>, typename MeshTypes<K>::E> result;
+  for (const auto& cc : coarse.curves)
+    for (std::size_t j = 0; j < cc.segment_face.size(); ++j) {
+      if (cc.segment_face[j] != Mesh<K>::null_face()) continue;
+      const auto& a = cps[cc.ids[j]];
+      const auto& b = cps[cc.ids[(j + 1) % cc.ids.size()]];
+      if (a.where != Where::vertex || b.where != Where::vertex) continue;
+      const auto h = mesh.halfedge(a.v, b.v);
+      if (h == Mesh<K>::null_halfedge()) throw InternalError("a curve segment along an edge has no edge");
+      result[{a.v, b.v}] = mesh.edge(h);
+    }
+  return result;
+}
+
+/// The embedded curves, as vertices of the spliced mesh (along an input edge, through the curve
+/// points on it), into `result.curve_vertices` and `result.curves`.
+template <class K>
+void record_embedded_curves(const Mesh<K>& mesh, const CoarsenOutput<K>& coarse, const FaceConstraintsByElement<K>& g,
+                            const std::map<std::pair<typename MeshTypes<K>::V, typename MeshTypes<K>::V>,
+                                           typename MeshTypes<K>::E>& input_edge_between,
+                            EmbedResult<K>& result) {
+  using V = typename MeshTypes<K>::V;
+  using E = typename MeshTypes<K>::E;
+  const auto& cps = coarse.points.points;
+  for (const auto& cc : coarse.curves) {
+    std::vector<V> vs;
+    const std::size_t nseg = cc.segment_face.size();
+    for (std::size_t j = 0; j < cc.ids.size(); ++j) {
+      vs.push_back(V(static_cast<typename V::size_type>(g.out_id[cc.ids[j]])));
+      if (j >= nseg || cc.segment_face[j] != Mesh<K>::null_face()) continue;
+      // A segment along an input edge: insert the points of that edge that lie between its ends.
+      const auto& a = cps[cc.ids[j]];
+      const auto& b = cps[cc.ids[(j + 1) % cc.ids.size()]];
+      const E along = a.where == Where::edge   ? a.e
+                       : b.where == Where::edge ? b.e
+                                                : input_edge_between.at(std::make_pair(a.v, b.v));
+      std::vector<std::size_t> between;
+      if (auto it = g.edge_points.find(along); it != g.edge_points.end())
+        for (std::size_t id : it->second)
+          if (CGAL::collinear_are_strictly_ordered_along_line(a.p, cps[id].p, b.p)) between.push_back(id);
+      std::sort(between.begin(), between.end(), [&](std::size_t x, std::size_t y) {
+        return CGAL::compare_distance_to_point(a.p, cps[x].p, cps[y].p) == CGAL::SMALLER;
+      });
+      for (std::size_t id : between) vs.push_back(V(static_cast<typename V::size_type>(g.out_id[id])));
+    }
+    if (cc.closed && !vs.empty()) vs.push_back(vs.front());
+    Polyline<K> pl;
+    for (V v : vs) pl.push_back(mesh.point(v));
+    result.stats.curve_nodes_out += cc.closed ? vs.size() - 1 : vs.size();
+    result.curve_vertices.push_back(std::move(vs));
+    result.curves.push_back(std::move(pl));
+  }
+}
+
+/// The preconditions of embed (a triangle mesh, valid options, curves of 2 points or more) and
+/// the input's figures in `st`. Returns false when the mesh had garbage (collected: indices moved).
+template <class K>
+bool check_and_measure_input(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, const EmbedOptions& options,
+                             EmbedStats& st) {
+  if (!CGAL::is_triangle_mesh(mesh) || mesh.is_empty()) throw InvalidInput("the mesh is not a triangle mesh");
+  const bool had_garbage = mesh.has_garbage();
+  if (had_garbage) mesh.collect_garbage();
   validate_options(options);
   for (std::size_t c = 0; c < curves.size(); ++c) {
     if (curves[c].size() < 2) {
@@ -157,6 +319,20 @@ EmbedResult<K> embed_with_known_sites(Mesh<K>& mesh, const std::vector<Polyline<
   st.max_distance = options.max_distance < 0 ? 1.0 * st.mean_edge_length : options.max_distance;
   st.curves = curves.size();
   for (const auto& c : curves) st.curve_nodes_in += is_closed(c) ? c.size() - 1 : c.size();
+  return !had_garbage;
+}
+
+}  // namespace
+
+namespace internal {
+
+template <class K>
+EmbedResult<K> embed_with_known_sites(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves,
+                                      const EmbedOptions& options, const KnownSites<K>* known) {
+  EmbedResult<K> result;
+  EmbedStats& st = result.stats;
+  st.kernel = kernel_name(kernel_traits<K>::kind);
+  if (!check_and_measure_input<K>(mesh, curves, options, st)) known = nullptr;  // the indices it holds changed
 
   // ---- 1. snap
   auto t = Clock::now();
@@ -180,149 +356,20 @@ EmbedResult<K> embed_with_known_sites(Mesh<K>& mesh, const std::vector<Polyline<
 
   // ---- 5. re-triangulate: gather each face's constraints, then triangulate it
   t = Clock::now();
-  const std::size_t nv = mesh.number_of_vertices();
-  const auto& cps = coarse.points.points;
-  std::vector<std::size_t> out_id(cps.size());
-  std::vector<Point> new_points;
-  std::map<E, std::vector<std::size_t>> edge_points;  // curve point ids inside each edge
-  std::map<F, std::vector<std::size_t>> face_points;
-  std::map<F, std::vector<std::pair<std::size_t, std::size_t>>> face_segments;
-  for (std::size_t i = 0; i < cps.size(); ++i) {
-    const auto& sp = cps[i];
-    if (sp.where == Where::vertex) {
-      out_id[i] = std::size_t(sp.v);
-      ++st.curve_vertices_at_mesh_vertices;
-      continue;
-    }
-    out_id[i] = nv + new_points.size();
-    new_points.push_back(sp.p);
-    if (sp.where == Where::edge) {
-      edge_points[sp.e].push_back(i);
-      ++st.crossing_points;
-    } else {
-      face_points[sp.f].push_back(i);
-    }
-  }
-  // Along each edge, order the points from the source of its halfedge 0 (exact comparison).
-  for (auto& [e, ids] : edge_points) {
-    const Point& s = mesh.point(mesh.source(mesh.halfedge(e, 0)));
-    std::sort(ids.begin(), ids.end(), [&](std::size_t x, std::size_t y) {
-      return CGAL::compare_distance_to_point(s, cps[x].p, cps[y].p) == CGAL::SMALLER;
-    });
-  }
-  std::set<std::tuple<std::size_t, std::size_t, std::size_t>> segments_seen;  // a face may hold 100,000
-  for (const auto& cc : coarse.curves) {
-    const std::size_t ns = cc.segment_face.size();
-    for (std::size_t j = 0; j < ns; ++j) {
-      const F f = cc.segment_face[j];
-      if (f == Mesh<K>::null_face()) continue;
-      std::size_t a = cc.ids[j], b = cc.ids[(j + 1) % cc.ids.size()];
-      if (a > b) std::swap(a, b);
-      if (segments_seen.emplace(std::size_t(f), a, b).second) face_segments[f].emplace_back(a, b);
-    }
-  }
-  std::set<F> crossed;
-  for (const auto& [e, ids] : edge_points)
-    for (int i = 0; i < 2; ++i)
-      if (!mesh.is_border(mesh.halfedge(e, i))) crossed.insert(mesh.face(mesh.halfedge(e, i)));
-  for (const auto& [f, ids] : face_points) crossed.insert(f);
-  for (const auto& [f, segs] : face_segments) crossed.insert(f);
-  st.faces_crossed = crossed.size();
-
-  RetriangulateOptions ropt;
-  ropt.min_angle_deg = options.min_angle_deg;
-  ropt.max_area = options.max_area;
-  ropt.max_steiner = options.max_steiner_per_face;
-  std::map<F, FacePatch<K>> patches;
+  const auto constraints = constraints_by_element<K>(mesh, coarse, st);
   std::vector<double> source_min_angle(st.input_faces, 180.0);
-  st.min_angle_deg_input = 180;
-  for (F f : crossed) {
-    FaceConstraints<K> fc;
-    auto h = mesh.halfedge(f);
-    for (int i = 0; i < 3; ++i, h = mesh.next(h)) {
-      const V s = mesh.source(h);
-      fc.corner_ids[i] = std::size_t(s);
-      fc.corners[i] = mesh.point(s);
-      auto it = edge_points.find(mesh.edge(h));
-      if (it != edge_points.end()) {
-        std::vector<std::size_t> ids = it->second;
-        if (mesh.halfedge(mesh.edge(h), 0) != h) std::reverse(ids.begin(), ids.end());
-        for (std::size_t id : ids) fc.edge_points[i].emplace_back(out_id[id], cps[id].p);
-      }
-    }
-    if (auto it = face_points.find(f); it != face_points.end())
-      for (std::size_t id : it->second) fc.interior_points.emplace_back(out_id[id], cps[id].p);
-    if (auto it = face_segments.find(f); it != face_segments.end())
-      for (auto [a, b] : it->second) fc.segments.emplace_back(out_id[a], out_id[b]);
-    try {
-      patches.emplace(f, retriangulate_face<K>(fc, ropt));
-    } catch (const InvalidInput& e) {
-      std::ostringstream msg;
-      msg << e.what() << " (input face " << std::size_t(f) << ")";
-      throw InvalidInput(msg.str());
-    }
-    source_min_angle[std::size_t(f)] = min_angle_deg(fc.corners[0], fc.corners[1], fc.corners[2]);
-    st.min_angle_deg_input = std::min(st.min_angle_deg_input, source_min_angle[std::size_t(f)]);
-  }
-  if (crossed.empty()) st.min_angle_deg_input = 0;
-  for (const auto& [f, patch] : patches) {
-    st.steiner_points += patch.steiner_points.size();
-    st.faces_added += patch.triangles.size();
-    st.faces_refinement_fallback += patch.refinement_undone ? 1 : 0;
-  }
+  auto patches = retriangulate_crossed_faces<K>(mesh, constraints, coarse, options, st, source_min_angle);
   st.stage_seconds["retriangulate"] = seconds_since(t);
-
-  // Input edges joining two curve vertices that are mesh vertices (segments along an edge).
-  std::map<std::pair<V, V>, E> input_edge_between;
-  for (const auto& cc : coarse.curves)
-    for (std::size_t j = 0; j < cc.segment_face.size(); ++j) {
-      if (cc.segment_face[j] != Mesh<K>::null_face()) continue;
-      const auto& a = cps[cc.ids[j]];
-      const auto& b = cps[cc.ids[(j + 1) % cc.ids.size()]];
-      if (a.where != Where::vertex || b.where != Where::vertex) continue;
-      const auto h = mesh.halfedge(a.v, b.v);
-      if (h == Mesh<K>::null_halfedge()) throw InternalError("a curve segment along an edge has no edge");
-      input_edge_between[{a.v, b.v}] = mesh.edge(h);
-    }
+  const auto input_edge_between = input_edges_along_curves<K>(mesh, coarse);
 
   // ---- 6. splice
   t = Clock::now();
-  Mesh<K> out = splice_patches<K>(mesh, new_points, patches);
+  Mesh<K> out = splice_patches<K>(mesh, constraints.new_points, patches);
   mesh = std::move(out);
   st.output_vertices = mesh.number_of_vertices();
   st.output_faces = mesh.number_of_faces();
   st.stage_seconds["splice"] = seconds_since(t);
-
-  auto mesh_edge_between = [&](V x, V y) { return input_edge_between.at(std::make_pair(x, y)); };
-  // ---- the embedded curves, as mesh vertices (along an edge, through the points on it)
-  for (const auto& cc : coarse.curves) {
-    std::vector<V> vs;
-    const std::size_t nseg = cc.segment_face.size();
-    for (std::size_t j = 0; j < cc.ids.size(); ++j) {
-      vs.push_back(V(static_cast<typename V::size_type>(out_id[cc.ids[j]])));
-      if (j >= nseg || cc.segment_face[j] != Mesh<K>::null_face()) continue;
-      // A segment along an input edge: insert the points of that edge that lie between its ends.
-      const auto& a = cps[cc.ids[j]];
-      const auto& b = cps[cc.ids[(j + 1) % cc.ids.size()]];
-      const E along = a.where == Where::edge   ? a.e
-                       : b.where == Where::edge ? b.e
-                                                : mesh_edge_between(a.v, b.v);
-      std::vector<std::size_t> between;
-      if (auto it = edge_points.find(along); it != edge_points.end())
-        for (std::size_t id : it->second)
-          if (CGAL::collinear_are_strictly_ordered_along_line(a.p, cps[id].p, b.p)) between.push_back(id);
-      std::sort(between.begin(), between.end(), [&](std::size_t x, std::size_t y) {
-        return CGAL::compare_distance_to_point(a.p, cps[x].p, cps[y].p) == CGAL::SMALLER;
-      });
-      for (std::size_t id : between) vs.push_back(V(static_cast<typename V::size_type>(out_id[id])));
-    }
-    if (cc.closed && !vs.empty()) vs.push_back(vs.front());
-    Polyline<K> pl;
-    for (V v : vs) pl.push_back(mesh.point(v));
-    st.curve_nodes_out += cc.closed ? vs.size() - 1 : vs.size();
-    result.curve_vertices.push_back(std::move(vs));
-    result.curves.push_back(std::move(pl));
-  }
+  record_embedded_curves<K>(mesh, coarse, constraints, input_edge_between, result);
 
   // ---- quality of the new faces and distance to the input curves (rounded measurements)
   const auto quality = new_face_quality<K>(mesh, &source_min_angle);

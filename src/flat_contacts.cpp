@@ -382,19 +382,43 @@ Mesh<K> rebuilt(const Mesh<K>& mesh, const FaceCorners<K>& fc, const std::vector
   return out;
 }
 
-}  // namespace
-
-template <class K> FlatContactStats unify_flat_contacts(Mesh<K>& a, Mesh<K>& b, double min_separation) {
+/// The steps of unify_flat_contacts on one pair of meshes, each a method.
+template <class K> class FlatContactUnifier {
+ public:
   using M = Mesh<K>;
   using Point = typename K::Point_3;
-  FlatContactStats stats;
-  if (a.has_garbage() || b.has_garbage()) throw InternalError("flat contacts: a mesh has garbage");
-  const FaceCorners<K> ca(a), cb(b);
-  const std::size_t na = ca.corners.size(), nb = cb.corners.size();
 
-  // 1. Face pairs of A and B in one plane that overlap with positive area.
+  FlatContactUnifier(M& a, M& b, double min_separation)
+      : a_(a), b_(b), ca_(a), cb_(b), na_(ca_.corners.size()), nb_(cb_.corners.size()), min_separation_(min_separation) {}
+
+  FlatContactStats run() {
+    FlatContactStats stats;
+    const auto confirmed = coplanar_overlapping_pairs();
+    if (confirmed.empty()) return stats;
+    group_into_patches();
+    collect(a_, ca_, patch_of_a_, true);
+    std::vector<std::size_t> points_of_a(count_);
+    for (std::size_t p = 0; p < count_; ++p) points_of_a[p] = patches_[p].points.size();
+    collect(b_, cb_, patch_of_b_, false);
+    alias_close_points_of_b(points_of_a);
+    const std::vector<char> unified = triangulate_patches(stats);
+    if (stats.patches == 0) return stats;
+    for (std::size_t f = 0; f < na_; ++f)
+      stats.faces_replaced_a += patch_of_a_[f] >= 0 && unified[std::size_t(patch_of_a_[f])];
+    for (std::size_t f = 0; f < nb_; ++f)
+      stats.faces_replaced_b += patch_of_b_[f] >= 0 && unified[std::size_t(patch_of_b_[f])];
+    // 5. Both meshes rebuilt with the common triangulations.
+    M a2 = rebuilt<K>(a_, ca_, patch_of_a_, patches_, unified);
+    M b2 = rebuilt<K>(b_, cb_, patch_of_b_, patches_, unified);
+    a_ = std::move(a2);
+    b_ = std::move(b2);
+    return stats;
+  }
+
+ private:
   using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
-  auto boxes = [](const M& m) {
+
+  static std::vector<Box> face_boxes(const M& m) {
     std::vector<Box> result;
     for (auto f : m.faces()) {
       CGAL::Bbox_3 box;
@@ -402,18 +426,21 @@ template <class K> FlatContactStats unify_flat_contacts(Mesh<K>& a, Mesh<K>& b, 
       result.emplace_back(box, std::uint32_t(std::size_t(f)));
     }
     return result;
-  };
-  std::vector<Box> boxes_a = boxes(a), boxes_b = boxes(b);
-  std::vector<certified::IP> ia(a.number_of_vertices()), ib(b.number_of_vertices());
-  for (auto v : a.vertices()) ia[std::size_t(v)] = certified::interval_point(a.point(v));
-  for (auto v : b.vertices()) ib[std::size_t(v)] = certified::interval_point(b.point(v));
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> overlapping;
-  {
+  }
+
+  /// 1. Face pairs of A and B that may lie in one plane and overlap there: neither certainly off
+  ///    the other's plane nor certainly apart in it (certified interval arithmetic).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> candidate_pairs() const {
+    std::vector<Box> boxes_a = face_boxes(a_), boxes_b = face_boxes(b_);
+    std::vector<certified::IP> ia(a_.number_of_vertices()), ib(b_.number_of_vertices());
+    for (auto v : a_.vertices()) ia[std::size_t(v)] = certified::interval_point(a_.point(v));
+    for (auto v : b_.vertices()) ib[std::size_t(v)] = certified::interval_point(b_.point(v));
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> overlapping;
     CGAL::Protect_FPU_rounding<true> rounding;
     CGAL::box_intersection_d(boxes_a.begin(), boxes_a.end(), boxes_b.begin(), boxes_b.end(),
                              [&](const Box& x, const Box& y) {
-                               const auto& s = ca.corners[x.info()];
-                               const auto& t = cb.corners[y.info()];
+                               const auto& s = ca_.corners[x.info()];
+                               const auto& t = cb_.corners[y.info()];
                                for (int k = 0; k < 3; ++k)  // a corner of t surely off the plane of s
                                  if (certified::sure_sign(certified::orient3(
                                          ib[std::size_t(t[k])], ia[std::size_t(s[0])], ia[std::size_t(s[1])],
@@ -425,156 +452,181 @@ template <class K> FlatContactStats unify_flat_contacts(Mesh<K>& a, Mesh<K>& b, 
                                                                                &ia[std::size_t(s[2])]},
                                                                          pt = {&ib[std::size_t(t[0])], &ib[std::size_t(t[1])],
                                                                                &ib[std::size_t(t[2])]};
-                               const int axis = dominant_axis(a.point(s[0]), a.point(s[1]), a.point(s[2]));
-                               const auto qs = ca.points(x.info()), qt = cb.points(y.info());
+                               const int axis = dominant_axis(a_.point(s[0]), a_.point(s[1]), a_.point(s[2]));
+                               const auto qs = ca_.points(x.info()), qt = cb_.points(y.info());
                                if (surely_apart_in_plane(qs, ps, qt, pt, axis) || surely_apart_in_plane(qt, pt, qs, ps, axis))
                                  return;
                                overlapping.emplace_back(x.info(), y.info());
                              });
+    return overlapping;
   }
-  std::vector<char> contact(na + nb, 0);
-  DisjointSets sets(na + nb);
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> confirmed;
-  for (const auto& [fa, fb] : overlapping) {
-    const auto s = ca.points(fa), t = cb.points(fb);
-    bool coplanar = true;
-    for (int k = 0; k < 3 && coplanar; ++k) coplanar = CGAL::coplanar(*s[0], *s[1], *s[2], *t[k]);
-    if (!coplanar) continue;
-    int axis = dominant_axis(*s[0], *s[1], *s[2]);
-    if (projected_orientation(*s[0], *s[1], *s[2], axis) == CGAL::ZERO) continue;  // (rounded kernels)
-    if (!interiors_overlap<Point>(s, t, axis)) continue;
-    contact[fa] = contact[na + fb] = 1;
-    sets.join(fa, na + fb);
-    confirmed.emplace_back(fa, fb);
-  }
-  if (confirmed.empty()) return stats;
 
-  // 2. Patches: contact faces joined across edges to contact faces of the same mesh in the same
-  //    plane.
-  auto join_neighbours = [&](const M& m, const FaceCorners<K>& fc, std::size_t offset) {
-    for (auto f : m.faces()) {
-      if (!contact[offset + std::size_t(f)]) continue;
-      for (auto h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
-        const auto g = m.face(m.opposite(h));
-        if (g == M::null_face() || !contact[offset + std::size_t(g)]) continue;
-        const auto s = fc.points(std::size_t(f));
-        if (CGAL::coplanar(*s[0], *s[1], *s[2], m.point(m.target(m.next(m.opposite(h))))))
-          sets.join(offset + std::size_t(f), offset + std::size_t(g));
-      }
+  /// 1. Face pairs of A and B in one plane that overlap with positive area (exact); marks them
+  ///    contact faces, each pair in one set.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> coplanar_overlapping_pairs() {
+    contact_.assign(na_ + nb_, 0);
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> confirmed;
+    for (const auto& [fa, fb] : candidate_pairs()) {
+      const auto s = ca_.points(fa), t = cb_.points(fb);
+      bool coplanar = true;
+      for (int k = 0; k < 3 && coplanar; ++k) coplanar = CGAL::coplanar(*s[0], *s[1], *s[2], *t[k]);
+      if (!coplanar) continue;
+      int axis = dominant_axis(*s[0], *s[1], *s[2]);
+      if (projected_orientation(*s[0], *s[1], *s[2], axis) == CGAL::ZERO) continue;  // (rounded kernels)
+      if (!interiors_overlap<Point>(s, t, axis)) continue;
+      contact_[fa] = contact_[na_ + fb] = 1;
+      sets_.join(fa, na_ + fb);
+      confirmed.emplace_back(fa, fb);
     }
-  };
-  join_neighbours(a, ca, 0);
-  join_neighbours(b, cb, na);
-  std::map<std::size_t, std::size_t> patch_index;  // set root -> patch
-  std::vector<long> patch_of_a(na, -1), patch_of_b(nb, -1);
-  for (std::size_t n = 0; n < na + nb; ++n) {
-    if (!contact[n]) continue;
-    const auto [it, inserted] = patch_index.emplace(sets.find(n), patch_index.size());
-    (n < na ? patch_of_a[n] : patch_of_b[n - na]) = long(it->second);
+    return confirmed;
   }
-  const std::size_t count = patch_index.size();
 
-  // 3. Per patch: the points, the border of each mesh's faces (must agree), the common edges.
-  std::vector<Patch<K>> patches(count);
-  std::vector<std::map<Point, std::size_t, PointLess>> index(count);
-  std::vector<std::set<std::pair<std::size_t, std::size_t>>> edges_a(count), edges_b(count), border_b(count);
-  std::vector<double> area(count, 0.0);
-  std::vector<char> axis_set(count, 0);
-  auto collect = [&](const M& m, const FaceCorners<K>& fc, const std::vector<long>& patch_of, bool is_a) {
+  /// 2. Patches: contact faces joined across edges to contact faces of the same mesh in the same
+  ///    plane; numbers them (patch_of_a_, patch_of_b_, count_).
+  void group_into_patches() {
+    auto join_neighbours = [&](const M& m, const FaceCorners<K>& fc, std::size_t offset) {
+      for (auto f : m.faces()) {
+        if (!contact_[offset + std::size_t(f)]) continue;
+        for (auto h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
+          const auto g = m.face(m.opposite(h));
+          if (g == M::null_face() || !contact_[offset + std::size_t(g)]) continue;
+          const auto s = fc.points(std::size_t(f));
+          if (CGAL::coplanar(*s[0], *s[1], *s[2], m.point(m.target(m.next(m.opposite(h))))))
+            sets_.join(offset + std::size_t(f), offset + std::size_t(g));
+        }
+      }
+    };
+    join_neighbours(a_, ca_, 0);
+    join_neighbours(b_, cb_, na_);
+    std::map<std::size_t, std::size_t> patch_index;  // set root -> patch
+    patch_of_a_.assign(na_, -1);
+    patch_of_b_.assign(nb_, -1);
+    for (std::size_t n = 0; n < na_ + nb_; ++n) {
+      if (!contact_[n]) continue;
+      const auto [it, inserted] = patch_index.emplace(sets_.find(n), patch_index.size());
+      (n < na_ ? patch_of_a_[n] : patch_of_b_[n - na_]) = long(it->second);
+    }
+    count_ = patch_index.size();
+    patches_.assign(count_, Patch<K>());
+    index_.assign(count_, {});
+    edges_a_.assign(count_, {});
+    edges_b_.assign(count_, {});
+    border_b_.assign(count_, {});
+    area_.assign(count_, 0.0);
+    axis_set_.assign(count_, 0);
+  }
+
+  /// 3. Per patch: the points, the border of each mesh's faces (must agree), the edges of each,
+  ///    the area of A's faces (doubles).
+  void collect(const M& m, const FaceCorners<K>& fc, const std::vector<long>& patch_of, bool is_a) {
     for (auto f : m.faces()) {
       const long pi = patch_of[std::size_t(f)];
       if (pi < 0) continue;
       const std::size_t p = std::size_t(pi);
       const auto s = fc.points(std::size_t(f));
-      if (!axis_set[p]) {
-        patches[p].axis = dominant_axis(*s[0], *s[1], *s[2]);
-        axis_set[p] = 1;
+      if (!axis_set_[p]) {
+        patches_[p].axis = dominant_axis(*s[0], *s[1], *s[2]);
+        axis_set_[p] = 1;
       }
       std::array<std::size_t, 3> id;
       for (int k = 0; k < 3; ++k) {
-        const auto [it, inserted] = index[p].emplace(*s[k], patches[p].points.size());
-        if (inserted) patches[p].points.push_back(*s[k]);
+        const auto [it, inserted] = index_[p].emplace(*s[k], patches_[p].points.size());
+        if (inserted) patches_[p].points.push_back(*s[k]);
         id[k] = it->second;
       }
       if (is_a) {
-        const auto [u, v] = kept_coordinates(patches[p].axis);
+        const auto [u, v] = kept_coordinates(patches_[p].axis);
         const auto x = to_filtered(*s[0]), y = to_filtered(*s[1]), z = to_filtered(*s[2]);
-        area[p] += std::abs((y[u] - x[u]) * (z[v] - x[v]) - (y[v] - x[v]) * (z[u] - x[u])) / 2;
+        area_[p] += std::abs((y[u] - x[u]) * (z[v] - x[v]) - (y[v] - x[v]) * (z[u] - x[u])) / 2;
       }
       int k = 0;
       for (auto h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
         // halfedges_around_face starts at m.halfedge(f): source(h) is corner k
         const std::pair<std::size_t, std::size_t> e = {std::min(id[k], id[(k + 1) % 3]), std::max(id[k], id[(k + 1) % 3])};
         ++k;
-        (is_a ? edges_a : edges_b)[p].insert(e);
+        (is_a ? edges_a_ : edges_b_)[p].insert(e);
         const auto g = m.face(m.opposite(h));
-        if (g == M::null_face() || patch_of[std::size_t(g)] != pi) (is_a ? patches[p].border : border_b[p]).insert(e);
+        if (g == M::null_face() || patch_of[std::size_t(g)] != pi) (is_a ? patches_[p].border : border_b_[p]).insert(e);
       }
     }
-  };
-  collect(a, ca, patch_of_a, true);
-  std::vector<std::size_t> points_of_a(count);
-  for (std::size_t p = 0; p < count; ++p) points_of_a[p] = patches[p].points.size();
-  collect(b, cb, patch_of_b, false);
-  // Points of B only (inside the patch: its border is A's too) closer than min_separation to a
-  // point of A stand for that point (box test on doubles, then the distance in doubles).
-  std::vector<std::vector<char>> used_by_b(count);
-  for (std::size_t p = 0; p < count; ++p) used_by_b[p].assign(patches[p].points.size(), 0);
-  for (auto f : b.faces())
-    if (const long pi = patch_of_b[std::size_t(f)]; pi >= 0)
-      for (const auto* q : cb.points(std::size_t(f))) used_by_b[std::size_t(pi)][index[std::size_t(pi)].at(*q)] = 1;
-  for (std::size_t p = 0; p < count; ++p) {
-    auto& patch = patches[p];
-    patch.alias.assign(patch.points.size(), -1);
-    std::vector<Box> of_a, of_b;
-    for (std::size_t i = 0; i < patch.points.size(); ++i) {
-      const auto q = to_filtered(patch.points[i]);
-      const double r = min_separation;
-      (i < points_of_a[p] ? of_a : of_b)
-          .emplace_back(CGAL::Bbox_3(q.x() - r, q.y() - r, q.z() - r, q.x() + r, q.y() + r, q.z() + r),
-                        std::uint32_t(i));
-    }
-    if (of_b.empty()) continue;
-    CGAL::box_intersection_d(of_a.begin(), of_a.end(), of_b.begin(), of_b.end(), [&](const Box& x, const Box& y) {
-      const double d = std::sqrt(CGAL::squared_distance(to_filtered(patch.points[x.info()]),
-                                                        to_filtered(patch.points[y.info()])));
-      if (d < min_separation && patch.alias[y.info()] < 0 && !used_by_b[p][x.info()])
-        patch.alias[y.info()] = long(x.info());
-    });
   }
 
-  // 4. Triangulate each patch whose borders agree.
-  std::vector<char> unified(count, 0);
-  for (std::size_t p = 0; p < count; ++p) {
-    std::string why;
-    if (patches[p].border != border_b[p]) {
-      why = say("its border in A (", patches[p].border.size(), " edges) is not its border in B (", border_b[p].size(),
-                " edges): the curves do not bound it in both");
-    } else {
-      for (const auto& e : edges_a[p])
-        if (edges_b[p].count(e)) patches[p].constraints.push_back(e);
-      for (const auto& e : patches[p].border)
-        if (!edges_b[p].count(e)) why = "a border edge is not an edge of both";
-      if (why.empty() && triangulate<K>(patches[p], area[p], why)) unified[p] = 1;
-    }
-    if (unified[p]) {
-      ++stats.patches;
-      stats.shared_faces += patches[p].triangles.size();
-    } else if (stats.patches_left++ == 0) {
-      const auto q = to_filtered(patches[p].points.front());
-      stats.first_left = say("the flat contact at (", q.x(), ", ", q.y(), ", ", q.z(), ") was left as it was: ", why);
+  /// Points of B only (inside the patch: its border is A's too) closer than min_separation to a
+  /// point of A stand for that point (box test on doubles, then the distance in doubles).
+  void alias_close_points_of_b(const std::vector<std::size_t>& points_of_a) {
+    std::vector<std::vector<char>> used_by_b(count_);
+    for (std::size_t p = 0; p < count_; ++p) used_by_b[p].assign(patches_[p].points.size(), 0);
+    for (auto f : b_.faces())
+      if (const long pi = patch_of_b_[std::size_t(f)]; pi >= 0)
+        for (const auto* q : cb_.points(std::size_t(f))) used_by_b[std::size_t(pi)][index_[std::size_t(pi)].at(*q)] = 1;
+    for (std::size_t p = 0; p < count_; ++p) {
+      auto& patch = patches_[p];
+      patch.alias.assign(patch.points.size(), -1);
+      std::vector<Box> of_a, of_b;
+      for (std::size_t i = 0; i < patch.points.size(); ++i) {
+        const auto q = to_filtered(patch.points[i]);
+        const double r = min_separation_;
+        (i < points_of_a[p] ? of_a : of_b)
+            .emplace_back(CGAL::Bbox_3(q.x() - r, q.y() - r, q.z() - r, q.x() + r, q.y() + r, q.z() + r),
+                          std::uint32_t(i));
+      }
+      if (of_b.empty()) continue;
+      CGAL::box_intersection_d(of_a.begin(), of_a.end(), of_b.begin(), of_b.end(), [&](const Box& x, const Box& y) {
+        const double d = std::sqrt(CGAL::squared_distance(to_filtered(patch.points[x.info()]),
+                                                          to_filtered(patch.points[y.info()])));
+        if (d < min_separation_ && patch.alias[y.info()] < 0 && !used_by_b[p][x.info()])
+          patch.alias[y.info()] = long(x.info());
+      });
     }
   }
-  if (stats.patches == 0) return stats;
-  for (std::size_t f = 0; f < na; ++f) stats.faces_replaced_a += patch_of_a[f] >= 0 && unified[std::size_t(patch_of_a[f])];
-  for (std::size_t f = 0; f < nb; ++f) stats.faces_replaced_b += patch_of_b[f] >= 0 && unified[std::size_t(patch_of_b[f])];
 
-  // 5. Both meshes rebuilt with the common triangulations.
-  M a2 = rebuilt<K>(a, ca, patch_of_a, patches, unified);
-  M b2 = rebuilt<K>(b, cb, patch_of_b, patches, unified);
-  a = std::move(a2);
-  b = std::move(b2);
-  return stats;
+  /// 4. Triangulates each patch whose borders agree; per patch, whether it was.
+  std::vector<char> triangulate_patches(FlatContactStats& stats) {
+    std::vector<char> unified(count_, 0);
+    for (std::size_t p = 0; p < count_; ++p) {
+      std::string why;
+      if (patches_[p].border != border_b_[p]) {
+        why = say("its border in A (", patches_[p].border.size(), " edges) is not its border in B (",
+                  border_b_[p].size(), " edges): the curves do not bound it in both");
+      } else {
+        for (const auto& e : edges_a_[p])
+          if (edges_b_[p].count(e)) patches_[p].constraints.push_back(e);
+        for (const auto& e : patches_[p].border)
+          if (!edges_b_[p].count(e)) why = "a border edge is not an edge of both";
+        if (why.empty() && triangulate<K>(patches_[p], area_[p], why)) unified[p] = 1;
+      }
+      if (unified[p]) {
+        ++stats.patches;
+        stats.shared_faces += patches_[p].triangles.size();
+      } else if (stats.patches_left++ == 0) {
+        const auto q = to_filtered(patches_[p].points.front());
+        stats.first_left = say("the flat contact at (", q.x(), ", ", q.y(), ", ", q.z(), ") was left as it was: ", why);
+      }
+    }
+    return unified;
+  }
+
+  M& a_;
+  M& b_;
+  const FaceCorners<K> ca_, cb_;
+  const std::size_t na_, nb_;
+  const double min_separation_;
+  std::vector<char> contact_;  ///< per face of A, then of B: in a flat contact
+  DisjointSets sets_{na_ + nb_};
+  std::vector<long> patch_of_a_, patch_of_b_;
+  std::size_t count_ = 0;
+  std::vector<Patch<K>> patches_;
+  std::vector<std::map<Point, std::size_t, PointLess>> index_;
+  std::vector<std::set<std::pair<std::size_t, std::size_t>>> edges_a_, edges_b_, border_b_;
+  std::vector<double> area_;
+  std::vector<char> axis_set_;
+};
+
+}  // namespace
+
+template <class K> FlatContactStats unify_flat_contacts(Mesh<K>& a, Mesh<K>& b, double min_separation) {
+  if (a.has_garbage() || b.has_garbage()) throw InternalError("flat contacts: a mesh has garbage");
+  return FlatContactUnifier<K>(a, b, min_separation).run();
 }
 
 template FlatContactStats unify_flat_contacts<Exact>(Mesh<Exact>&, Mesh<Exact>&, double);

@@ -401,11 +401,130 @@ CurveMove move_onto_curves(Mesh<K>& m, const std::map<typename Mesh<K>::Vertex_i
   return report;
 }
 
+/// A and B's crossings of one given curve (`ka`, `kb`, each in order along it) merged by their
+/// place along the curve: A's and B's points at the same place are one joint.
+template <class K>
+std::vector<Joint> merge_by_place(std::size_t c, const std::vector<KeptPoint<K>>& ka, const std::vector<KeptPoint<K>>& kb) {
+  std::vector<Joint> joints;
+  std::size_t i = 0, j = 0;
+  auto key = [](const KeptPoint<K>& k) { return std::make_pair(k.s, k.t); };
+  while (i < ka.size() || j < kb.size()) {
+    if (i < ka.size() && j < kb.size() && key(ka[i]) == key(kb[j])) {
+      joints.push_back({ka[i].s, ka[i].t, long(i), long(j)});
+      ++i, ++j;
+    } else if (j == kb.size() || (i < ka.size() && key(ka[i]) < key(kb[j]))) {
+      joints.push_back({ka[i].s, ka[i].t, long(i), -1});
+      ++i;
+    } else {
+      joints.push_back({kb[j].s, kb[j].t, -1, long(j)});
+      ++j;
+    }
+    if (joints.size() >= 2 && joints[joints.size() - 2].s == joints.back().s &&
+        joints[joints.size() - 2].t == joints.back().t) {
+      std::ostringstream msg;
+      msg << "curve " << c << ": two crossings of one mesh fall on the same place of the curve (node "
+          << joints.back().s << "); refine the curve there";
+      throw InvalidInput(msg.str());
+    }
+  }
+  return joints;
+}
+
+/// The shared points, on the given curve: a node, the curve's point closest to a crossed edge,
+/// or node + fraction x segment (exact).
+template <class K>
+Polyline<K> shared_points(const Polyline<K>& curve, const std::vector<Joint>& joints,
+                          const std::vector<KeptPoint<K>>& ka, const std::vector<KeptPoint<K>>& kb) {
+  Polyline<K> u;
+  for (const Joint& jt : joints) {
+    if (jt.ia >= 0 && ka[std::size_t(jt.ia)].on_curve) {
+      u.push_back(*ka[std::size_t(jt.ia)].on_curve);
+      continue;
+    }
+    if (jt.ib >= 0 && kb[std::size_t(jt.ib)].on_curve) {
+      u.push_back(*kb[std::size_t(jt.ib)].on_curve);
+      continue;
+    }
+    if (jt.t == 0) {
+      u.push_back(curve[jt.s]);
+      continue;
+    }
+    typename K::Point_3 p = curve[jt.s] + (curve[jt.s + 1] - curve[jt.s]) * typename K::FT(jt.t);
+    make_exact(p);
+    u.push_back(p);
+  }
+  return u;
+}
+
+/// Steps 3, 4: the common coarsened curves (`shared`), and where each of their points lies in A
+/// and in B (`in_a`, `in_b`: on the mesh, to be embedded; moved onto `shared` afterwards).
+template <class K> struct CommonCurves {
+  std::vector<Polyline<K>> in_a, in_b, shared;
+};
+
+template <class K>
+CommonCurves<K> common_curves(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyline<K>>& curves,
+                              const std::vector<internal::TracedCurve<K>>& ta,
+                              const std::vector<internal::TracedCurve<K>>& tb) {
+  CommonCurves<K> result;
+  for (std::size_t c = 0; c < curves.size(); ++c) {
+    const auto ka = kept_points<K>(a, ta[c], curves[c]);
+    const auto kb = kept_points<K>(b, tb[c], curves[c]);
+    const bool closed = ta[c].closed && tb[c].closed;
+    if (ta[c].closed != tb[c].closed) throw InternalError("pair: a given curve is closed on one mesh only");
+    const std::vector<Joint> joints = merge_by_place<K>(c, ka, kb);
+    const double period = double(curves[c].size() - 1);
+    Polyline<K> u = shared_points<K>(curves[c], joints, ka, kb);
+    auto pa = positions_in<K>(a, joints, ka, u, true, closed, period);
+    auto pb = positions_in<K>(b, joints, kb, u, false, closed, period);
+    if (closed) pa.push_back(pa.front()), pb.push_back(pb.front()), u.push_back(u.front());
+    result.in_a.push_back(std::move(pa));
+    result.in_b.push_back(std::move(pb));
+    result.shared.push_back(std::move(u));
+  }
+  return result;
+}
+
+/// Runs `step` on mesh `name`, its InvalidInput prefixed with the mesh's name.
+template <class Step> auto on_mesh(const char* name, Step&& step) {
+  try {
+    return step();
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(std::string("mesh ") + name + ": " + e.what());
+  }
+}
+
+/// Step 5: the curve vertices of `m` (embedded at `r.curve_vertices`) onto the shared curves,
+/// the faces around them along; a fold is a FoldError. Returns the largest move.
+template <class K>
+double move_onto_shared(Mesh<K>& m, const char* name, EmbedResult<K>& r, const std::vector<Polyline<K>>& shared) {
+  if (r.curve_vertices.size() != shared.size())
+    throw InternalError("pair: the given curves were embedded into a different number of curves");
+  std::map<typename Mesh<K>::Vertex_index, typename K::Point_3> target;
+  for (std::size_t c = 0; c < shared.size(); ++c) {
+    const auto& vs = r.curve_vertices[c];
+    if (vs.size() != shared[c].size()) {
+      std::ostringstream msg;
+      msg << "pair: given curve " << c << " has " << shared[c].size() << " common points but " << vs.size()
+          << " after embedding into mesh " << name << (kernel_traits<K>::exact_constructions ? "" : " (rounded arithmetic)");
+      throw InternalError(msg.str());
+    }
+    for (std::size_t k = 0; k < vs.size(); ++k) target.emplace(vs[k], shared[c][k]);
+  }
+  const auto moved = move_onto_curves<K>(m, target, 3);
+  if (!moved.folded.empty()) {
+    std::ostringstream msg;
+    msg << "a given curve lies " << moved.fold_distance << " from mesh " << name << " at " << moved.folded
+        << ", too far for the mesh's resolution there: moving the mesh onto it would fold a face";
+    throw FoldError(msg.str());
+  }
+  r.curves = shared;
+  return moved.max_move;
+}
+
 template <class K>
 PairResult<K> pair_given_once(Mesh<K>& a, Mesh<K>& b, const std::vector<Polyline<K>>& curves,
                               const PairOptions& options) {
-  using FT = typename K::FT;
-  using Point = typename K::Point_3;
   validate_options(options.embed);
   for (std::size_t c = 0; c < curves.size(); ++c)
     if (curves[c].size() < 2) {
@@ -434,79 +553,13 @@ PairResult<K> pair_given_once(Mesh<K>& a, Mesh<K>& b, const std::vector<Polyline
   const double dist_a = options.embed.max_distance < 0 ? la : options.embed.max_distance;
   const double dist_b = options.embed.max_distance < 0 ? lb : options.embed.max_distance;
   internal::TraceReport report;
-  std::vector<internal::TracedCurve<K>> ta, tb;
-  try {
-    ta = internal::trace_curves<K>(a, curves, dist_a, report, false, kFeatureTol);
-  } catch (const InvalidInput& e) {
-    throw InvalidInput(std::string("mesh A: ") + e.what());
-  }
-  try {
-    tb = internal::trace_curves<K>(b, curves, dist_b, report, false, kFeatureTol);
-  } catch (const InvalidInput& e) {
-    throw InvalidInput(std::string("mesh B: ") + e.what());
-  }
+  const auto ta = on_mesh("A", [&] { return internal::trace_curves<K>(a, curves, dist_a, report, false, kFeatureTol); });
+  const auto tb = on_mesh("B", [&] { return internal::trace_curves<K>(b, curves, dist_b, report, false, kFeatureTol); });
   st.stage_seconds["trace"] = seconds_since(t);
 
   // ---- 3, 4. the common coarsened curve, placed in each mesh
   t = Clock::now();
-  std::vector<Polyline<K>> in_a, in_b, shared;
-  std::vector<std::size_t> sizes;
-  for (std::size_t c = 0; c < curves.size(); ++c) {
-    const auto ka = kept_points<K>(a, ta[c], curves[c]);
-    const auto kb = kept_points<K>(b, tb[c], curves[c]);
-    const bool closed = ta[c].closed && tb[c].closed;
-    if (ta[c].closed != tb[c].closed) throw InternalError("pair: a given curve is closed on one mesh only");
-    // Merge by place along the curve; A's and B's points at the same place are one point.
-    std::vector<Joint> joints;
-    std::size_t i = 0, j = 0;
-    auto key = [](const KeptPoint<K>& k) { return std::make_pair(k.s, k.t); };
-    while (i < ka.size() || j < kb.size()) {
-      if (i < ka.size() && j < kb.size() && key(ka[i]) == key(kb[j])) {
-        joints.push_back({ka[i].s, ka[i].t, long(i), long(j)});
-        ++i, ++j;
-      } else if (j == kb.size() || (i < ka.size() && key(ka[i]) < key(kb[j]))) {
-        joints.push_back({ka[i].s, ka[i].t, long(i), -1});
-        ++i;
-      } else {
-        joints.push_back({kb[j].s, kb[j].t, -1, long(j)});
-        ++j;
-      }
-      if (joints.size() >= 2 && joints[joints.size() - 2].s == joints.back().s &&
-          joints[joints.size() - 2].t == joints.back().t) {
-        std::ostringstream msg;
-        msg << "curve " << c << ": two crossings of one mesh fall on the same place of the curve (node "
-            << joints.back().s << "); refine the curve there";
-        throw InvalidInput(msg.str());
-      }
-    }
-    const double period = double(curves[c].size() - 1);
-    // The shared points, on the given curve: a node, the curve's point closest to a crossed edge,
-    // or node + fraction x segment.
-    Polyline<K> u;
-    for (const Joint& jt : joints) {
-      if (jt.ia >= 0 && ka[std::size_t(jt.ia)].on_curve) {
-        u.push_back(*ka[std::size_t(jt.ia)].on_curve);
-        continue;
-      }
-      if (jt.ib >= 0 && kb[std::size_t(jt.ib)].on_curve) {
-        u.push_back(*kb[std::size_t(jt.ib)].on_curve);
-        continue;
-      }
-      if (jt.t == 0) {
-        u.push_back(curves[c][jt.s]);
-        continue;
-      }
-      Point p = curves[c][jt.s] + (curves[c][jt.s + 1] - curves[c][jt.s]) * FT(jt.t);
-      make_exact(p);
-      u.push_back(p);
-    }
-    auto pa = positions_in<K>(a, joints, ka, u, true, closed, period);
-    auto pb = positions_in<K>(b, joints, kb, u, false, closed, period);
-    if (closed) pa.push_back(pa.front()), pb.push_back(pb.front()), u.push_back(u.front());
-    in_a.push_back(std::move(pa));
-    in_b.push_back(std::move(pb));
-    shared.push_back(std::move(u));
-  }
+  const CommonCurves<K> common = common_curves<K>(a, b, curves, ta, tb);
   st.stage_seconds["merge"] = seconds_since(t);
 
   // Embed: every point lies on its mesh (edges, vertices or faces of the trace), keep them all.
@@ -516,52 +569,22 @@ PairResult<K> pair_given_once(Mesh<K>& a, Mesh<K>& b, const std::vector<Polyline
   eo.curve_tol = 0;
   eo.max_distance = std::numeric_limits<double>::max();
   t = Clock::now();
-  try {
-    result.a = embed<K>(a, in_a, eo);
-  } catch (const InvalidInput& e) {
-    throw InvalidInput(std::string("mesh A: ") + e.what());
-  }
+  result.a = on_mesh("A", [&] { return embed<K>(a, common.in_a, eo); });
   st.stage_seconds["embed_a"] = seconds_since(t);
   t = Clock::now();
-  try {
-    result.b = embed<K>(b, in_b, eo);
-  } catch (const InvalidInput& e) {
-    throw InvalidInput(std::string("mesh B: ") + e.what());
-  }
+  result.b = on_mesh("B", [&] { return embed<K>(b, common.in_b, eo); });
   st.stage_seconds["embed_b"] = seconds_since(t);
   result.a.stats.vertices_snapped = snapped_a;
   result.b.stats.vertices_snapped = snapped_b;
 
   // ---- 5. both meshes' curve vertices onto the given curve, the faces around them along
   t = Clock::now();
-  for (auto* r : {&result.a, &result.b}) {
-    Mesh<K>& m = r == &result.a ? a : b;
-    const char* name = r == &result.a ? "A" : "B";
-    if (r->curve_vertices.size() != shared.size())
-      throw InternalError("pair: the given curves were embedded into a different number of curves");
-    std::map<typename Mesh<K>::Vertex_index, Point> target;
-    for (std::size_t c = 0; c < shared.size(); ++c) {
-      const auto& vs = r->curve_vertices[c];
-      if (vs.size() != shared[c].size()) {
-        std::ostringstream msg;
-        msg << "pair: given curve " << c << " has " << shared[c].size() << " common points but " << vs.size()
-            << " after embedding into mesh " << name << (kernel_traits<K>::exact_constructions ? "" : " (rounded arithmetic)");
-        throw InternalError(msg.str());
-      }
-      for (std::size_t k = 0; k < vs.size(); ++k) target.emplace(vs[k], shared[c][k]);
-    }
-    const auto moved = move_onto_curves<K>(m, target, 3);
-    if (!moved.folded.empty()) {
-      std::ostringstream msg;
-      msg << "a given curve lies " << moved.fold_distance << " from mesh " << name << " at "
-          << moved.folded << ", too far for the mesh's resolution there: moving the mesh onto it would fold a face";
-      throw FoldError(msg.str());
-    }
-    st.max_curve_move = std::max(st.max_curve_move, moved.max_move);
-    r->curves = shared;
-  }
+  const double moved_a = move_onto_shared<K>(a, "A", result.a, common.shared);
+  const double moved_b = move_onto_shared<K>(b, "B", result.b, common.shared);
+  st.max_curve_move = std::max(moved_a, moved_b);
   st.stage_seconds["move"] = seconds_since(t);
 
+  const auto& shared = common.shared;
   result.curves = shared;
   st.curves = shared.size();
   for (const auto& c : shared) {

@@ -282,10 +282,10 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
 }
 
 
-}  // namespace
-
-template <class K>
-FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const RetriangulateOptions& options) {
+/// retriangulate_face's steps: the face's 2D frame, the constrained triangulation of its points,
+/// the optional refinement of a copy, and the patch emitted from one of the two.
+template <class K> class FaceRetriangulation {
+ public:
   using FT = typename K::FT;
   using K2 = typename CdtKernel<K>::type;
   using Point2 = typename K2::Point_2;
@@ -293,136 +293,169 @@ FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const Retriangul
   using Vector3 = typename K::Vector_3;
   using CDT = typename Cdt<K2>::type;
   using VH = typename CDT::Vertex_handle;
+  using Constraints = std::vector<std::pair<VH, VH>>;
 
   // The face's own 2D frame (see the header): exact affine map, rounded scale L.
-  const Point3& a = face.corners[0];
-  const Vector3 u = face.corners[1] - a;
-  const Vector3 n = CGAL::cross_product(u, face.corners[2] - a);
-  const Vector3 v = CGAL::cross_product(n, u);
-  const double L_d = std::sqrt(CGAL::to_double(n.squared_length()));
-  if (!(L_d > 0)) throw InternalError("re-triangulation of a degenerate face");
-  const FT L(L_d);
+  FaceRetriangulation(const FaceConstraints<K>& face, const RetriangulateOptions& options)
+      : face_(face),
+        options_(options),
+        a_(face.corners[0]),
+        u_(face.corners[1] - a_),
+        n_(CGAL::cross_product(u_, face.corners[2] - a_)),
+        v_(CGAL::cross_product(n_, u_)),
+        L_d_(std::sqrt(CGAL::to_double(n_.squared_length()))) {
+    if (!(L_d_ > 0)) throw InternalError("re-triangulation of a degenerate face");
+    L_ = FT(L_d_);
+    uu_ = u_.squared_length();
+    vv_ = v_.squared_length();
+    Luu_ = L_ * uu_;
+    // Points with their ids, in a fixed order (deterministic triangulation).
+    for (int i = 0; i < 3; ++i) points_.emplace_back(long(face.corner_ids[i]), face.corners[i]);
+    for (int i = 0; i < 3; ++i)
+      for (const auto& [id, p] : face.edge_points[i]) points_.emplace_back(long(id), p);
+    for (const auto& [id, p] : face.interior_points) points_.emplace_back(long(id), p);
+  }
+
+  FacePatch<K> run() {
+    CDT cdt;
+    Constraints constraints;
+    const bool built = build(cdt, constraints);
+    if (!built || cdt.number_of_vertices() != points_.size() || !all_edges(cdt, constraints)) {
+      std::ostringstream msg;
+      msg << "curve segments cross each other (or an edge) inside the face with corners " << corners_text();
+      if (kernel_traits<K>::exact_constructions) throw InvalidInput(msg.str());
+      throw InternalError(msg.str() + " (rounded arithmetic)");
+    }
+    bool refinement_undone = false;
+    CDT refined;
+    const bool refined_ok = refine_copy(cdt, constraints, refined, refinement_undone);
+    FacePatch<K> patch;
+    if (refined_ok) {
+      if (emit(refined, patch)) return patch;
+      patch = FacePatch<K>();
+      refinement_undone = true;
+    }
+    patch.refinement_undone = refinement_undone;
+    if (!emit(cdt, patch))
+      throw InternalError("rounded arithmetic produced a flat or flipped triangle in the face with corners " +
+                          corners_text());
+    return patch;
+  }
+
+ private:
+  std::string corners_text() const {
+    std::ostringstream s;
+    s << face_.corner_ids[0] << ", " << face_.corner_ids[1] << ", " << face_.corner_ids[2];
+    return s.str();
+  }
+
   // X = L (p - a).u and Y = (p - a).v: no division, so exact coordinates stay small rationals.
-  auto to_2d = [&](const Point3& p) {
-    const Vector3 d = p - a;
-    Point2 q((d * u) * L, d * v);
+  Point2 to_2d(const Point3& p) const {
+    const Vector3 d = p - a_;
+    Point2 q((d * u_) * L_, d * v_);
     make_exact(q);
     return q;
-  };
-  const FT uu = u.squared_length(), vv = v.squared_length(), Luu = L * uu;
-  auto to_3d = [&](const Point2& q) {
-    Point3 p = a + u * (q.x() / Luu) + v * (q.y() / vv);
+  }
+  Point3 to_3d(const Point2& q) const {
+    Point3 p = a_ + u_ * (q.x() / Luu_) + v_ * (q.y() / vv_);
     make_exact(p);
     return p;
-  };
+  }
 
-  // Points with their ids, in a fixed order (deterministic triangulation).
-  std::vector<std::pair<long, Point3>> points;
-  for (int i = 0; i < 3; ++i) points.emplace_back(long(face.corner_ids[i]), face.corners[i]);
-  for (int i = 0; i < 3; ++i)
-    for (const auto& [id, p] : face.edge_points[i]) points.emplace_back(long(id), p);
-  for (const auto& [id, p] : face.interior_points) points.emplace_back(long(id), p);
-
-  auto build = [&](CDT& cdt, std::vector<std::pair<VH, VH>>& constraints) {
+  /// The constrained triangulation of the face's points, its edges (split at their points) and
+  /// the curve segments inside it; false where constraints intersect (rounded kernels only).
+  bool build(CDT& cdt, Constraints& constraints) const {
     std::map<long, VH> handle;
     // All points at once: CGAL sorts them spatially (Hilbert order, deterministic) before
     // inserting. One by one in curve order, the points of an edge come along a line, and a
     // curve zig-zagging 100,000 times through a face made every insertion flip a long fan:
     // quadratic time.
     std::vector<std::pair<Point2, long>> with_ids;
-    with_ids.reserve(points.size());
-    for (const auto& [id, p] : points) with_ids.emplace_back(to_2d(p), id);
+    with_ids.reserve(points_.size());
+    for (const auto& [id, p] : points_) with_ids.emplace_back(to_2d(p), id);
     cdt.insert(with_ids.begin(), with_ids.end());
     for (auto vit = cdt.finite_vertices_begin(); vit != cdt.finite_vertices_end(); ++vit) handle[vit->info()] = vit;
     // Two input points at one place: only possible with rounded constructions.
-    if (cdt.number_of_vertices() != points.size()) throw InternalError("two curve points coincide after rounding");
+    if (cdt.number_of_vertices() != points_.size()) throw InternalError("two curve points coincide after rounding");
     // A segment ending at a point that is not one of this face's points (found by fuzzing, under
     // the rounded kernels: the two ends were located on elements that do not bound this face).
     auto at = [&](long id) {
       const auto it = handle.find(id);
       if (it == handle.end()) {
         std::ostringstream msg;
-        msg << "a curve segment inside the face with corners " << face.corner_ids[0] << ", " << face.corner_ids[1]
-            << ", " << face.corner_ids[2] << " ends at point " << id << ", which is not on that face";
+        msg << "a curve segment inside the face with corners " << corners_text() << " ends at point " << id
+            << ", which is not on that face";
         if (!kernel_traits<K>::exact_constructions) msg << " (rounded arithmetic)";
         throw InternalError(msg.str());
       }
       return it->second;
     };
     for (int i = 0; i < 3; ++i) {
-      long prev = long(face.corner_ids[i]);
-      for (const auto& ep : face.edge_points[i]) {
+      long prev = long(face_.corner_ids[i]);
+      for (const auto& ep : face_.edge_points[i]) {
         constraints.emplace_back(at(prev), at(long(ep.first)));
         prev = long(ep.first);
       }
-      constraints.emplace_back(at(prev), at(long(face.corner_ids[(i + 1) % 3])));
+      constraints.emplace_back(at(prev), at(long(face_.corner_ids[(i + 1) % 3])));
     }
-    for (const auto& [s, t] : face.segments) constraints.emplace_back(at(long(s)), at(long(t)));
+    for (const auto& [s, t] : face_.segments) constraints.emplace_back(at(long(s)), at(long(t)));
     try {
       for (const auto& [s, t] : constraints) cdt.insert_constraint(s, t);
     } catch (const typename CDT::Intersection_of_constraints_exception&) {
       return false;  // rounded kernels only (see Cdt)
     }
     return true;
-  };
-  auto check = [&](const CDT& cdt, const std::vector<std::pair<VH, VH>>& constraints) {
+  }
+
+  static bool all_edges(const CDT& cdt, const Constraints& constraints) {
     for (const auto& [s, t] : constraints)
       if (!cdt.is_edge(s, t)) return false;
     return true;
-  };
-
-  CDT cdt;
-  std::vector<std::pair<VH, VH>> constraints;
-  const bool built = build(cdt, constraints);
-  if (!built || cdt.number_of_vertices() != points.size() || !check(cdt, constraints)) {
-    std::ostringstream msg;
-    msg << "curve segments cross each other (or an edge) inside the face with corners " << face.corner_ids[0]
-        << ", " << face.corner_ids[1] << ", " << face.corner_ids[2];
-    if (kernel_traits<K>::exact_constructions) throw InvalidInput(msg.str());
-    throw InternalError(msg.str() + " (rounded arithmetic)");
   }
 
-  bool patch_refinement_undone = false, refined_ok = false;
-  CDT refined;
-  const bool refine = options.min_angle_deg > 0 || options.max_area > 0;
-  // Nothing to refine when no triangle is below the bound and no area bound is asked for.
-  const bool needed = options.max_area > 0 || domain_quality(cdt, std::min(options.min_angle_deg, 60.0)).below > 0;
-  if (refine && needed && options.max_steiner > 0) {
-    // Refine a second copy; keep it only if every constraint survived as an edge.
+  /// Refines a copy of `cdt` into `refined` when the options ask for it and a triangle needs it;
+  /// true when the copy is to be used (every constraint survived as an edge, and it is better or
+  /// an area bound asks for it), else `undone` says whether a refinement was thrown away.
+  bool refine_copy(const CDT& cdt, const Constraints& constraints, CDT& refined, bool& undone) const {
+    const bool refine = options_.min_angle_deg > 0 || options_.max_area > 0;
+    // Nothing to refine when no triangle is below the bound and no area bound is asked for.
+    const bool needed =
+        options_.max_area > 0 || domain_quality(cdt, std::min(options_.min_angle_deg, 60.0)).below > 0;
+    if (!(refine && needed && options_.max_steiner > 0)) return false;
     // A copy shares the (already exact) points instead of building the triangulation again.
     refined = cdt;
     std::map<long, VH> by_id;
     for (auto vit = refined.finite_vertices_begin(); vit != refined.finite_vertices_end(); ++vit) by_id[vit->info()] = vit;
-    std::vector<std::pair<VH, VH>> refined_constraints;
+    Constraints refined_constraints;
     for (const auto& [s0, t0] : constraints) refined_constraints.emplace_back(by_id.at(s0->info()), by_id.at(t0->info()));
     std::set<const void*> input_vertices;
     for (auto vit = refined.finite_vertices_begin(); vit != refined.finite_vertices_end(); ++vit)
       input_vertices.insert(&*vit);
 
-    const double max_area_2d = options.max_area > 0 ? options.max_area * CGAL::to_double(uu) * L_d * L_d : 0.0;
-    const double bound = std::min(options.min_angle_deg, 60.0);
+    const double max_area_2d = options_.max_area > 0 ? options_.max_area * CGAL::to_double(uu_) * L_d_ * L_d_ : 0.0;
+    const double bound = std::min(options_.min_angle_deg, 60.0);
     const DomainQuality before = domain_quality(refined, bound);
-    refine_without_splitting(refined, bound, max_area_2d, options.max_steiner);
+    refine_without_splitting(refined, bound, max_area_2d, options_.max_steiner);
     const DomainQuality after = domain_quality(refined, bound);
     // Keep the refinement when it made neither the worst angle worse nor the bad triangles more
     // numerous (or an area bound asks for it).
     const bool better = after.min_angle >= before.min_angle && after.below <= before.below;
-    if (check(refined, refined_constraints) && (better || max_area_2d > 0)) {
+    if (all_edges(refined, refined_constraints) && (better || max_area_2d > 0)) {
       for (auto vit = refined.finite_vertices_begin(); vit != refined.finite_vertices_end(); ++vit)
         if (!input_vertices.count(&*vit)) vit->info() = kNoId;
-      refined_ok = true;
-    } else {
-      patch_refinement_undone = true;
+      return true;
     }
+    undone = true;
+    return false;
   }
 
-  // Emit a triangulation as a patch: number its Steiner points, keep the faces inside the
-  // constraints (under rounded kernels a crossing point may fall just inside its edge, leaving a
-  // sliver between the edge and the convex hull), in the face's orientation (counterclockwise in
-  // the frame).
-  std::map<long, Point3> input_point;
-  for (const auto& [id, p] : points) input_point[id] = p;
-  auto emit = [&](CDT& tr, FacePatch<K>& patch) {
+  /// A triangulation as a patch: its Steiner points numbered, the faces inside the constraints
+  /// kept (under rounded kernels a crossing point may fall just inside its edge, leaving a sliver
+  /// between the edge and the convex hull), in the face's orientation (counterclockwise in the
+  /// frame). False when a triangle is flat or flipped in 3D (never under the exact kernel).
+  bool emit(CDT& tr, FacePatch<K>& patch) const {
+    std::map<long, Point3> input_point;
+    for (const auto& [id, p] : points_) input_point[id] = p;
     std::map<const void*, long> steiner_ref;
     for (auto vit = tr.finite_vertices_begin(); vit != tr.finite_vertices_end(); ++vit) {
       if (vit->info() != kNoId) continue;
@@ -439,31 +472,30 @@ FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const Retriangul
       }
       patch.triangles.push_back(tri);
     }
-    // Every new triangle must be non-degenerate and oriented like the face in 3D. Always true
-    // under the exact kernel; checked because rounded constructions can break it.
     auto point_of = [&](long r) -> const Point3& {
       return r >= 0 ? input_point.at(r) : patch.steiner_points[std::size_t(-r - 1)];
     };
     for (const auto& t : patch.triangles) {
       const Point3 &p0 = point_of(t[0]), &p1 = point_of(t[1]), &p2 = point_of(t[2]);
-      if (CGAL::collinear(p0, p1, p2) || !CGAL::is_positive(CGAL::cross_product(p1 - p0, p2 - p0) * n)) return false;
+      if (CGAL::collinear(p0, p1, p2) || !CGAL::is_positive(CGAL::cross_product(p1 - p0, p2 - p0) * n_)) return false;
     }
     return true;
-  };
-  FacePatch<K> patch;
-  if (refined_ok) {
-    if (emit(refined, patch)) return patch;
-    patch = FacePatch<K>();
-    patch_refinement_undone = true;
   }
-  patch.refinement_undone = patch_refinement_undone;
-  if (!emit(cdt, patch)) {
-    std::ostringstream msg;
-    msg << "rounded arithmetic produced a flat or flipped triangle in the face with corners " << face.corner_ids[0]
-        << ", " << face.corner_ids[1] << ", " << face.corner_ids[2];
-    throw InternalError(msg.str());
-  }
-  return patch;
+
+  const FaceConstraints<K>& face_;
+  const RetriangulateOptions& options_;
+  const Point3 a_;
+  const Vector3 u_, n_, v_;
+  const double L_d_;
+  FT L_, uu_, vv_, Luu_;
+  std::vector<std::pair<long, Point3>> points_;
+};
+
+}  // namespace
+
+template <class K>
+FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const RetriangulateOptions& options) {
+  return FaceRetriangulation<K>(face, options).run();
 }
 
 template FacePatch<Exact> retriangulate_face<Exact>(const FaceConstraints<Exact>&, const RetriangulateOptions&);
