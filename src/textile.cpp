@@ -441,13 +441,403 @@ void improve_and_verify(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>
   st.stage_seconds["verify"] = seconds_since(t);
   if (!st.verified) throw InternalError("textile: the outputs fail seam check's tests, so none is given (" + problem + ")");
 }
+/// One run of seam::textile: the stages in order, each a method, sharing the tows, their plain
+/// copies and the per-pair work.
+template <class K> class TextileRun {
+ public:
+  using Point = typename K::Point_3;
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
+
+  TextileRun(std::vector<Mesh<K>>& meshes, const std::vector<std::string>& names, const TextileOptions& options)
+      : meshes_(meshes),
+        names_(names),
+        options_(options),
+        t_start_(Clock::now()),
+        t_stage_(t_start_),
+        arena_(options.threads > 0 ? options.threads : tbb::task_arena::automatic),
+        snap_tol_(meshes.size(), 0.0),
+        snapped_(meshes.size(), 0),
+        snaps_refused_(meshes.size(), 0),
+        provenance_(meshes.size()),
+        pairs_of_(meshes.size()) {}
+
+  TextileResult<K> run() {
+    TextileStats& st = result_.stats;
+    st.tows = meshes_.size();
+    st.threads = arena_.max_concurrency();
+    timed("prepare", [&] { prepare(); });
+    timed("boxes", [&] { find_candidate_pairs(); });
+    timed("pairs", [&] {
+      std::vector<std::size_t> all_pairs(candidates_.size());
+      for (std::size_t p = 0; p < all_pairs.size(); ++p) all_pairs[p] = p;
+      compute_pairs(all_pairs, "pairs");
+    });
+    find_pairs_of();
+    timed("snap", [&] { snap(); });
+    timed("triples", [&] { make_triple_points_vertices(); });
+    timed("tows", [&] { embed_tows(); });
+    std::vector<std::array<std::vector<std::vector<typename Mesh<K>::Vertex_index>>, 2>> pair_vertices;
+    timed("compare", [&] { pair_vertices = compare_pairs(); });
+    std::vector<FrozenMesh<K>>().swap(frozen_);
+    improve_and_verify<K>(meshes_, inputs_, names_, result_, pair_vertices, snap_tol_, options_);
+    return std::move(result_);
+  }
+
+ private:
+  template <class Stage> void timed(const char* name, Stage&& stage) {
+    const auto t = Clock::now();
+    stage();
+    result_.stats.stage_seconds[name] = seconds_since(t);
+  }
+
+  void report(const char* stage, std::size_t done, std::size_t total) {
+    if (!options_.progress) return;
+    std::lock_guard<std::mutex> lock(progress_mutex_);
+    options_.progress(TextileProgress{stage, done, total, seconds_since(t_start_), seconds_since(t_stage_)});
+  }
+
+  /// Plain copies of the meshes for the pair tasks, and the input tows for steps 5 and 6 (built
+  /// from the plain copies: no lazy value is shared with the tows the tasks change).
+  void prepare() {
+    frozen_.resize(meshes_.size());
+    for (std::size_t i = 0; i < meshes_.size(); ++i) {
+      if (meshes_[i].has_garbage()) meshes_[i].collect_garbage();
+      frozen_[i] = freeze<K>(meshes_[i]);
+    }
+    if (options_.improve || options_.verify_output)
+      for (const auto& f : frozen_) inputs_.push_back(thaw<K>(f));
+  }
+
+  /// Candidate pairs: overlapping bounding boxes (closed boxes: touching counts).
+  void find_candidate_pairs() {
+    std::vector<Box> boxes;
+    for (std::size_t i = 0; i < meshes_.size(); ++i) boxes.emplace_back(frozen_[i].bbox, i);
+    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
+      candidates_.emplace_back(std::min(x.info(), y.info()), std::max(x.info(), y.info()));
+    });
+    std::sort(candidates_.begin(), candidates_.end());
+    candidates_.erase(std::unique(candidates_.begin(), candidates_.end()), candidates_.end());
+    result_.stats.candidate_pairs = candidates_.size();
+    work_.resize(candidates_.size());
+  }
+
+  /// The intersection curves of the candidate pairs `which`, concurrently.
+  void compute_pairs(const std::vector<std::size_t>& which, const char* stage) {
+    std::size_t done = 0;
+    t_stage_ = Clock::now();
+    for_each_index(
+        arena_, which.size(), [&](std::size_t k) { compute_pair(which[k]); },
+        [&](std::size_t) { report(stage, ++done, which.size()); });
+  }
+
+  void compute_pair(std::size_t p) {
+    auto& w = work_[p];
+    w = PairWork<K>();
+    w.a = candidates_[p].first;
+    w.b = candidates_[p].second;
+    const auto tp = Clock::now();
+    std::vector<Polyline<K>> curves;
+    {
+      // Each tow cut to the faces that can meet the other (bounding boxes): the same curves, a
+      // fraction of the work.
+      const Mesh<K> a = thaw<K>(frozen_[w.a], &frozen_[w.b].bbox), b = thaw<K>(frozen_[w.b], &frozen_[w.a].bbox);
+      w.stats.copy_seconds += seconds_since(tp);
+      std::size_t touching = 0;
+      curves = intersection_curves<K>(a, b, &touching);
+      w.stats.touching_only = curves.empty() && touching > 0;
+    }
+    w.stats.a = w.a;
+    w.stats.b = w.b;
+    w.stats.curves = curves.size();
+    for (const auto& c : curves) {
+      w.stats.closed_curves += is_closed(c) ? 1 : 0;
+      w.stats.curve_vertices += is_closed(c) ? c.size() - 1 : c.size();
+    }
+    w.for_a = detached<K>(curves);
+    w.for_b = detached<K>(curves);
+    w.stats.intersect_seconds += seconds_since(tp);
+  }
+
+  /// Each tow's pairs (with curves), in pair order.
+  void find_pairs_of() {
+    for (auto& v : pairs_of_) v.clear();
+    for (std::size_t p = 0; p < work_.size(); ++p)
+      if (!work_[p].for_a.empty()) {
+        pairs_of_[work_[p].a].push_back(p);
+        pairs_of_[work_[p].b].push_back(p);
+      }
+  }
+  std::vector<Polyline<K>>& curves_for(std::size_t p, std::size_t tow) {
+    return work_[p].a == tow ? work_[p].for_a : work_[p].for_b;
+  }
+  std::size_t other(std::size_t p, std::size_t tow) const { return work_[p].a == tow ? work_[p].b : work_[p].a; }
+
+  /// The curves of the pairs touching a changed tow computed again.
+  void recompute_pairs_of(const std::vector<char>& changed, const char* stage) {
+    std::vector<std::size_t> again;
+    for (std::size_t tow = 0; tow < meshes_.size(); ++tow)
+      if (changed[tow]) frozen_[tow] = freeze<K>(meshes_[tow]);
+    for (std::size_t p = 0; p < candidates_.size(); ++p)
+      if (changed[candidates_[p].first] || changed[candidates_[p].second]) again.push_back(p);
+    if (again.empty()) return;
+    compute_pairs(again, stage);
+    find_pairs_of();
+  }
+
+  /// Snapping: each tow against all its curves at once, then every curve of a moved tow again.
+  /// Rounded kernels: no automatic snapping (a snapped vertex lies exactly on the other tow, a
+  /// degeneracy only the exact kernel copes with; their curve points are doubles already).
+  void snap() {
+    const auto& embed = options_.embed;
+    if (!(embed.snap_tol > 0 || (embed.snap_tol < 0 && kernel_traits<K>::exact_constructions))) return;
+    for (std::size_t tow = 0; tow < meshes_.size(); ++tow) {
+      if (embed.snap_tol > 0) {
+        snap_tol_[tow] = embed.snap_tol;
+        continue;
+      }
+      double d = diagonal(frozen_[tow].bbox);
+      for (std::size_t p : pairs_of_[tow]) d = std::min(d, diagonal(frozen_[other(p, tow)].bbox));
+      snap_tol_[tow] = 1e-10 * d;
+    }
+    for_each_index(
+        arena_, meshes_.size(),
+        [&](std::size_t tow) {
+          if (pairs_of_[tow].empty()) return;
+          std::vector<Polyline<K>> curves;
+          for (std::size_t p : pairs_of_[tow]) {
+            const auto& mine = curves_for(p, tow);
+            curves.insert(curves.end(), mine.begin(), mine.end());
+          }
+          const auto r = internal::snap_vertices_to_segments<K>(meshes_[tow], curves, snap_tol_[tow]);
+          snapped_[tow] = r.snapped;
+          snaps_refused_[tow] = r.refused;
+        },
+        [](std::size_t) {});
+    std::vector<char> changed(meshes_.size(), 0);
+    for (std::size_t tow = 0; tow < meshes_.size(); ++tow) changed[tow] = snapped_[tow] > 0;
+    recompute_pairs_of(changed, "pairs (after snapping)");
+  }
+
+  /// Where the curves of two pairs of one tow meet (segments of each that intersect).
+  struct Meeting {
+    bool found = false, point = false;
+    std::size_t p = 0, q = 0;  // the two pairs whose curves meet
+    Point at;
+  };
+
+  [[noreturn]] void refuse(std::size_t tow, const Meeting& m, const char* why) const {
+    const std::size_t j = other(m.p, tow), k = other(m.q, tow);
+    std::set<std::size_t> three{tow, j, k};
+    std::ostringstream msg;
+    msg << "tows";
+    std::size_t n = 0;
+    for (std::size_t x : three) msg << (n++ == 0 ? " " : n == 3 ? " and " : ", ") << quoted(names_[x]);
+    const auto at = to_filtered(m.at);
+    msg << " overlap in one place (triple overlap): the curves of " << quoted(names_[tow]) << " with "
+        << quoted(names_[j]) << " and with " << quoted(names_[k]) << " meet on " << quoted(names_[tow]) << " near ("
+        << at.x() << ", " << at.y() << ", " << at.z() << "); " << why;
+    throw InvalidInput(msg.str());
+  }
+
+  /// The meetings of the curves of different pairs on `tow` (a meeting along a segment ends the
+  /// list: it is refused).
+  std::vector<Meeting> meetings_on(std::size_t tow) {
+    std::vector<Meeting> meetings;
+    if (pairs_of_[tow].size() < 2) return meetings;
+    struct Seg {
+      std::size_t pair;
+      const Point *p, *q;
+    };
+    std::vector<Seg> segs;
+    for (std::size_t p : pairs_of_[tow])
+      for (const auto& c : curves_for(p, tow))
+        for (std::size_t i = 0; i + 1 < c.size(); ++i) segs.push_back({p, &c[i], &c[i + 1]});
+    std::vector<Box> sboxes;
+    sboxes.reserve(segs.size());
+    for (std::size_t s = 0; s < segs.size(); ++s) sboxes.emplace_back(segs[s].p->bbox() + segs[s].q->bbox(), s);
+    std::vector<std::pair<std::size_t, std::size_t>> hits;
+    CGAL::box_self_intersection_d(sboxes.begin(), sboxes.end(), [&](const Box& x, const Box& y) {
+      const Seg &u = segs[x.info()], &v = segs[y.info()];
+      if (u.pair == v.pair) return;
+      if (!CGAL::do_intersect(typename K::Segment_3(*u.p, *u.q), typename K::Segment_3(*v.p, *v.q))) return;
+      // Allowed: two curves through a common end point that is a vertex of this tow (a triple
+      // point made a vertex below), not overlapping.
+      const Point* common = *u.p == *v.p || *u.p == *v.q ? u.p : *u.q == *v.p || *u.q == *v.q ? u.q : nullptr;
+      if (common && !(CGAL::collinear(*u.p, *u.q, *v.p) && CGAL::collinear(*u.p, *u.q, *v.q)) &&
+          is_vertex<K>(meshes_[tow], *common))
+        return;
+      hits.emplace_back(std::min(x.info(), y.info()), std::max(x.info(), y.info()));
+    });
+    std::sort(hits.begin(), hits.end());  // deterministic, whatever the order found
+    for (const auto& [x, y] : hits) {
+      const Seg &u = segs[x], &v = segs[y];
+      Meeting m;
+      m.found = true;
+      m.p = std::min(u.pair, v.pair);
+      m.q = std::max(u.pair, v.pair);
+      m.at = *u.p;
+      const auto i = CGAL::intersection(typename K::Segment_3(*u.p, *u.q), typename K::Segment_3(*v.p, *v.q));
+      if (i)
+        if (const Point* point = boost::get<Point>(&*i)) {
+          m.point = true;
+          m.at = detached<K>(*point);
+        }
+      meetings.push_back(m);
+      if (!m.point) break;  // refused
+    }
+    return meetings;
+  }
+
+  /// Triple overlaps: where the curves of two neighbours meet on a tow, three tows overlap in one
+  /// place. Under the exact kernel the meeting point becomes a vertex of all three tows (it lies
+  /// exactly on the three surfaces, so inserting it changes no surface), and their curves are
+  /// then computed again: they all pass through that vertex, which every embedding shares.
+  /// Otherwise, or when the curves overlap along a segment, the run stops naming the three tows.
+  void make_triple_points_vertices() {
+    for (int round = 0;; ++round) {
+      std::vector<std::vector<Meeting>> meetings(meshes_.size());
+      for_each_index(
+          arena_, meshes_.size(), [&](std::size_t tow) { meetings[tow] = meetings_on(tow); }, [](std::size_t) {});
+      std::vector<char> modified(meshes_.size(), 0);
+      bool any = false;
+      for (std::size_t tow = 0; tow < meshes_.size(); ++tow)
+        for (const Meeting& m : meetings[tow]) {
+          any = true;
+          if (!kernel_traits<K>::exact_constructions)
+            refuse(tow, m, "only the exact kernel makes such a point a vertex of the three tows: use --kernel exact");
+          if (!m.point) refuse(tow, m, "the curves overlap along a segment there: seam textile cannot embed that");
+          if (round >= 4) refuse(tow, m, "making the meeting points vertices of the three tows did not end");
+          bool inserted = false, known = false;
+          for (std::size_t x : {tow, other(m.p, tow), other(m.q, tow)}) {
+            const auto point = detached<K>(m.at);
+            if (insert_vertex<K>(meshes_[x], point, provenance_[x])) {
+              modified[x] = inserted = true;
+            } else {
+              known = known || modified[x];  // made a vertex in this round already (seen from another tow)
+            }
+          }
+          if (!inserted && !known) refuse(tow, m, "seam textile could not make that point a vertex of the three tows");
+          if (inserted) ++result_.stats.triple_points;
+        }
+      if (!any) break;
+      recompute_pairs_of(modified, "pairs (triple points)");
+    }
+  }
+
+  /// Tows: each receives all its curves in one embedding, concurrently.
+  void embed_tows() {
+    t_stage_ = Clock::now();
+    EmbedOptions eo = options_.embed;
+    eo.snap_tol = 0;
+    eo.keep_all_nodes = true;  // every curve point lies on the surface and is a crossing point
+    eo.curve_tol = 0;
+    eo.max_distance = std::numeric_limits<double>::max();
+    result_.tows.resize(meshes_.size());
+    std::size_t tows_done = 0;
+    for_each_index(
+        arena_, meshes_.size(), [&](std::size_t tow) { embed_tow(tow, eo); },
+        [&](std::size_t) { report("tows", ++tows_done, meshes_.size()); });
+  }
+
+  void embed_tow(std::size_t tow, const EmbedOptions& eo) {
+    std::vector<Polyline<K>> curves;
+    std::vector<std::size_t> first_curve;  // per pair of this tow, index of its first curve
+    for (std::size_t p : pairs_of_[tow]) {
+      first_curve.push_back(curves.size());
+      auto& mine = curves_for(p, tow);
+      curves.insert(curves.end(), mine.begin(), mine.end());
+    }
+    first_curve.push_back(curves.size());
+    Mesh<K>& mesh = meshes_[tow];
+    EmbedResult<K> r;
+    try {
+      r = embed<K>(mesh, curves, eo);
+    } catch (const InvalidInput& e) {
+      throw InvalidInput("tow " + quoted(names_[tow]) + ": " + e.what());
+    } catch (const InternalError& e) {
+      // Under a rounded kernel, curves of two neighbours that meet within rounding are not
+      // detected above and make the re-triangulation fail here.
+      throw InternalError("tow " + quoted(names_[tow]) + ": " + e.what() +
+                          (pairs_of_[tow].size() > 1 && !kernel_traits<K>::exact_constructions
+                               ? " (the curves of two neighbours may meet: use --kernel exact)"
+                               : ""));
+    }
+    if (!provenance_[tow].origin.empty()) provenance_[tow].template apply<K>(mesh, r.stats);
+    if (r.curves.size() != curves.size() || r.curve_vertices.size() != curves.size())
+      throw InternalError("textile: " + names_[tow] + ": the embedding returned a different number of curves");
+    for (auto& c : r.curves)
+      for (auto& p : c) make_exact(p);  // written by two tows: the same tight approximation in both
+    for (std::size_t k = 0; k < pairs_of_[tow].size(); ++k) {
+      auto& w = work_[pairs_of_[tow][k]];
+      std::vector<Polyline<K>> embedded(r.curves.begin() + std::ptrdiff_t(first_curve[k]),
+                                        r.curves.begin() + std::ptrdiff_t(first_curve[k + 1]));
+      std::vector<std::vector<typename Mesh<K>::Vertex_index>> vertices(
+          r.curve_vertices.begin() + std::ptrdiff_t(first_curve[k]),
+          r.curve_vertices.begin() + std::ptrdiff_t(first_curve[k + 1]));
+      const CurveFaceQuality q = curve_face_quality<K>(mesh, vertices);
+      (w.a == tow ? w.vertices_a : w.vertices_b) = std::move(vertices);
+      if (w.a == tow) {
+        w.embedded_a = std::move(embedded);
+        w.stats.quality_a = q;
+      } else {
+        w.embedded_b = std::move(embedded);
+        w.stats.quality_b = q;
+      }
+    }
+    result_.tows[tow] = r.stats;
+    result_.tows[tow].snap_tol = snap_tol_[tow];
+    result_.tows[tow].vertices_snapped = snapped_[tow];
+    result_.tows[tow].snaps_refused = snaps_refused_[tow];
+    // The curves handed to this tow are no longer needed: free them in the thread that used them.
+    for (std::size_t p : pairs_of_[tow]) std::vector<Polyline<K>>().swap(curves_for(p, tow));
+  }
+
+  /// Both tows of every pair received the identical curves; the pairs with curves (or touching)
+  /// go to the result, and each one's curve vertices in its two tows are returned.
+  std::vector<std::array<std::vector<std::vector<typename Mesh<K>::Vertex_index>>, 2>> compare_pairs() {
+    std::vector<std::array<std::vector<std::vector<typename Mesh<K>::Vertex_index>>, 2>> pair_vertices;
+    for (auto& w : work_) {
+      if (w.stats.curves == 0 && !w.stats.touching_only) continue;
+      if (w.embedded_a != w.embedded_b) {
+        std::ostringstream msg;
+        msg << "textile: the curves of " << names_[w.a] << " and " << names_[w.b]
+            << " were embedded differently into the two tows";
+        throw InternalError(msg.str());
+      }
+      TextilePair<K> pair;
+      pair.curves = std::move(w.embedded_a);
+      pair.stats = w.stats;
+      if (pair.stats.curves > 0) ++result_.stats.intersecting_pairs;
+      if (pair.stats.touching_only) ++result_.stats.touching_pairs;
+      result_.pairs.push_back(std::move(pair));
+      pair_vertices.push_back({std::move(w.vertices_a), std::move(w.vertices_b)});
+    }
+    return pair_vertices;
+  }
+
+  std::vector<Mesh<K>>& meshes_;
+  const std::vector<std::string>& names_;
+  const TextileOptions& options_;
+  const Clock::time_point t_start_;
+  Clock::time_point t_stage_;
+  std::mutex progress_mutex_;
+  tbb::task_arena arena_;
+  std::vector<FrozenMesh<K>> frozen_;
+  std::vector<Mesh<K>> inputs_;  ///< the input tows, for the quality stage and the verification
+  std::vector<std::pair<std::size_t, std::size_t>> candidates_;
+  std::vector<PairWork<K>> work_;  ///< per candidate pair
+  std::vector<double> snap_tol_;
+  std::vector<std::size_t> snapped_, snaps_refused_;
+  std::vector<internal::FaceProvenance> provenance_;  ///< of the faces cut at triple points
+  std::vector<std::vector<std::size_t>> pairs_of_;
+  TextileResult<K> result_;
+};
+
 }  // namespace
 
 template <class K>
 TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::string>& names,
                          const TextileOptions& options) {
-  using Point = typename K::Point_3;
-  const auto t_start = Clock::now();
   if (names.size() != meshes.size()) throw InvalidInput("textile: one name per mesh is needed");
   validate_options(options.embed);
   if (options.threads < 0) throw InvalidInput("--threads: must be >= 0 (0: every core)");
@@ -455,344 +845,7 @@ TextileResult<K> textile(std::vector<Mesh<K>>& meshes, const std::vector<std::st
     if (!CGAL::is_triangle_mesh(meshes[i]) || meshes[i].is_empty())
       throw InvalidInput(names[i] + ": not a triangle mesh");
   for (std::size_t i = 0; i < meshes.size(); ++i) check_coordinate_range<K>(meshes[i], names[i]);
-
-  TextileResult<K> result;
-  TextileStats& st = result.stats;
-  st.tows = meshes.size();
-  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
-  st.threads = arena.max_concurrency();
-  std::mutex progress_mutex;
-  Clock::time_point t_stage = t_start;
-  auto report = [&](const char* stage, std::size_t done, std::size_t total) {
-    if (!options.progress) return;
-    std::lock_guard<std::mutex> lock(progress_mutex);
-    options.progress(TextileProgress{stage, done, total, seconds_since(t_start), seconds_since(t_stage)});
-  };
-
-  // ---- plain copies of the meshes for the pair tasks
-  auto t = Clock::now();
-  std::vector<FrozenMesh<K>> frozen(meshes.size());
-  for (std::size_t i = 0; i < meshes.size(); ++i) {
-    if (meshes[i].has_garbage()) meshes[i].collect_garbage();
-    frozen[i] = freeze<K>(meshes[i]);
-  }
-  // The input tows, for steps 5 and 6 (built from the plain copies: no lazy value is shared with
-  // the tows the tasks change).
-  std::vector<Mesh<K>> inputs;
-  if (options.improve || options.verify_output)
-    for (const auto& f : frozen) inputs.push_back(thaw<K>(f));
-  st.stage_seconds["prepare"] = seconds_since(t);
-
-  // ---- candidate pairs: overlapping bounding boxes (closed boxes: touching counts)
-  t = Clock::now();
-  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
-  std::vector<Box> boxes;
-  for (std::size_t i = 0; i < meshes.size(); ++i) boxes.emplace_back(frozen[i].bbox, i);
-  std::vector<std::pair<std::size_t, std::size_t>> candidates;
-  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
-    candidates.emplace_back(std::min(x.info(), y.info()), std::max(x.info(), y.info()));
-  });
-  std::sort(candidates.begin(), candidates.end());
-  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-  st.candidate_pairs = candidates.size();
-  st.stage_seconds["boxes"] = seconds_since(t);
-
-  // ---- pairs: the intersection curves of each candidate, concurrently
-  t = t_stage = Clock::now();
-  std::vector<PairWork<K>> work(candidates.size());
-  auto compute_pairs = [&](const std::vector<std::size_t>& which, const char* stage) {
-    std::size_t done = 0;
-    t_stage = Clock::now();
-    for_each_index(
-        arena, which.size(),
-        [&](std::size_t k) {
-          auto& w = work[which[k]];
-          w = PairWork<K>();
-          w.a = candidates[which[k]].first;
-          w.b = candidates[which[k]].second;
-          const auto tp = Clock::now();
-          std::vector<Polyline<K>> curves;
-          {
-            // Each tow cut to the faces that can meet the other (bounding boxes): the same curves,
-            // a fraction of the work.
-            const Mesh<K> a = thaw<K>(frozen[w.a], &frozen[w.b].bbox), b = thaw<K>(frozen[w.b], &frozen[w.a].bbox);
-            w.stats.copy_seconds += seconds_since(tp);
-            std::size_t touching = 0;
-            curves = intersection_curves<K>(a, b, &touching);
-            w.stats.touching_only = curves.empty() && touching > 0;
-          }
-          w.stats.a = w.a;
-          w.stats.b = w.b;
-          w.stats.curves = curves.size();
-          for (const auto& c : curves) {
-            w.stats.closed_curves += is_closed(c) ? 1 : 0;
-            w.stats.curve_vertices += is_closed(c) ? c.size() - 1 : c.size();
-          }
-          w.for_a = detached<K>(curves);
-          w.for_b = detached<K>(curves);
-          w.stats.intersect_seconds += seconds_since(tp);
-        },
-        [&](std::size_t) { report(stage, ++done, which.size()); });
-  };
-  std::vector<std::size_t> all_pairs(candidates.size());
-  for (std::size_t p = 0; p < all_pairs.size(); ++p) all_pairs[p] = p;
-  compute_pairs(all_pairs, "pairs");
-  st.stage_seconds["pairs"] = seconds_since(t);
-
-  // Each tow's pairs (with curves), in pair order.
-  std::vector<std::vector<std::size_t>> pairs_of(meshes.size());
-  auto find_pairs_of = [&]() {
-    for (auto& v : pairs_of) v.clear();
-    for (std::size_t p = 0; p < work.size(); ++p)
-      if (!work[p].for_a.empty()) {
-        pairs_of[work[p].a].push_back(p);
-        pairs_of[work[p].b].push_back(p);
-      }
-  };
-  find_pairs_of();
-  auto curves_for = [&](std::size_t p, std::size_t tow) -> std::vector<Polyline<K>>& {
-    return work[p].a == tow ? work[p].for_a : work[p].for_b;
-  };
-
-  // ---- snapping: each tow against all its curves at once, then every curve of a moved tow again
-  t = Clock::now();
-  std::vector<double> snap_tol(meshes.size(), 0.0);
-  std::vector<std::size_t> snapped(meshes.size(), 0), snaps_refused(meshes.size(), 0);
-  std::vector<internal::FaceProvenance> provenance(meshes.size());  // of the faces cut at triple points
-  // Rounded kernels: no automatic snapping (a snapped vertex lies exactly on the other tow, a
-  // degeneracy only the exact kernel copes with; their curve points are doubles already).
-  const bool snap = options.embed.snap_tol > 0 || (options.embed.snap_tol < 0 && kernel_traits<K>::exact_constructions);
-  if (snap) {
-    for (std::size_t tow = 0; tow < meshes.size(); ++tow) {
-      if (options.embed.snap_tol > 0) {
-        snap_tol[tow] = options.embed.snap_tol;
-        continue;
-      }
-      double d = diagonal(frozen[tow].bbox);
-      for (std::size_t p : pairs_of[tow]) d = std::min(d, diagonal(frozen[work[p].a == tow ? work[p].b : work[p].a].bbox));
-      snap_tol[tow] = 1e-10 * d;
-    }
-    for_each_index(
-        arena, meshes.size(),
-        [&](std::size_t tow) {
-          if (pairs_of[tow].empty()) return;
-          std::vector<Polyline<K>> curves;
-          for (std::size_t p : pairs_of[tow]) {
-            const auto& mine = curves_for(p, tow);
-            curves.insert(curves.end(), mine.begin(), mine.end());
-          }
-          const auto r = internal::snap_vertices_to_segments<K>(meshes[tow], curves, snap_tol[tow]);
-          snapped[tow] = r.snapped;
-          snaps_refused[tow] = r.refused;
-        },
-        [](std::size_t) {});
-    std::vector<std::size_t> again;
-    for (std::size_t tow = 0; tow < meshes.size(); ++tow)
-      if (snapped[tow] > 0) frozen[tow] = freeze<K>(meshes[tow]);
-    for (std::size_t p = 0; p < candidates.size(); ++p)
-      if (snapped[candidates[p].first] > 0 || snapped[candidates[p].second] > 0) again.push_back(p);
-    if (!again.empty()) {
-      compute_pairs(again, "pairs (after snapping)");
-      find_pairs_of();
-    }
-  }
-  st.stage_seconds["snap"] = seconds_since(t);
-
-  // ---- triple overlaps: where the curves of two neighbours meet on a tow, three tows overlap in
-  // one place. Under the exact kernel the meeting point becomes a vertex of all three tows (it lies
-  // exactly on the three surfaces, so inserting it changes no surface), and their curves are then
-  // computed again: they all pass through that vertex, which every embedding shares. Otherwise, or
-  // when the curves overlap along a segment, the run stops naming the three tows.
-  t = Clock::now();
-  struct Meeting {
-    bool found = false, point = false;
-    std::size_t p = 0, q = 0;  // the two pairs whose curves meet
-    Point at;
-  };
-  auto other = [&](std::size_t p, std::size_t tow) { return work[p].a == tow ? work[p].b : work[p].a; };
-  auto refuse = [&](std::size_t tow, const Meeting& m, const char* why) {
-    const std::size_t j = other(m.p, tow), k = other(m.q, tow);
-    std::set<std::size_t> three{tow, j, k};
-    std::ostringstream msg;
-    msg << "tows";
-    std::size_t n = 0;
-    for (std::size_t x : three) msg << (n++ == 0 ? " " : n == 3 ? " and " : ", ") << quoted(names[x]);
-    const auto at = to_filtered(m.at);
-    msg << " overlap in one place (triple overlap): the curves of " << quoted(names[tow]) << " with "
-        << quoted(names[j]) << " and with " << quoted(names[k]) << " meet on " << quoted(names[tow]) << " near ("
-        << at.x() << ", " << at.y() << ", " << at.z() << "); " << why;
-    throw InvalidInput(msg.str());
-  };
-  for (int round = 0;; ++round) {
-    std::vector<std::vector<Meeting>> meetings(meshes.size());
-    for_each_index(
-        arena, meshes.size(),
-        [&](std::size_t tow) {
-          if (pairs_of[tow].size() < 2) return;
-          struct Seg {
-            std::size_t pair;
-            const Point *p, *q;
-          };
-          std::vector<Seg> segs;
-          for (std::size_t p : pairs_of[tow])
-            for (const auto& c : curves_for(p, tow))
-              for (std::size_t i = 0; i + 1 < c.size(); ++i) segs.push_back({p, &c[i], &c[i + 1]});
-          std::vector<Box> sboxes;
-          sboxes.reserve(segs.size());
-          for (std::size_t s = 0; s < segs.size(); ++s) sboxes.emplace_back(segs[s].p->bbox() + segs[s].q->bbox(), s);
-          std::vector<std::pair<std::size_t, std::size_t>> hits;
-          CGAL::box_self_intersection_d(sboxes.begin(), sboxes.end(), [&](const Box& x, const Box& y) {
-            const Seg &u = segs[x.info()], &v = segs[y.info()];
-            if (u.pair == v.pair) return;
-            if (!CGAL::do_intersect(typename K::Segment_3(*u.p, *u.q), typename K::Segment_3(*v.p, *v.q))) return;
-            // Allowed: two curves through a common end point that is a vertex of this tow (a
-            // triple point made a vertex below), not overlapping.
-            const Point* common = *u.p == *v.p || *u.p == *v.q ? u.p : *u.q == *v.p || *u.q == *v.q ? u.q : nullptr;
-            if (common && !(CGAL::collinear(*u.p, *u.q, *v.p) && CGAL::collinear(*u.p, *u.q, *v.q)) &&
-                is_vertex<K>(meshes[tow], *common))
-              return;
-            hits.emplace_back(std::min(x.info(), y.info()), std::max(x.info(), y.info()));
-          });
-          std::sort(hits.begin(), hits.end());  // deterministic, whatever the order found
-          for (const auto& [x, y] : hits) {
-            const Seg &u = segs[x], &v = segs[y];
-            Meeting m;
-            m.found = true;
-            m.p = std::min(u.pair, v.pair);
-            m.q = std::max(u.pair, v.pair);
-            m.at = *u.p;
-            const auto i = CGAL::intersection(typename K::Segment_3(*u.p, *u.q), typename K::Segment_3(*v.p, *v.q));
-            if (i)
-              if (const Point* point = boost::get<Point>(&*i)) {
-                m.point = true;
-                m.at = detached<K>(*point);
-              }
-            meetings[tow].push_back(m);
-            if (!m.point) break;  // refused below
-          }
-        },
-        [](std::size_t) {});
-    std::vector<char> modified(meshes.size(), 0);
-    bool any = false;
-    for (std::size_t tow = 0; tow < meshes.size(); ++tow)
-      for (const Meeting& m : meetings[tow]) {
-        any = true;
-        if (!kernel_traits<K>::exact_constructions)
-          refuse(tow, m, "only the exact kernel makes such a point a vertex of the three tows: use --kernel exact");
-        if (!m.point) refuse(tow, m, "the curves overlap along a segment there: seam textile cannot embed that");
-        if (round >= 4) refuse(tow, m, "making the meeting points vertices of the three tows did not end");
-        bool inserted = false, known = false;
-        for (std::size_t x : {tow, other(m.p, tow), other(m.q, tow)}) {
-          const auto point = detached<K>(m.at);
-          if (insert_vertex<K>(meshes[x], point, provenance[x])) {
-            modified[x] = inserted = true;
-          } else {
-            known = known || modified[x];  // made a vertex in this round already (seen from another tow)
-          }
-        }
-        if (!inserted && !known) refuse(tow, m, "seam textile could not make that point a vertex of the three tows");
-        if (inserted) ++st.triple_points;
-      }
-    if (!any) break;
-    std::vector<std::size_t> again;
-    for (std::size_t tow = 0; tow < meshes.size(); ++tow)
-      if (modified[tow]) frozen[tow] = freeze<K>(meshes[tow]);
-    for (std::size_t p = 0; p < candidates.size(); ++p)
-      if (modified[candidates[p].first] || modified[candidates[p].second]) again.push_back(p);
-    compute_pairs(again, "pairs (triple points)");
-    find_pairs_of();
-  }
-  st.stage_seconds["triples"] = seconds_since(t);
-
-  // ---- tows: each receives all its curves in one embedding, concurrently
-  t = t_stage = Clock::now();
-  EmbedOptions eo = options.embed;
-  eo.snap_tol = 0;
-  eo.keep_all_nodes = true;  // every curve point lies on the surface and is a crossing point
-  eo.curve_tol = 0;
-  eo.max_distance = std::numeric_limits<double>::max();
-  result.tows.resize(meshes.size());
-  std::size_t tows_done = 0;
-  for_each_index(
-      arena, meshes.size(),
-      [&](std::size_t tow) {
-        std::vector<Polyline<K>> curves;
-        std::vector<std::size_t> first_curve;  // per pair of this tow, index of its first curve
-        for (std::size_t p : pairs_of[tow]) {
-          first_curve.push_back(curves.size());
-          auto& mine = curves_for(p, tow);
-          curves.insert(curves.end(), mine.begin(), mine.end());
-        }
-        first_curve.push_back(curves.size());
-        Mesh<K>& mesh = meshes[tow];
-        EmbedResult<K> r;
-        try {
-          r = embed<K>(mesh, curves, eo);
-        } catch (const InvalidInput& e) {
-          throw InvalidInput("tow " + quoted(names[tow]) + ": " + e.what());
-        } catch (const InternalError& e) {
-          // Under a rounded kernel, curves of two neighbours that meet within rounding are not
-          // detected above and make the re-triangulation fail here.
-          throw InternalError("tow " + quoted(names[tow]) + ": " + e.what() +
-                              (pairs_of[tow].size() > 1 && !kernel_traits<K>::exact_constructions
-                                   ? " (the curves of two neighbours may meet: use --kernel exact)"
-                                   : ""));
-        }
-        if (!provenance[tow].origin.empty()) provenance[tow].template apply<K>(mesh, r.stats);
-        if (r.curves.size() != curves.size() || r.curve_vertices.size() != curves.size())
-          throw InternalError("textile: " + names[tow] + ": the embedding returned a different number of curves");
-        for (auto& c : r.curves)
-          for (auto& p : c) make_exact(p);  // written by two tows: the same tight approximation in both
-        for (std::size_t k = 0; k < pairs_of[tow].size(); ++k) {
-          auto& w = work[pairs_of[tow][k]];
-          std::vector<Polyline<K>> embedded(r.curves.begin() + std::ptrdiff_t(first_curve[k]),
-                                            r.curves.begin() + std::ptrdiff_t(first_curve[k + 1]));
-          std::vector<std::vector<typename Mesh<K>::Vertex_index>> vertices(
-              r.curve_vertices.begin() + std::ptrdiff_t(first_curve[k]),
-              r.curve_vertices.begin() + std::ptrdiff_t(first_curve[k + 1]));
-          const CurveFaceQuality q = curve_face_quality<K>(mesh, vertices);
-          (w.a == tow ? w.vertices_a : w.vertices_b) = std::move(vertices);
-          if (w.a == tow) {
-            w.embedded_a = std::move(embedded);
-            w.stats.quality_a = q;
-          } else {
-            w.embedded_b = std::move(embedded);
-            w.stats.quality_b = q;
-          }
-        }
-        result.tows[tow] = r.stats;
-        result.tows[tow].snap_tol = snap_tol[tow];
-        result.tows[tow].vertices_snapped = snapped[tow];
-        result.tows[tow].snaps_refused = snaps_refused[tow];
-        // The curves handed to this tow are no longer needed: free them in the thread that used them.
-        for (std::size_t p : pairs_of[tow]) std::vector<Polyline<K>>().swap(curves_for(p, tow));
-      },
-      [&](std::size_t) { report("tows", ++tows_done, meshes.size()); });
-  st.stage_seconds["tows"] = seconds_since(t);
-
-  // ---- both tows of every pair received the identical curves
-  t = Clock::now();
-  std::vector<std::array<std::vector<std::vector<typename Mesh<K>::Vertex_index>>, 2>> pair_vertices;
-  for (auto& w : work) {
-    if (w.stats.curves == 0 && !w.stats.touching_only) continue;
-    if (w.embedded_a != w.embedded_b) {
-      std::ostringstream msg;
-      msg << "textile: the curves of " << names[w.a] << " and " << names[w.b]
-          << " were embedded differently into the two tows";
-      throw InternalError(msg.str());
-    }
-    TextilePair<K> pair;
-    pair.curves = std::move(w.embedded_a);
-    pair.stats = w.stats;
-    if (pair.stats.curves > 0) ++st.intersecting_pairs;
-    if (pair.stats.touching_only) ++st.touching_pairs;
-    result.pairs.push_back(std::move(pair));
-    pair_vertices.push_back({std::move(w.vertices_a), std::move(w.vertices_b)});
-  }
-  st.stage_seconds["compare"] = seconds_since(t);
-  std::vector<FrozenMesh<K>>().swap(frozen);
-  improve_and_verify<K>(meshes, inputs, names, result, pair_vertices, snap_tol, options);
-  return result;
+  return TextileRun<K>(meshes, names, options).run();
 }
 
 #define SEAM_INSTANTIATE(K)                                                                                 \
