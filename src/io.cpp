@@ -779,16 +779,19 @@ class PlyBody {
   std::size_t first_line_;
 };
 
-TriangleSoup parse_ply(std::string_view data, const std::string& name) {
-  data = skip_bom(data);
-  check_empty(data, name);
-  Lines lines(data, /*strip_comments=*/false);
+/// A PLY header: the format and the elements with their properties.
+struct PlyHeader {
+  PlyFormat format = PlyFormat::ascii;
+  std::vector<PlyElement> elements;
+};
+
+PlyHeader parse_ply_header(Lines& lines, const std::string& name) {
   std::string_view line;
   std::vector<std::string_view> tok;
   if (!lines.next(line) || (line != "ply" && line != "ply\r")) invalid(name, "not a PLY file (missing 'ply' header)");
   bool have_format = false;
-  PlyFormat format = PlyFormat::ascii;
-  std::vector<PlyElement> elements;
+  PlyHeader header;
+  auto& elements = header.elements;
   for (;;) {
     if (!lines.next(line)) invalid(name, "unexpected end of file in the PLY header (missing 'end_header')");
     split(line, tok);
@@ -798,9 +801,9 @@ TriangleSoup parse_ply(std::string_view data, const std::string& name) {
     if (tok[0] == "comment" || tok[0] == "obj_info") continue;
     if (tok[0] == "format") {
       if (tok.size() < 2) invalid(name, where + "'format' needs a value");
-      if (tok[1] == "ascii") format = PlyFormat::ascii;
-      else if (tok[1] == "binary_little_endian") format = PlyFormat::binary_le;
-      else if (tok[1] == "binary_big_endian") format = PlyFormat::binary_be;
+      if (tok[1] == "ascii") header.format = PlyFormat::ascii;
+      else if (tok[1] == "binary_little_endian") header.format = PlyFormat::binary_le;
+      else if (tok[1] == "binary_big_endian") header.format = PlyFormat::binary_be;
       else invalid(name, where + "unknown PLY format " + quote(tok[1]));
       have_format = true;
     } else if (tok[0] == "element") {
@@ -832,94 +835,114 @@ TriangleSoup parse_ply(std::string_view data, const std::string& name) {
     }
   }
   if (!have_format) invalid(name, "the PLY header has no 'format' line");
+  return header;
+}
 
-  const PlyElement* vertex_element = nullptr;
-  const PlyElement* face_element = nullptr;
-  for (const PlyElement& e : elements) {
-    if (e.name == "vertex") vertex_element = &e;
-    if (e.name == "face") face_element = &e;
-  }
-  if (vertex_element == nullptr) invalid(name, "the PLY header declares no 'vertex' element");
-  if (face_element == nullptr) invalid(name, "the PLY header declares no 'face' element (point clouds are not supported)");
+/// Where the mesh is in a PLY file: its vertex and face elements, the positions of x, y, z among
+/// the vertex properties and of the index list among the face properties.
+struct PlyLayout {
+  const PlyElement* vertex = nullptr;
+  const PlyElement* face = nullptr;
   int xyz[3] = {-1, -1, -1};
-  for (std::size_t i = 0; i < vertex_element->properties.size(); ++i) {
-    const PlyProperty& p = vertex_element->properties[i];
+  int indices = -1;
+};
+
+PlyLayout ply_layout(const PlyHeader& header, const std::string& name) {
+  PlyLayout layout;
+  for (const PlyElement& e : header.elements) {
+    if (e.name == "vertex") layout.vertex = &e;
+    if (e.name == "face") layout.face = &e;
+  }
+  if (layout.vertex == nullptr) invalid(name, "the PLY header declares no 'vertex' element");
+  if (layout.face == nullptr) invalid(name, "the PLY header declares no 'face' element (point clouds are not supported)");
+  for (std::size_t i = 0; i < layout.vertex->properties.size(); ++i) {
+    const PlyProperty& p = layout.vertex->properties[i];
     for (int c = 0; c < 3; ++c)
-      if (!p.is_list && p.name == std::string(1, char('x' + c))) xyz[c] = static_cast<int>(i);
+      if (!p.is_list && p.name == std::string(1, char('x' + c))) layout.xyz[c] = static_cast<int>(i);
   }
   for (int c = 0; c < 3; ++c)
-    if (xyz[c] < 0) invalid(name, "the PLY vertex element has no '" + std::string(1, char('x' + c)) + "' property");
-  int indices = -1;
-  for (std::size_t i = 0; i < face_element->properties.size(); ++i) {
-    const PlyProperty& p = face_element->properties[i];
-    if (p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) indices = static_cast<int>(i);
+    if (layout.xyz[c] < 0) invalid(name, "the PLY vertex element has no '" + std::string(1, char('x' + c)) + "' property");
+  for (std::size_t i = 0; i < layout.face->properties.size(); ++i) {
+    const PlyProperty& p = layout.face->properties[i];
+    if (p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) layout.indices = static_cast<int>(i);
   }
-  if (indices < 0) invalid(name, "the PLY face element has no 'vertex_indices' list property");
+  if (layout.indices < 0) invalid(name, "the PLY face element has no 'vertex_indices' list property");
+  return layout;
+}
 
-  PlyBody body(data.substr(lines.offset()), format, lines.number() + 1);
-  TriangleSoup soup;
-  for (const PlyElement& e : elements) {
-    const bool is_vertex = &e == vertex_element;
-    const bool is_face = &e == face_element;
-    const std::string plural = is_vertex ? "vertices" : is_face ? "faces" : "entries of element " + quote(e.name);
-    std::size_t min_bytes = 0;
-    for (const PlyProperty& p : e.properties)
-      min_bytes += body.ascii() ? 2 : ply_size(p.is_list ? p.count_type : p.type);
-    if (is_vertex) soup.points.reserve(capped(e.count, body.remaining(), min_bytes));
-    if (is_face) soup.triangles.reserve(capped(e.count, body.remaining(), min_bytes));
-    // An element without properties takes no bytes: do not count to its declared 10^13 entries
-    // (a timeout found by fuzzing). Vertex and face elements have their properties checked above.
-    if (e.properties.empty() && !is_vertex && !is_face) continue;
-    for (unsigned long long i = 0; i < e.count; ++i) {
-      const auto fail = [&](PlyBody::Status s) {
-        if (s == PlyBody::eof)
-          invalid(name, "unexpected end of file after " + std::to_string(i) + " of " + std::to_string(e.count) + " " + plural);
-        invalid(name, body.where() + quote(body.token()) + " is not a number");
-      };
-      Point3d point{};
-      std::array<std::size_t, 3> triangle{};
-      for (std::size_t k = 0; k < e.properties.size(); ++k) {
-        const PlyProperty& p = e.properties[k];
-        double v = 0;
-        if (!p.is_list) {
-          if (const auto s = body.read(p.type, v); s != PlyBody::ok) fail(s);
-          if (is_vertex)
-            for (int c = 0; c < 3; ++c)
-              if (xyz[c] == static_cast<int>(k)) point[c] = v;
-          continue;
-        }
-        if (const auto s = body.read(p.count_type, v); s != PlyBody::ok) fail(s);
-        if (!(v >= 0 && v <= 4294967295.0 && v == std::floor(v)))
-          invalid(name, body.where() + std::string(is_face ? "face " : "entry ") + std::to_string(i) +
-                            " has an invalid list length " + quote(body.ascii() ? body.token() : std::to_string(v)));
-        const auto n = static_cast<unsigned long long>(v);
-        if (!is_face || static_cast<int>(k) != indices) {
-          if (const auto s = body.skip(p.type, n); s != PlyBody::ok) fail(s);
-          continue;
-        }
-        if (n != 3)
-          invalid(name, "face " + std::to_string(i) + " has " + std::to_string(n) + " vertices; only triangles are supported");
-        for (int c = 0; c < 3; ++c) {
-          if (const auto s = body.read(p.type, v); s != PlyBody::ok) fail(s);
-          if (v != std::floor(v) || !std::isfinite(v))
-            invalid(name, body.where() + "face " + std::to_string(i) + " has a vertex index that is not an integer");
-          if (v < 0 || v >= 18446744073709551615.0)
-            invalid(name, "face " + std::to_string(i) + " has a vertex index " + integral_text(v) +
-                              " out of range (mesh has " + std::to_string(vertex_element->count) + " vertices)");
-          triangle[c] = static_cast<std::size_t>(v);
-        }
+/// Reads element `e`'s entries from the body: vertices and faces into `soup`, others skipped.
+void read_ply_element(PlyBody& body, const PlyElement& e, const PlyLayout& layout, TriangleSoup& soup,
+                      const std::string& name) {
+  const bool is_vertex = &e == layout.vertex;
+  const bool is_face = &e == layout.face;
+  const std::string plural = is_vertex ? "vertices" : is_face ? "faces" : "entries of element " + quote(e.name);
+  std::size_t min_bytes = 0;
+  for (const PlyProperty& p : e.properties) min_bytes += body.ascii() ? 2 : ply_size(p.is_list ? p.count_type : p.type);
+  if (is_vertex) soup.points.reserve(capped(e.count, body.remaining(), min_bytes));
+  if (is_face) soup.triangles.reserve(capped(e.count, body.remaining(), min_bytes));
+  // An element without properties takes no bytes: do not count to its declared 10^13 entries
+  // (a timeout found by fuzzing). Vertex and face elements have their properties checked above.
+  if (e.properties.empty() && !is_vertex && !is_face) return;
+  for (unsigned long long i = 0; i < e.count; ++i) {
+    const auto fail = [&](PlyBody::Status s) {
+      if (s == PlyBody::eof)
+        invalid(name, "unexpected end of file after " + std::to_string(i) + " of " + std::to_string(e.count) + " " + plural);
+      invalid(name, body.where() + quote(body.token()) + " is not a number");
+    };
+    Point3d point{};
+    std::array<std::size_t, 3> triangle{};
+    for (std::size_t k = 0; k < e.properties.size(); ++k) {
+      const PlyProperty& p = e.properties[k];
+      double v = 0;
+      if (!p.is_list) {
+        if (const auto s = body.read(p.type, v); s != PlyBody::ok) fail(s);
+        if (is_vertex)
+          for (int c = 0; c < 3; ++c)
+            if (layout.xyz[c] == static_cast<int>(k)) point[c] = v;
+        continue;
       }
-      if (is_vertex) {
-        if (!finite3(point)) invalid(name, "vertex " + std::to_string(i) + " has a non-finite coordinate");
-        soup.points.push_back(point);
+      if (const auto s = body.read(p.count_type, v); s != PlyBody::ok) fail(s);
+      if (!(v >= 0 && v <= 4294967295.0 && v == std::floor(v)))
+        invalid(name, body.where() + std::string(is_face ? "face " : "entry ") + std::to_string(i) +
+                          " has an invalid list length " + quote(body.ascii() ? body.token() : std::to_string(v)));
+      const auto n = static_cast<unsigned long long>(v);
+      if (!is_face || static_cast<int>(k) != layout.indices) {
+        if (const auto s = body.skip(p.type, n); s != PlyBody::ok) fail(s);
+        continue;
       }
-      if (is_face) soup.triangles.push_back(triangle);
+      if (n != 3)
+        invalid(name, "face " + std::to_string(i) + " has " + std::to_string(n) + " vertices; only triangles are supported");
+      for (int c = 0; c < 3; ++c) {
+        if (const auto s = body.read(p.type, v); s != PlyBody::ok) fail(s);
+        if (v != std::floor(v) || !std::isfinite(v))
+          invalid(name, body.where() + "face " + std::to_string(i) + " has a vertex index that is not an integer");
+        if (v < 0 || v >= 18446744073709551615.0)
+          invalid(name, "face " + std::to_string(i) + " has a vertex index " + integral_text(v) +
+                            " out of range (mesh has " + std::to_string(layout.vertex->count) + " vertices)");
+        triangle[c] = static_cast<std::size_t>(v);
+      }
     }
+    if (is_vertex) {
+      if (!finite3(point)) invalid(name, "vertex " + std::to_string(i) + " has a non-finite coordinate");
+      soup.points.push_back(point);
+    }
+    if (is_face) soup.triangles.push_back(triangle);
   }
+}
+
+TriangleSoup parse_ply(std::string_view data, const std::string& name) {
+  data = skip_bom(data);
+  check_empty(data, name);
+  Lines lines(data, /*strip_comments=*/false);
+  const PlyHeader header = parse_ply_header(lines, name);
+  const PlyLayout layout = ply_layout(header, name);
+  PlyBody body(data.substr(lines.offset()), header.format, lines.number() + 1);
+  TriangleSoup soup;
+  for (const PlyElement& e : header.elements) read_ply_element(body, e, layout, soup, name);
   // More content than the header declares (the counts are wrong): refused, as in OFF files.
   if (const std::string extra = body.trailing(); !extra.empty())
-    invalid(name, extra + " after the " + std::to_string(vertex_element->count) + " vertices and " +
-                      std::to_string(face_element->count) + " faces the header declares (is a count wrong?)");
+    invalid(name, extra + " after the " + std::to_string(layout.vertex->count) + " vertices and " +
+                      std::to_string(layout.face->count) + " faces the header declares (is a count wrong?)");
   const std::size_t nv = soup.points.size();
   for (std::size_t f = 0; f < soup.triangles.size(); ++f)
     for (std::size_t index : soup.triangles[f])
