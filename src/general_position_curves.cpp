@@ -175,16 +175,14 @@ typename K::Point_3 crossing_point(const Mesh<K>& m, typename Mesh<K>::Edge_inde
   return p + (q - p) * lambda;
 }
 
-}  // namespace
+constexpr std::size_t no_point = std::size_t(-1);
 
+/// Candidate face pairs: overlapping bounding boxes (of the exact kernel's interval
+/// approximations: they contain the exact faces), sorted.
 template <class K>
-std::optional<GeneralPositionCurves<K>> general_position_curves(const Mesh<K>& a, const Mesh<K>& b) {
-  using Point = typename K::Point_3;
+std::vector<std::pair<std::uint32_t, std::uint32_t>> candidate_face_pairs(const Mesh<K>& a, const Mesh<K>& b) {
   using F = typename Mesh<K>::Face_index;
   using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
-
-  // Candidate face pairs: overlapping bounding boxes (of the exact kernel's interval
-  // approximations: they contain the exact faces).
   namespace PMP = CGAL::Polygon_mesh_processing;
   const CGAL::Bbox_3 box_a = PMP::bbox(a), box_b = PMP::bbox(b);
   auto boxes_near = [&](const Mesh<K>& m, const CGAL::Bbox_3& other) {
@@ -198,8 +196,14 @@ std::optional<GeneralPositionCurves<K>> general_position_curves(const Mesh<K>& a
   CGAL::box_intersection_d(faces_a.begin(), faces_a.end(), faces_b.begin(), faces_b.end(),
                            [&](const Box& x, const Box& y) { candidates.emplace_back(x.info(), y.info()); });
   std::sort(candidates.begin(), candidates.end());
+  return candidates;
+}
 
-  // Each pair decided with exact predicates, on all cores.
+/// Each candidate pair decided with exact predicates, on all cores; nothing when one is degenerate.
+template <class K>
+std::optional<std::vector<FacePairResult>> meet_all(const Mesh<K>& a, const Mesh<K>& b,
+                                                    const std::vector<std::pair<std::uint32_t, std::uint32_t>>& candidates) {
+  using F = typename Mesh<K>::Face_index;
   std::vector<FacePairResult> met(candidates.size());
   std::atomic<bool> degenerate{false};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 256),
@@ -211,34 +215,49 @@ std::optional<GeneralPositionCurves<K>> general_position_curves(const Mesh<K>& a
                       }
                     });
   if (degenerate) return std::nullopt;
+  return met;
+}
 
-  // The crossing points, each once, and the segments between them.
+/// The crossing points, each once (sorted keys), and per point its (at most two) neighbours and
+/// the face pairs of the segments to them.
+struct CrossingGraph {
   std::vector<CrossingKey> keys;
+  std::vector<std::array<std::size_t, 2>> neighbours, segment_of;
+};
+
+/// Nothing when the segments do not form simple curves: three segments at one point, or two to
+/// the same point (two faces with the same corners: a mesh meeting itself).
+inline std::optional<CrossingGraph> crossing_graph(const std::vector<FacePairResult>& met) {
+  CrossingGraph g;
   for (const auto& m : met)
-    if (m.kind == FacePairResult::segment) keys.insert(keys.end(), m.ends.begin(), m.ends.end());
-  std::sort(keys.begin(), keys.end());
-  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    if (m.kind == FacePairResult::segment) g.keys.insert(g.keys.end(), m.ends.begin(), m.ends.end());
+  std::sort(g.keys.begin(), g.keys.end());
+  g.keys.erase(std::unique(g.keys.begin(), g.keys.end()), g.keys.end());
   auto index_of = [&](const CrossingKey& k) {
-    return std::size_t(std::lower_bound(keys.begin(), keys.end(), k) - keys.begin());
+    return std::size_t(std::lower_bound(g.keys.begin(), g.keys.end(), k) - g.keys.begin());
   };
-  constexpr std::size_t none = std::size_t(-1);
-  // Per point, its (at most two) neighbours and the face pairs of the segments to them.
-  std::vector<std::array<std::size_t, 2>> neighbours(keys.size(), {none, none}), segment_of(keys.size());
+  g.neighbours.assign(g.keys.size(), {no_point, no_point});
+  g.segment_of.resize(g.keys.size());
   for (std::size_t s = 0; s < met.size(); ++s) {
     const auto& m = met[s];
     if (m.kind != FacePairResult::segment) continue;
     const std::size_t i = index_of(m.ends[0]), j = index_of(m.ends[1]);
     for (auto [from, to] : {std::pair{i, j}, std::pair{j, i}}) {
-      auto& n = neighbours[from];
-      const int slot = n[0] == none ? 0 : n[1] == none ? 1 : -1;
-      // Three segments at one point, or two to the same point (two faces with the same corners:
-      // a mesh meeting itself): not a simple curve.
+      auto& n = g.neighbours[from];
+      const int slot = n[0] == no_point ? 0 : n[1] == no_point ? 1 : -1;
       if (slot < 0 || n[0] == to) return std::nullopt;
       n[slot] = to;
-      segment_of[from][slot] = s;
+      g.segment_of[from][slot] = s;
     }
   }
-  std::vector<Point> points(keys.size());
+  return g;
+}
+
+/// The crossing points (exact under the exact kernel, rounded otherwise), on all cores.
+template <class K>
+std::vector<typename K::Point_3> crossing_points(const Mesh<K>& a, const Mesh<K>& b, const std::vector<CrossingKey>& keys) {
+  using F = typename Mesh<K>::Face_index;
+  std::vector<typename K::Point_3> points(keys.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size(), 64), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       const auto& k = keys[i];
@@ -247,7 +266,45 @@ std::optional<GeneralPositionCurves<K>> general_position_curves(const Mesh<K>& a
       make_exact(points[i]);  // kept points: cut the expression trees once
     }
   });
+  return points;
+}
 
+/// Under exact constructions: where each crossing point lies in A and in B (inside the edge it
+/// was constructed on, inside the face it crosses).
+template <class K>
+void record_sites(const std::vector<CrossingKey>& keys, const std::vector<typename K::Point_3>& points,
+                  GeneralPositionCurves<K>& result) {
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    SurfacePoint<K> on_edge, in_face;
+    on_edge.where = Where::edge;
+    on_edge.e = typename Mesh<K>::Edge_index(keys[i].edge);
+    on_edge.p = points[i];
+    in_face.where = Where::face;
+    in_face.f = typename Mesh<K>::Face_index(keys[i].face);
+    in_face.p = points[i];
+    result.sites_a.sites.emplace_back(points[i], keys[i].edge_of_b ? in_face : on_edge);
+    result.sites_b.sites.emplace_back(points[i], keys[i].edge_of_b ? on_edge : in_face);
+  }
+  result.sites_a.sort();
+  result.sites_b.sort();
+}
+
+}  // namespace
+
+template <class K>
+std::optional<GeneralPositionCurves<K>> general_position_curves(const Mesh<K>& a, const Mesh<K>& b) {
+  using Point = typename K::Point_3;
+  using F = typename Mesh<K>::Face_index;
+  const auto candidates = candidate_face_pairs<K>(a, b);
+  const auto met = meet_all<K>(a, b, candidates);
+  if (!met) return std::nullopt;
+  const auto graph = crossing_graph(*met);
+  if (!graph) return std::nullopt;
+  const auto& keys = graph->keys;
+  const auto& neighbours = graph->neighbours;
+  const auto& segment_of = graph->segment_of;
+  const std::vector<Point> points = crossing_points<K>(a, b, keys);
+  constexpr std::size_t none = no_point;
   // The sign of (q - p) . (n_A x n_B) for the segment pq (points i and j) of face pair s:
   // positive when pq runs along n_A x n_B. Exact: under a rounded kernel from the exact points of
   // the inputs' doubles (a short segment's rounded ends could point the other way).
@@ -302,21 +359,7 @@ std::optional<GeneralPositionCurves<K>> general_position_curves(const Mesh<K>& a
   for (std::size_t i = 0; i < keys.size(); ++i)
     if (!used[i] && !walk(i)) return std::nullopt;
 
-  if constexpr (kernel_traits<K>::exact_constructions) {
-    for (std::size_t i = 0; i < keys.size(); ++i) {
-      SurfacePoint<K> on_edge, in_face;
-      on_edge.where = Where::edge;
-      on_edge.e = typename Mesh<K>::Edge_index(keys[i].edge);
-      on_edge.p = points[i];
-      in_face.where = Where::face;
-      in_face.f = F(keys[i].face);
-      in_face.p = points[i];
-      result.sites_a.sites.emplace_back(points[i], keys[i].edge_of_b ? in_face : on_edge);
-      result.sites_b.sites.emplace_back(points[i], keys[i].edge_of_b ? on_edge : in_face);
-    }
-    result.sites_a.sort();
-    result.sites_b.sort();
-  }
+  if constexpr (kernel_traits<K>::exact_constructions) record_sites<K>(keys, points, result);
   return result;
 }
 
