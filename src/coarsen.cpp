@@ -73,96 +73,133 @@ template <class K> std::size_t CurvePoints<K>::id(const SurfacePoint<K>& sp) {
   return it->second;
 }
 
-template <class K>
-CoarsenOutput<K> coarsen_curves(const Mesh<K>& mesh, const std::vector<TracedCurve<K>>& traced, double curve_tol,
-                                bool keep_all_nodes) {
-  CoarsenOutput<K> out;
-  for (const TracedCurve<K>& tc : traced) {
-    const auto& pts = tc.points;
-    const std::size_t n = pts.size();
-    const bool closed = tc.closed;
-    std::vector<std::array<double, 3>> xyz(n);
-    for (std::size_t i = 0; i < n; ++i) xyz[i] = dbl(pts[i].p);
-    std::vector<char> kept(n, 0);
-    for (std::size_t i = 0; i < n; ++i) kept[i] = pts[i].where != Where::face;
-    // A point inside an edge with both neighbours on that same edge is not a crossing: the
-    // curve runs along the edge there. Drop it (the edge is not split).
+namespace {
+
+/// coarsen_curves on one traced curve: the points kept, then each run between two kept points
+/// refined (recursively, as an explicit stack), then the kept points emitted with their faces.
+template <class K> class CurveCoarsener {
+ public:
+  CurveCoarsener(const Mesh<K>& mesh, const TracedCurve<K>& tc, double curve_tol, bool keep_all_nodes)
+      : mesh_(mesh), tc_(tc), pts_(tc.points), n_(pts_.size()), closed_(tc.closed), curve_tol_(curve_tol),
+        xyz_(n_), kept_(n_, 0) {
+    for (std::size_t i = 0; i < n_; ++i) xyz_[i] = dbl(pts_[i].p);
+    keep_crossings(keep_all_nodes);
+    if (closed_ && std::none_of(kept_.begin(), kept_.end(), [](char k) { return k != 0; })) keep_three_of_a_loop();
+    refine_runs();
+  }
+
+  /// The kept points (ids in `points`) and the face of each segment.
+  CoarseCurve<K> emit(CurvePoints<K>& points) const {
+    CoarseCurve<K> cc;
+    cc.closed = closed_;
+    std::vector<std::size_t> k;
+    for (std::size_t i = 0; i < n_; ++i)
+      if (kept_[i]) k.push_back(i);
+    for (std::size_t j = 0; j < k.size(); ++j) {
+      cc.ids.push_back(points.id(pts_[k[j]]));
+      cc.traced_index.push_back(k[j]);
+      const bool last = j + 1 == k.size();
+      if (last && !closed_) break;
+      const std::size_t a = k[j], b = last ? k.front() : k[j + 1];
+      // face of the step leaving a (the same face holds the whole run when it has nodes)
+      // A step without a valid face: only rounded kernels get there (found by fuzzing, float
+      // kernel); an internal error, not an out-of-range face.
+      if (a >= tc_.step_face.size() || std::size_t(tc_.step_face[a]) >= mesh_.number_of_faces())
+        throw InternalError("coarsen: a step of the traced curve has no face on the mesh (rounded arithmetic)");
+      const auto f = tc_.step_face[a];
+      const bool run_on_edges = (a + 1) % n_ != b && pts_[(a + 1) % n_].where == Where::edge;
+      const bool along_edge = run_on_edges || ((a + 1) % n_ == b && on_common_edge<K>(mesh_, f, pts_[a], pts_[b]));
+      cc.segment_face.push_back(along_edge ? Mesh<K>::null_face() : f);
+    }
+    return cc;
+  }
+
+ private:
+  /// Points on edges and vertices (crossings), the ends of an open curve, and with
+  /// keep_all_nodes every input node. A point inside an edge with both neighbours on that same
+  /// edge is not a crossing: the curve runs along the edge there. It is dropped (the edge is not
+  /// split).
+  void keep_crossings(bool keep_all_nodes) {
+    for (std::size_t i = 0; i < n_; ++i) kept_[i] = pts_[i].where != Where::face;
     auto on_edge_e = [&](const SurfacePoint<K>& x, typename MeshTypes<K>::E e) {
       if (x.where == Where::edge) return x.e == e;
-      if (x.where == Where::vertex) return x.v == mesh.vertex(e, 0) || x.v == mesh.vertex(e, 1);
+      if (x.where == Where::vertex) return x.v == mesh_.vertex(e, 0) || x.v == mesh_.vertex(e, 1);
       return false;
     };
-    for (std::size_t i = 0; i < n; ++i) {
-      if (pts[i].where != Where::edge || (!closed && (i == 0 || i + 1 == n)) || n < 3) continue;
-      const auto& before = pts[(i + n - 1) % n];
-      const auto& after = pts[(i + 1) % n];
-      if (on_edge_e(before, pts[i].e) && on_edge_e(after, pts[i].e)) kept[i] = 0;
+    for (std::size_t i = 0; i < n_; ++i) {
+      if (pts_[i].where != Where::edge || (!closed_ && (i == 0 || i + 1 == n_)) || n_ < 3) continue;
+      const auto& before = pts_[(i + n_ - 1) % n_];
+      const auto& after = pts_[(i + 1) % n_];
+      if (on_edge_e(before, pts_[i].e) && on_edge_e(after, pts_[i].e)) kept_[i] = 0;
     }
-    if (!closed && n > 0) kept.front() = kept.back() = 1;
+    if (!closed_ && n_ > 0) kept_.front() = kept_.back() = 1;
     if (keep_all_nodes)
-      for (std::size_t i = 0; i < n; ++i) kept[i] |= tc.input_node[i] >= 0;
+      for (std::size_t i = 0; i < n_; ++i) kept_[i] |= tc_.input_node[i] >= 0;
+  }
 
-    auto farthest = [&](std::size_t a, std::size_t b, std::size_t skip) {
-      // index strictly between a and b (cyclic) farthest from segment [a, b]; n if none
-      std::size_t best = n;
-      double best_d = -1;
-      for (std::size_t i = (a + 1) % n; i != b; i = (i + 1) % n) {
-        if (i == skip) continue;
-        double d = squared_distance_to_segment(xyz[i], xyz[a], xyz[b]);
-        if (d > best_d) best_d = d, best = i;
-      }
-      return std::make_pair(best, best_d);
-    };
-
-    if (closed && std::none_of(kept.begin(), kept.end(), [](char k) { return k != 0; })) {
-      // A closed curve inside one face: keep node 0, the node farthest from it and the node
-      // farthest from the line through both.
-      kept[0] = 1;
-      auto [i1, d1] = farthest(0, 0, n);
-      if (i1 < n) {
-        kept[i1] = 1;
-        std::size_t best = n;
-        double best_d = -1;
-        for (std::size_t i = 1; i < n; ++i) {
-          if (i == i1) continue;
-          // distance to the line through 0 and i1 (not the segment)
-          double ab[3], ap[3], ab2 = 0, t = 0, d2 = 0;
-          for (int k = 0; k < 3; ++k) {
-            ab[k] = xyz[i1][k] - xyz[0][k];
-            ap[k] = xyz[i][k] - xyz[0][k];
-            ab2 += ab[k] * ab[k];
-            t += ab[k] * ap[k];
-          }
-          t = ab2 > 0 ? t / ab2 : 0;
-          for (int k = 0; k < 3; ++k) d2 += (ap[k] - t * ab[k]) * (ap[k] - t * ab[k]);
-          if (d2 > best_d) best_d = d2, best = i;
-        }
-        if (best < n) kept[best] = 1;
-      }
+  /// The index strictly between a and b (cyclic) farthest from segment [a, b], but `skip`; n if
+  /// none. Rounded distances.
+  std::pair<std::size_t, double> farthest(std::size_t a, std::size_t b, std::size_t skip) const {
+    std::size_t best = n_;
+    double best_d = -1;
+    for (std::size_t i = (a + 1) % n_; i != b; i = (i + 1) % n_) {
+      if (i == skip) continue;
+      double d = squared_distance_to_segment(xyz_[i], xyz_[a], xyz_[b]);
+      if (d > best_d) best_d = d, best = i;
     }
+    return {best, best_d};
+  }
 
-    // Refine each run between two kept points: recursion on (a, b), cyclic indices.
+  /// A closed curve inside one face: keep node 0, the node farthest from it and the node
+  /// farthest from the line through both.
+  void keep_three_of_a_loop() {
+    kept_[0] = 1;
+    const auto [i1, d1] = farthest(0, 0, n_);
+    if (i1 >= n_) return;
+    kept_[i1] = 1;
+    std::size_t best = n_;
+    double best_d = -1;
+    for (std::size_t i = 1; i < n_; ++i) {
+      if (i == i1) continue;
+      // distance to the line through 0 and i1 (not the segment)
+      double ab[3], ap[3], ab2 = 0, t = 0, d2 = 0;
+      for (int k = 0; k < 3; ++k) {
+        ab[k] = xyz_[i1][k] - xyz_[0][k];
+        ap[k] = xyz_[i][k] - xyz_[0][k];
+        ab2 += ab[k] * ab[k];
+        t += ab[k] * ap[k];
+      }
+      t = ab2 > 0 ? t / ab2 : 0;
+      for (int k = 0; k < 3; ++k) d2 += (ap[k] - t * ab[k]) * (ap[k] - t * ab[k]);
+      if (d2 > best_d) best_d = d2, best = i;
+    }
+    if (best < n_) kept_[best] = 1;
+  }
+
+  /// Refine each run between two kept points: recursion on (a, b), cyclic indices.
+  void refine_runs() {
     std::vector<std::pair<std::size_t, std::size_t>> stack;
     {
       std::vector<std::size_t> k;
-      for (std::size_t i = 0; i < n; ++i)
-        if (kept[i]) k.push_back(i);
+      for (std::size_t i = 0; i < n_; ++i)
+        if (kept_[i]) k.push_back(i);
       for (std::size_t j = 0; j + 1 < k.size(); ++j) stack.emplace_back(k[j], k[j + 1]);
-      if (closed && !k.empty()) stack.emplace_back(k.back(), k.front());
+      if (closed_ && !k.empty()) stack.emplace_back(k.back(), k.front());
     }
+    const std::size_t n = n_;
     while (!stack.empty()) {
       auto [a, b] = stack.back();
       stack.pop_back();
       if ((a + 1) % n == b) continue;  // no interior node
-      if (pts[(a + 1) % n].where != Where::face) continue;  // dropped points along an edge
-      const auto f = pts[(a + 1) % n].f;
+      if (pts_[(a + 1) % n].where != Where::face) continue;  // dropped points along an edge
+      const auto f = pts_[(a + 1) % n].f;
       std::size_t keep = n;
-      if (pts[a].same_as(pts[b])) {
+      if (pts_[a].same_as(pts_[b])) {
         // A loop from a point back to itself: keep the two nodes farthest apart from it.
         auto [i1, d1] = farthest(a, b, n);
         auto [i2, d2] = farthest(a, b, i1);
-        if (i1 < n) kept[i1] = 1;
-        if (i2 < n) kept[i2] = 1;
+        if (i1 < n) kept_[i1] = 1;
+        if (i2 < n) kept_[i2] = 1;
         std::size_t lo = std::min((i1 + n - a) % n, (i2 + n - a) % n), hi = std::max((i1 + n - a) % n, (i2 + n - a) % n);
         if (i2 < n) {
           std::size_t m1 = (a + lo) % n, m2 = (a + hi) % n;
@@ -176,38 +213,33 @@ CoarsenOutput<K> coarsen_curves(const Mesh<K>& mesh, const std::vector<TracedCur
         continue;
       }
       auto [i, d] = farthest(a, b, n);
-      if (on_common_edge<K>(mesh, f, pts[a], pts[b]) || (curve_tol > 0 && d > curve_tol * curve_tol)) keep = i;
+      if (on_common_edge<K>(mesh_, f, pts_[a], pts_[b]) || (curve_tol_ > 0 && d > curve_tol_ * curve_tol_)) keep = i;
       if (keep < n) {
-        kept[keep] = 1;
+        kept_[keep] = 1;
         stack.emplace_back(a, keep);
         stack.emplace_back(keep, b);
       }
     }
-
-    // Emit the kept points and the face of each segment.
-    CoarseCurve<K> cc;
-    cc.closed = closed;
-    std::vector<std::size_t> k;
-    for (std::size_t i = 0; i < n; ++i)
-      if (kept[i]) k.push_back(i);
-    for (std::size_t j = 0; j < k.size(); ++j) {
-      cc.ids.push_back(out.points.id(pts[k[j]]));
-      cc.traced_index.push_back(k[j]);
-      const bool last = j + 1 == k.size();
-      if (last && !closed) break;
-      const std::size_t a = k[j], b = last ? k.front() : k[j + 1];
-      // face of the step leaving a (the same face holds the whole run when it has nodes)
-      // A step without a valid face: only rounded kernels get there (found by fuzzing, float
-      // kernel); an internal error, not an out-of-range face.
-      if (a >= tc.step_face.size() || std::size_t(tc.step_face[a]) >= mesh.number_of_faces())
-        throw InternalError("coarsen: a step of the traced curve has no face on the mesh (rounded arithmetic)");
-      const auto f = tc.step_face[a];
-      const bool run_on_edges = (a + 1) % n != b && pts[(a + 1) % n].where == Where::edge;
-      const bool along_edge = run_on_edges || ((a + 1) % n == b && on_common_edge<K>(mesh, f, pts[a], pts[b]));
-      cc.segment_face.push_back(along_edge ? Mesh<K>::null_face() : f);
-    }
-    out.curves.push_back(std::move(cc));
   }
+
+  const Mesh<K>& mesh_;
+  const TracedCurve<K>& tc_;
+  const std::vector<SurfacePoint<K>>& pts_;
+  const std::size_t n_;
+  const bool closed_;
+  const double curve_tol_;
+  std::vector<std::array<double, 3>> xyz_;  ///< the points, rounded
+  std::vector<char> kept_;
+};
+
+}  // namespace
+
+template <class K>
+CoarsenOutput<K> coarsen_curves(const Mesh<K>& mesh, const std::vector<TracedCurve<K>>& traced, double curve_tol,
+                                bool keep_all_nodes) {
+  CoarsenOutput<K> out;
+  for (const TracedCurve<K>& tc : traced)
+    out.curves.push_back(CurveCoarsener<K>(mesh, tc, curve_tol, keep_all_nodes).emit(out.points));
   return out;
 }
 

@@ -72,11 +72,12 @@ template <class P> std::array<double, 3> rounded(const P& p) {
   return {q.x(), q.y(), q.z()};
 }
 
-/// The points of one traced curve that the embedding keeps (see step 2 above), in curve order;
-/// for a closed curve without the closing repeat.
+/// Each traced point's place along the given curve: a node, or a crossing between nodes s and
+/// s + 1 at the foot of the point on that segment (rounded; on an edge, the closest points of the
+/// edge's line and the segment's line, exact, when they lie inside both).
 template <class K>
-std::vector<KeptPoint<K>> kept_points(const Mesh<K>& mesh, const internal::TracedCurve<K>& tc,
-                                      const Polyline<K>& curve) {
+std::vector<KeptPoint<K>> places_along_curve(const Mesh<K>& mesh, const internal::TracedCurve<K>& tc,
+                                             const Polyline<K>& curve) {
   using internal::Where;
   const std::size_t n = tc.points.size();  // a closed trace does not repeat its first point
   std::vector<KeptPoint<K>> all(n);
@@ -130,6 +131,12 @@ std::vector<KeptPoint<K>> kept_points(const Mesh<K>& mesh, const internal::Trace
       if (tc.closed && k.s + 1 == curve.size()) k.s = curve.size() - 2, k.t = std::nextafter(1.0, 0.0);
     }
   }
+  return all;
+}
+
+/// Makes the places strictly increasing along each segment (see below).
+template <class K> void make_places_increasing(std::vector<KeptPoint<K>>& all, const Polyline<K>& curve) {
+  const std::size_t n = all.size();
   // Places strictly increasing along each segment: a crossing whose foot does not come after the
   // previous one's (the curve bends back across the mesh there) goes evenly between its
   // neighbours, and is no longer paired with a point of the curve.
@@ -169,7 +176,14 @@ std::vector<KeptPoint<K>> kept_points(const Mesh<K>& mesh, const internal::Trace
     }
     i = j;
   }
-  // Kept: points on edges and vertices, the end nodes of an open curve.
+}
+
+/// Which points the embedding keeps: points on edges and vertices, the end nodes of an open
+/// curve, and runs of face points that must stay for the curve to remain a simple path.
+template <class K>
+std::vector<char> kept_mask(const Mesh<K>& mesh, const internal::TracedCurve<K>& tc, const std::vector<KeptPoint<K>>& all) {
+  using internal::Where;
+  const std::size_t n = all.size();
   std::vector<char> keep(n, 0);
   for (std::size_t i = 0; i < n; ++i) keep[i] = all[i].sp.where != Where::face;
   if (!tc.closed && n > 0) keep[0] = keep[n - 1] = 1;
@@ -191,6 +205,18 @@ std::vector<KeptPoint<K>> kept_points(const Mesh<K>& mesh, const internal::Trace
         for (std::size_t i = first; i != e; i = (i + 1) % n) keep[i] = 1;
     }
   }
+  return keep;
+}
+
+/// The points of one traced curve that the embedding keeps (see step 2 above), in curve order;
+/// for a closed curve without the closing repeat.
+template <class K>
+std::vector<KeptPoint<K>> kept_points(const Mesh<K>& mesh, const internal::TracedCurve<K>& tc,
+                                      const Polyline<K>& curve) {
+  std::vector<KeptPoint<K>> all = places_along_curve<K>(mesh, tc, curve);
+  make_places_increasing<K>(all, curve);
+  const std::vector<char> keep = kept_mask<K>(mesh, tc, all);
+  const std::size_t n = all.size();
   std::vector<KeptPoint<K>> kept;
   for (std::size_t i = 0; i < n; ++i) {
     if (!keep[i]) continue;
