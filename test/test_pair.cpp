@@ -185,6 +185,8 @@ TEMPLATE_TEST_CASE("pair: crossing tows come out conforming along their intersec
     // to cope with those degeneracies (the rounded ones may stop with InternalError).
     std::vector<double> snaps{0.0};
     if (seam::kernel_traits<K>::exact_constructions) snaps.push_back(-1.0);
+    // (Sanitized: the default tolerance only; tolerance 0 is the area test's, below.)
+    if (seam_test::sanitized_build && snaps.size() > 1) snaps.erase(snaps.begin());
     for (double snap : snaps) {
       INFO("snap_tol " << snap);
       auto a2 = a, b2 = b;
