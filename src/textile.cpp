@@ -1,5 +1,6 @@
 // seam::textile: all pairs of a unit cell, in parallel. See seam/textile.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/check.h>
 #include <seam/io.h>
 #include <seam/internal/provenance.h>
 #include <seam/internal/improve_state.h>
@@ -371,6 +372,14 @@ void improve_tows(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& inpu
   ImproveOptions io = options.quality;
   io.min_angle_deg = options.embed.min_angle_deg;
   if (io.tolerance < 0) io.tolerance = 0.1 * smallest_mean_edge;
+  // No new point closer to a vertex than the vertex separation seam check requires of a pair
+  // (min_vertex_separation x the diagonal of the two tows), for the widest pair: so for every pair.
+  double widest_pair = 0;
+  for (const auto& pair : result.pairs)
+    if (!pair.curves.empty())
+      widest_pair = std::max(widest_pair, diagonal(CGAL::Polygon_mesh_processing::bbox(inputs[pair.stats.a]) +
+                                                   CGAL::Polygon_mesh_processing::bbox(inputs[pair.stats.b])));
+  io.min_separation = std::max(io.min_separation, min_vertex_separation * widest_pair);
   st.improve_tolerance = io.tolerance;
   st.improve = internal::improve<K>(tows, shared, io);
   st.improved = true;
