@@ -92,7 +92,7 @@ void check_volumes(const TetMesh& mesh, const std::vector<TriangleSoup>& tows, c
     if (!(rs.relative_error <= 1e-9))
       problems.push_back(say(rs.name, ": its tets fill ", rs.volume, ", its surfaces enclose ", rs.surface_volume,
                              " (relative difference ", rs.relative_error, ")"));
-    if (rs.tets == 0) problems.push_back(rs.name + ": no tet");
+    if (rs.tets == 0 && CGAL::sign(enclosed[r]) != CGAL::ZERO) problems.push_back(rs.name + ": no tet");
     stats.regions.push_back(rs);
   }
 }

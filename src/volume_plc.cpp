@@ -48,6 +48,23 @@ void add_components(Plc& plc, int tow, const std::vector<std::array<std::size_t,
   }
 }
 
+/// The volume enclosed by a closed surface, signed by its orientation (long double: only the sign
+/// is used, and a closed valid surface does not enclose a volume near zero).
+long double signed_volume(const TriangleSoup& s) {
+  long double sum = 0;
+  const Point3d& o = s.points.front();
+  for (const auto& t : s.triangles) {
+    long double u[3], v[3], w[3];
+    for (int k = 0; k < 3; ++k) {
+      u[k] = (long double)s.points[t[0]][k] - o[k];
+      v[k] = (long double)s.points[t[1]][k] - o[k];
+      w[k] = (long double)s.points[t[2]][k] - o[k];
+    }
+    sum += u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
+  }
+  return sum;
+}
+
 std::string face_name(const TriangleOwner& o, bool second, const std::vector<std::string>& names) {
   return say(names[second ? o.tow_b : o.tow_a], " face ", second ? o.face_b : o.face_a);
 }
@@ -211,7 +228,9 @@ std::size_t Plc::add_point(const Point3d& p) {
 
 Plc merge_tows(const std::vector<TriangleSoup>& tows, const std::vector<std::string>& names) {
   Plc plc;
+  std::vector<int> orientation;  // +1: outward normals (positive enclosed volume), -1: inward
   for (std::size_t i = 0; i < tows.size(); ++i) {
+    orientation.push_back(signed_volume(tows[i]) >= 0 ? 1 : -1);
     const int tow = static_cast<int>(i);
     std::vector<std::size_t> id(tows[i].points.size());
     for (std::size_t v = 0; v < id.size(); ++v) id[v] = plc.add_point(tows[i].points[v]);
@@ -232,6 +251,14 @@ Plc merge_tows(const std::vector<TriangleSoup>& tows, const std::vector<std::str
       if (o.tow_b >= 0)
         throw InvalidInput(say(names[i], ": face ", f, " is also a face of ", names[o.tow_a], " and of ", names[o.tow_b],
                                " (a face may be shared by two tows, not three)"));
+      // Two tows that touch along a face see it from opposite sides (their outward normals are
+      // opposite); the same side means that they overlap there (the same tow twice, say).
+      const auto& first = plc.triangles[it->second];
+      const bool same_order = (m[0] == first[0] && m[1] == first[1]) || (m[0] == first[1] && m[1] == first[2]) ||
+                              (m[0] == first[2] && m[1] == first[0]);
+      if (same_order == (orientation[static_cast<std::size_t>(o.tow_a)] == orientation[i]))
+        throw InvalidInput(say(names[i], " face ", f, " and ", names[o.tow_a], " face ", o.face_a,
+                               " are the same triangle with the same outside: the tows overlap (run seam resolve first)"));
       o.tow_b = tow;
       o.face_b = f;
     }
