@@ -129,7 +129,7 @@ Command add_mesh_command(CLI::App& app) {
                     "TetGen's radius-edge bound (-q), 0 for none, else 1.2 to 100 (default 2)");
   add_number_option(cmd, "--max-volume", ma.max_volume, "Largest tet volume (-a); 0: no bound (default)");
   add_number_option(cmd, "--box-spacing", ma.box_spacing,
-                    "Spacing of the points put on the box faces; 0: none (default: auto, the tows' mean edge length)");
+                    "Spacing of the points put on the box faces; 0: none (default: auto, the tows' mean edge length or 1/20 of the box's longest side, the larger)");
   cmd->add_flag("--steiner-on-surfaces", ma.steiner_on_surfaces,
                 "Let TetGen split the tow surfaces (no -Y): better tets, but the surfaces are no longer seam's");
   cmd->add_option("--report", ma.report, "Write a JSON report (regions, volumes, quality, seconds per stage)");

@@ -221,7 +221,11 @@ VolumeMeshResult volume_mesh(const std::vector<TriangleSoup>& tows, const std::v
 
   t0 = Clock::now();
   double spacing = options.box_face_spacing;
-  if (spacing == 0) spacing = internal::mean_edge_length(tows);
+  if (spacing == 0) {  // auto: the tows' mean edge length, but at most 20 steps along the box's longest side
+    double longest = 0;
+    for (int k = 0; k < 3; ++k) longest = std::max(longest, st.box.max[k] - st.box.min[k]);
+    spacing = std::max(internal::mean_edge_length(tows), longest / 20);
+  }
   internal::add_box_faces(plc, st.box, spacing);
   internal::TetgenInput input;
   for (const auto& component : plc.components) {

@@ -11,8 +11,9 @@
 //      triangle once, and the box's six faces, each triangulated (a constrained Delaunay
 //      triangulation of a grid of points plus every tow vertex and edge that lies in that face,
 //      so that a tow touching the box, e.g. a tow's end cap in a face of the unit cell, is
-//      part of the box's boundary; the grid's spacing is the mean tow edge length, so that the
-//      matrix tets along the box are not bounded by two huge triangles per face).
+//      part of the box's boundary; the grid (VolumeMeshOptions::box_face_spacing) keeps the
+//      matrix tets along the box from being bounded by two huge triangles per face, which -Y
+//      would not let TetGen split).
 //   3. TetGen 1.5 (as a library): -p (PLC), -q (radius-edge bound), -a (volume bound, optional),
 //      -A (a region attribute per tow: a seed point strictly inside each connected component of
 //      each tow, found by moving a face centroid inwards and checked exactly with
@@ -55,7 +56,7 @@ struct VolumeMeshOptions {
   /// Largest tet volume (-a); 0: no bound.
   double max_volume = 0.0;
   /// Spacing of the points added to the box faces; 0: automatic (the mean edge length of the
-  /// tows); a negative value: none (each face's triangulation has only the corners and the
+  /// tows, or 1/20 of the box's longest side if that is larger); a negative value: none (each face's triangulation has only the corners and the
   /// tow vertices lying in it).
   double box_face_spacing = 0.0;
   /// Let TetGen put Steiner points on the input faces (drops -Y). The tow surfaces then change
