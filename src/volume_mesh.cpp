@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <numeric>
 #include <unordered_map>
 
@@ -88,26 +89,37 @@ AxisBox matrix_box(const std::vector<TriangleSoup>& tows, const std::vector<std:
   return box;
 }
 
-/// A point strictly inside component `c` of tow `tow` (and in no other tow): a face centroid
-/// moved inwards, tried on the largest faces at decreasing distances, checked exactly.
-Point3d seed_point(const internal::Plc& plc, const std::vector<std::array<std::size_t, 3>>& faces,
-                   const std::string& name) {
+/// One connected component of a tow as a mesh, with its exact inside test.
+struct ComponentSide {
   Mesh<K> mesh;
+  std::unique_ptr<CGAL::Side_of_triangle_mesh<Mesh<K>, K>> side;
+  CGAL::Bbox_3 bbox;
+};
+
+std::unique_ptr<ComponentSide> component_side(const internal::Plc& plc, const std::vector<std::array<std::size_t, 3>>& faces,
+                                              const std::string& name) {
+  auto c = std::make_unique<ComponentSide>();
   std::unordered_map<std::size_t, Mesh<K>::Vertex_index> vertex;
   for (const auto& f : faces) {
     std::array<Mesh<K>::Vertex_index, 3> v;
     for (int k = 0; k < 3; ++k) {
-      const std::size_t i = f[k];
-      auto it = vertex.find(i);
+      auto it = vertex.find(f[k]);
       if (it == vertex.end()) {
-        const auto& p = plc.points[i];
-        it = vertex.emplace(i, mesh.add_vertex(K::Point_3(p[0], p[1], p[2]))).first;
+        it = vertex.emplace(f[k], c->mesh.add_vertex(plc.point(f[k]))).first;
+        c->bbox += plc.point(f[k]).bbox();
       }
       v[k] = it->second;
     }
-    if (mesh.add_face(v[0], v[1], v[2]) == Mesh<K>::null_face()) throw InternalError(name + ": a component could not be built");
+    if (c->mesh.add_face(v[0], v[1], v[2]) == Mesh<K>::null_face()) throw InternalError(name + ": a component could not be built");
   }
-  const CGAL::Side_of_triangle_mesh<Mesh<K>, K> side(mesh);
+  c->side = std::make_unique<CGAL::Side_of_triangle_mesh<Mesh<K>, K>>(c->mesh);
+  return c;
+}
+
+/// A point strictly inside a component of a tow: a face centroid moved inwards, tried on the
+/// largest faces at decreasing distances, checked exactly.
+Point3d seed_point(const internal::Plc& plc, const std::vector<std::array<std::size_t, 3>>& faces,
+                   const ComponentSide& component, const std::string& name) {
   std::vector<std::size_t> order(faces.size());
   std::iota(order.begin(), order.end(), std::size_t(0));
   const auto area2 = [&](std::size_t f) {
@@ -126,10 +138,32 @@ Point3d seed_point(const internal::Plc& plc, const std::vector<std::array<std::s
       n = n * (fraction * std::sqrt(len / 2) / len);  // a fraction of the face's size
       for (const double sign : {-1.0, 1.0}) {
         const K::Point_3 p = c + sign * n;
-        if (side(p) == CGAL::ON_BOUNDED_SIDE) return {p.x(), p.y(), p.z()};
+        if ((*component.side)(p) == CGAL::ON_BOUNDED_SIDE) return {p.x(), p.y(), p.z()};
       }
     }
   throw InternalError(name + ": no point strictly inside the tow was found (region seed for TetGen)");
+}
+
+/// A seed point per component; a seed inside (or on) another tow's component means that the
+/// two tows overlap (nested, or crossing): InvalidInput.
+void add_seeds(const internal::Plc& plc, const std::vector<std::string>& names, internal::TetgenInput& input) {
+  std::vector<std::unique_ptr<ComponentSide>> sides;
+  for (const auto& component : plc.components) {
+    const std::string& name = names[static_cast<std::size_t>(component.tow)];
+    sides.push_back(component_side(plc, component.triangles, name));
+    input.seeds.push_back(seed_point(plc, component.triangles, *sides.back(), name));
+    input.seed_attributes.push_back(component.tow + 1);
+  }
+  for (std::size_t c = 0; c < sides.size(); ++c)
+    for (std::size_t d = 0; d < sides.size(); ++d) {
+      const auto& s = input.seeds[c];
+      const K::Point_3 p(s[0], s[1], s[2]);
+      if (plc.components[c].tow == plc.components[d].tow || !CGAL::do_overlap(p.bbox(), sides[d]->bbox)) continue;
+      if ((*sides[d]->side)(p) != CGAL::ON_UNBOUNDED_SIDE)
+        throw InvalidInput(say(names[static_cast<std::size_t>(plc.components[c].tow)], " and ",
+                               names[static_cast<std::size_t>(plc.components[d].tow)],
+                               ": the tows overlap (a point inside one is inside the other): run seam resolve first"));
+    }
 }
 
 std::string tetgen_switches(const VolumeMeshOptions& o) {
@@ -217,6 +251,7 @@ VolumeMeshResult volume_mesh(const std::vector<TriangleSoup>& tows, const std::v
   st.box = matrix_box(tows, names, options);
   internal::Plc plc = internal::merge_tows(tows, names);
   internal::check_no_overlap(plc, names);
+  internal::check_no_crossing_at_edges(plc, names);
   st.stage_seconds["check"] = seconds_since(t0);
 
   t0 = Clock::now();
@@ -228,10 +263,7 @@ VolumeMeshResult volume_mesh(const std::vector<TriangleSoup>& tows, const std::v
   }
   internal::add_box_faces(plc, st.box, spacing);
   internal::TetgenInput input;
-  for (const auto& component : plc.components) {
-    input.seeds.push_back(seed_point(plc, component.triangles, names[component.tow]));
-    input.seed_attributes.push_back(component.tow + 1);
-  }
+  add_seeds(plc, names, input);
   input.points = plc.points;
   input.triangles = plc.triangles;
   input.switches = tetgen_switches(options);

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <unordered_map>
 
 namespace seam::internal {
 
@@ -63,6 +64,29 @@ long double signed_volume(const TriangleSoup& s) {
     sum += u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
   }
   return sum;
+}
+
+
+/// A tow's two faces at an edge, as oriented in the tow, with the tow's orientation sign.
+struct EdgeWedge {
+  int tow = 0;
+  std::array<std::size_t, 3> face[2];
+  int faces = 0;
+};
+
+/// Whether the half-plane of the edge through point r lies strictly inside the tow's wedge.
+bool inside_wedge(const Plc& plc, const EdgeWedge& w, int sign, std::size_t r) {
+  const auto side = [&](const std::array<std::size_t, 3>& f, std::size_t x) {
+    return static_cast<int>(CGAL::orientation(plc.point(f[0]), plc.point(f[1]), plc.point(f[2]), plc.point(x))) * sign;
+  };
+  const auto third = [](const std::array<std::size_t, 3>& f, const std::array<std::size_t, 3>& g) {
+    for (const std::size_t v : f)
+      if (std::find(g.begin(), g.end(), v) == g.end()) return v;
+    return f[0];
+  };
+  const bool convex = side(w.face[0], third(w.face[1], w.face[0])) <= 0;
+  const int s0 = side(w.face[0], r), s1 = side(w.face[1], r);
+  return convex ? (s0 < 0 && s1 < 0) : (s0 < 0 || s1 < 0);
 }
 
 std::string face_name(const TriangleOwner& o, bool second, const std::vector<std::string>& names) {
@@ -231,6 +255,7 @@ Plc merge_tows(const std::vector<TriangleSoup>& tows, const std::vector<std::str
   std::vector<int> orientation;  // +1: outward normals (positive enclosed volume), -1: inward
   for (std::size_t i = 0; i < tows.size(); ++i) {
     orientation.push_back(signed_volume(tows[i]) >= 0 ? 1 : -1);
+    plc.orientation.push_back(orientation.back());
     const int tow = static_cast<int>(i);
     std::vector<std::size_t> id(tows[i].points.size());
     for (std::size_t v = 0; v < id.size(); ++v) id[v] = plc.add_point(tows[i].points[v]);
@@ -314,6 +339,33 @@ void add_box_faces(Plc& plc, const AxisBox& box, double spacing) {
       const double grid_spacing = spacing > 0 ? spacing : 2 * std::max(box.max[u] - box.min[u], box.max[v] - box.min[v]);
       add_box_face(plc, box, a, c, face_grid(box, a, c, grid_spacing, features));
     }
+}
+
+void check_no_crossing_at_edges(const Plc& plc, const std::vector<std::string>& names) {
+  std::unordered_map<std::uint64_t, std::vector<EdgeWedge>> wedges;
+  for (const auto& component : plc.components)
+    for (const auto& f : component.triangles)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint64_t a = f[k], b = f[(k + 1) % 3];
+        auto& list = wedges[std::min(a, b) << 32 | std::max(a, b)];
+        if (list.empty() || list.back().tow != component.tow) list.push_back({component.tow, {}, 0});
+        if (list.back().faces < 2) list.back().face[list.back().faces++] = f;
+      }
+  for (const auto& [key, list] : wedges) {
+    if (list.size() < 2) continue;
+    for (std::size_t i = 0; i < list.size(); ++i)
+      for (std::size_t j = 0; j < list.size(); ++j) {
+        if (i == j || list[i].faces != 2 || list[j].faces != 2) continue;
+        const EdgeWedge &a = list[i], &b = list[j];
+        for (const auto& f : b.face)
+          for (const std::size_t r : f)
+            if (r != (key >> 32) && r != (key & 0xffffffffu) &&
+                inside_wedge(plc, a, plc.orientation[static_cast<std::size_t>(a.tow)], r))
+              throw InvalidInput(say(names[static_cast<std::size_t>(b.tow)], " and ", names[static_cast<std::size_t>(a.tow)],
+                                     ": the tows overlap (their surfaces cross along a common edge, as after seam pair: "
+                                     "run seam resolve first)"));
+      }
+  }
 }
 
 }  // namespace seam::internal

@@ -206,18 +206,30 @@ TEST_CASE("volume_mesh: the radius-edge bound and the volume bound refine the me
   seam::VolumeMeshOptions o;
   o.box = make_box({-1, -1, -1}, {2, 2, 2});
   o.radius_edge = 0;
+  const auto largest = [](const seam::VolumeMeshResult& r) {
+    long double v = 0;
+    for (const auto& c : r.mesh.tets) {
+      const auto& P = r.mesh.points;
+      v = std::max(v, det(P[c[0]], P[c[1]], P[c[2]], P[c[3]]) / 6);
+    }
+    return v;
+  };
   const auto coarse = seam::volume_mesh(tows, {"tow"}, o);
   o.radius_edge = 1.5;
   o.max_volume = 0.01;
   const auto fine = seam::volume_mesh(tows, {"tow"}, o);
   check_model(fine, tows, *o.box);
   CHECK(fine.stats.tets > coarse.stats.tets);
-  // Every tet below the volume bound (the tow's tets too: its faces stay, its inside is refined).
-  for (std::size_t t = 0; t < fine.mesh.tets.size(); ++t) {
-    const auto& c = fine.mesh.tets[t];
-    const auto& P = fine.mesh.points;
-    CHECK(det(P[c[0]], P[c[1]], P[c[2]], P[c[3]]) / 6 <= 0.01 * (1 + 1e-9));
-  }
+  // Under -Y a tet on an input face keeps that face: the bound holds only where TetGen may add
+  // points. With Steiner points on the surfaces allowed, it nearly holds everywhere (TetGen 1.5
+  // leaves a few tets slightly above it: 0.0104 here).
+  CHECK(largest(fine) < largest(coarse));
+  o.steiner_on_surfaces = true;
+  const auto split = seam::volume_mesh(tows, {"tow"}, o);
+  CHECK(largest(split) < 0.02);
+  CHECK(largest(split) < largest(fine));
+  CHECK(split.stats.regions.at(1).relative_error == 0);
+  CHECK(split.stats.regions.at(0).relative_error == 0);
 }
 
 TEST_CASE("volume_mesh: refused inputs name the tow") {
@@ -229,7 +241,11 @@ TEST_CASE("volume_mesh: refused inputs name the tow") {
   o.box.reset();
   o.margin = 1;
   const auto shifted = box_tow({0.5, 0.5, 0.5}, {1.5, 1.5, 1.5}, 2);
+  // Crossing along common edges only (conforming, as after seam pair, but overlapping).
   CHECK_THROWS_WITH(seam::volume_mesh({cube, shifted}, {"a.off", "b.off"}, o), Catch::Contains("the tows overlap"));
+  // One inside the other, not touching.
+  const auto inner = box_tow({0.25, 0.25, 0.25}, {0.75, 0.75, 0.75}, 1);
+  CHECK_THROWS_WITH(seam::volume_mesh({cube, inner}, {"a.off", "b.off"}, o), Catch::Contains("the tows overlap"));
   // Touching off the common vertices: a box against a finer one.
   const auto finer = box_tow({1, 0, 0}, {2, 1, 1}, 3);
   CHECK_THROWS_WITH(seam::volume_mesh({cube, finer}, {"a.off", "b.off"}, o), Catch::Contains("the tows overlap"));
@@ -322,6 +338,6 @@ TEST_CASE("seam mesh: writes verified models, refuses bad input with exit 2 and 
   refused({"mesh", left, right, "-o", out + "/m.stl"}, "m.stl");
   refused({"mesh", left, right, "-o", out + "/m.vtu", "--radius-edge", "0.5"}, "--radius-edge");
   refused({"mesh", left, right, "-o", out + "/m.vtu", "--box", "0", "0", "0", "-1", "1", "1"}, "--box");
-  refused({"mesh", left, right, "-o", left}, "refusing to overwrite an input");
+  refused({"mesh", left, right, "-o", out + "/m.vtu", "-o", out + "/m.vtu"}, "the same path is given for two outputs");
   refused({"mesh", left, left, "-o", out + "/m.vtu", "--margin", "1"}, "the tows overlap");
 }

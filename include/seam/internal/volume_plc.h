@@ -58,6 +58,7 @@ struct Plc {
   std::vector<TriangleOwner> owner;
   std::unordered_map<FaceKey, std::size_t, FaceKeyHash> triangle_of;
   std::vector<TowComponent> components;
+  std::vector<int> orientation;  ///< per tow: +1 outward normals, -1 inward
 
   std::size_t add_point(const Point3d& p);
   Filtered::Point_3 point(std::size_t i) const { return {points[i][0], points[i][1], points[i][2]}; }
@@ -70,6 +71,12 @@ Plc merge_tows(const std::vector<TriangleSoup>& tows, const std::vector<std::str
 /// Exact test that the triangles of the complex meet only in common vertices and edges (no
 /// crossing, no touching elsewhere, no coplanar overlap). InvalidInput naming both tows and faces.
 void check_no_overlap(const Plc& plc, const std::vector<std::string>& names);
+
+/// Exact test that two tows sharing an edge do not cross there (each tow's faces at the edge
+/// bound a wedge; no face of one may enter the other's wedge): conforming but overlapping tows,
+/// the output of seam pair, meet only in common edges and pass check_no_overlap.
+/// InvalidInput naming both tows. Indices above 2^32 are not supported (edge keys).
+void check_no_crossing_at_edges(const Plc& plc, const std::vector<std::string>& names);
 
 /// The mean edge length over all tow triangles.
 double mean_edge_length(const std::vector<TriangleSoup>& tows);
