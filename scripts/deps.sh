@@ -10,7 +10,7 @@ packages=(
   cmake ninja-build g++
   libcgal-dev libboost-dev libgmp-dev libmpfr-dev
   catch2 libcli11-dev nlohmann-json3-dev libbenchmark-dev libtbb-dev
-  tetgen
+  tetgen libtet1.5-dev
   python3-dev python3-numpy pybind11-dev python3-pybind11 python3-pytest python3-meshio
 )
 # scripts/fuzz.sh needs clang and its libFuzzer/sanitizer runtimes.

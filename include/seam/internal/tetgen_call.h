@@ -1,0 +1,36 @@
+// seam internal: one call of TetGen 1.5 (libtet) on a piecewise-linear complex of triangles.
+// The only file that includes tetgen.h is src/tetgen_call.cpp (TetGen's macros stay there).
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <seam/io.h>
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace seam::internal {
+
+struct TetgenInput {
+  std::vector<Point3d> points;
+  std::vector<std::array<std::size_t, 3>> triangles;  ///< one facet each
+  std::vector<Point3d> seeds;                         ///< region seed points
+  std::vector<int> seed_attributes;                   ///< their region attribute (> 0)
+  std::string switches;                               ///< e.g. "pq2YMAzQ"
+};
+
+struct TetgenOutput {
+  std::vector<Point3d> points;  ///< the input points first, unchanged, then Steiner points
+  std::vector<std::array<std::size_t, 4>> tets;
+  std::vector<int> attribute;  ///< per tet (the seed's; TetGen numbers unseeded regions itself)
+};
+
+/// Runs tetrahedralize(). TetGen reports failure by throwing an int (libtet is built with
+/// TETLIBRARY); it is caught here and thrown as InternalError with TetGen's meaning of the code
+/// (1 out of memory, 2 internal error, 3 self-intersection, 4 small feature, 5 close facets,
+/// 10 input error). TetGen's own assertions (libtet keeps them) cannot be caught: inputs are
+/// checked before (volume_mesh's checks) so that they do not fire.
+TetgenOutput run_tetgen(const TetgenInput& input);
+
+}  // namespace seam::internal
