@@ -22,7 +22,8 @@ int main(int argc, char** argv) {
   app.set_help_all_flag("--help-all", "Print help for every subcommand");
   const std::vector<seam_cli::Command> commands = {seam_cli::add_embed_command(app), seam_cli::add_pair_command(app),
                                                     seam_cli::add_check_command(app),
-                                                    seam_cli::add_textile_command(app)};
+                                                    seam_cli::add_textile_command(app),
+                                                    seam_cli::add_resolve_command(app)};
 
   try {
     app.parse(argc, argv);
