@@ -72,7 +72,9 @@ template <class K> EM exact_copy(const Mesh<K>& mesh) {
     const auto h = mesh.halfedge(f);
     const EV u(std::size_t(mesh.source(h))), v(std::size_t(mesh.target(h))),
         w(std::size_t(mesh.target(mesh.next(h))));
-    if (out.add_face(u, v, w) != EF(std::size_t(f))) throw InternalError("resolve: a mesh could not be copied");
+    const EF g = out.add_face(u, v, w);
+    if (g != EF(std::size_t(f))) throw InternalError("resolve: a mesh could not be copied");
+    out.set_halfedge(g, out.halfedge(u, v));  // the same first corner as in `mesh`
   }
   return out;
 }
@@ -350,8 +352,7 @@ Mesh<K> build_loser(const Mesh<K>& loser, const Mesh<K>& keeper, const std::vect
   const auto [where, why] = manifold_problem(tris, points.size());
   if (!why.empty())
     throw InvalidInput(say(name_loser, ", ", name_keeper, ": giving the overlap to ", name_keeper, " would leave ",
-                           name_loser, " not a closed 2-manifold at ", point_text(points[where]), ": ", why,
-                           " (try giving it to ", name_loser, ")"));
+                           name_loser, " not a closed 2-manifold at ", point_text(points[where]), ": ", why));
   Mesh<K> out;
   out.reserve(points.size(), 3 * tris.size() / 2, tris.size());
   for (const auto& p : points) out.add_vertex(p);
@@ -413,30 +414,38 @@ template <class K> ResolveStats resolve(Mesh<K>& a_in, Mesh<K>& b_in, const Reso
     st.stage_seconds["build"] = seconds_since(t);
     return st;
   }
-  LoserFaces faces;
-  for (int attempt = 0; attempt < 2; ++attempt) {
-    const bool a_keeps = st.keeper == Keeper::a;
-    faces = a_keeps ? loser_faces(eb, cb, ea, ca) : loser_faces(ea, ca, eb, cb);
-    if (!faces.triangles.empty()) break;
-    const std::string &loser = a_keeps ? name_b : name_a, &keeper = a_keeps ? name_a : name_b;
-    if (options.keeper != Keeper::automatic || attempt == 1)
-      throw InvalidInput(say(loser, ", ", keeper, ": ", loser, " lies inside ", keeper, ": giving the overlap to ",
-                             keeper, " leaves nothing of ", loser));
-    st.keeper = a_keeps ? Keeper::b : Keeper::a;
-    st.note = loser + " lies inside " + keeper + ": " + loser + " keeps the overlap";
+  // The keepers to try: the one asked for; under auto the smaller tow, then the other (when the
+  // loser would vanish, or not be a 2-manifold: where the tows touch along an edge inside the
+  // overlap, say).
+  std::vector<Keeper> order{st.keeper};
+  if (options.keeper == Keeper::automatic) order.push_back(st.keeper == Keeper::a ? Keeper::b : Keeper::a);
+  std::string refused;
+  for (const Keeper keeper : order) {
+    const bool a_keeps = keeper == Keeper::a;
+    const std::string &loser = a_keeps ? name_b : name_a, &kept = a_keeps ? name_a : name_b;
+    const LoserFaces faces = a_keeps ? loser_faces(eb, cb, ea, ca) : loser_faces(ea, ca, eb, cb);
+    try {
+      if (faces.triangles.empty())
+        throw InvalidInput(say(loser, ", ", kept, ": ", loser, " lies inside ", kept, ": giving the overlap to ", kept,
+                               " leaves nothing of ", loser));
+      Mesh<K> result = a_keeps ? build_loser<K>(b, a, faces.triangles, name_b, name_a)
+                               : build_loser<K>(a, b, faces.triangles, name_a, name_b);
+      if (!refused.empty()) st.note = refused + "; so " + kept + " keeps it";
+      st.keeper = keeper;
+      st.contact_faces = faces.contact;
+      st.faces_removed = faces.removed;
+      st.faces_added = faces.added;
+      if (a_keeps) st.volume_b_after = volume(vb.outside + vb.shared_opposite - va.inside);
+      else st.volume_a_after = volume(va.outside + va.shared_opposite - vb.inside);
+      (a_keeps ? b_in : a_in) = std::move(result);
+      st.stage_seconds["build"] = seconds_since(t);
+      return st;
+    } catch (const InvalidInput& e) {
+      refused += (refused.empty() ? "" : "; ") + std::string(e.what());
+    }
   }
-  st.contact_faces = faces.contact;
-  st.faces_removed = faces.removed;
-  st.faces_added = faces.added;
-  if (st.keeper == Keeper::a) {
-    b_in = build_loser<K>(b, a, faces.triangles, name_b, name_a);
-    st.volume_b_after = volume(vb.outside + vb.shared_opposite - va.inside);
-  } else {
-    a_in = build_loser<K>(a, b, faces.triangles, name_a, name_b);
-    st.volume_a_after = volume(va.outside + va.shared_opposite - vb.inside);
-  }
-  st.stage_seconds["build"] = seconds_since(t);
-  return st;
+  if (options.keeper != Keeper::automatic) refused += " (the other keeper, or auto, may work)";
+  throw InvalidInput(refused);
 }
 
 #define SEAM_INSTANTIATE(K) template ResolveStats resolve<K>(Mesh<K>&, Mesh<K>&, const ResolveOptions&);

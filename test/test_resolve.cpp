@@ -164,17 +164,6 @@ seam::TowOptions small_tow() {
   return t;
 }
 
-/// A terraced tow (heights rounded to multiples of `step`, as CT tows have) and a copy moved by
-/// `move`: with the grid planes kept, the two coincide over flat areas (shared faces after pair).
-std::pair<seam::TriangleSoup, seam::TriangleSoup> terraced_pair(const seam::Point3d& move, double step = 0.05) {
-  auto s = seam::make_tow(small_tow());
-  for (auto& p : s.points) p[2] = step * std::round(p[2] / step);
-  auto t = s;
-  for (auto& p : t.points)
-    for (int k = 0; k < 3; ++k) p[k] += move[k];
-  return {s, t};
-}
-
 }  // namespace
 
 TEST_CASE("resolve: a crossover's overlap goes to either tow; closed, disjoint, volumes add up exactly",
@@ -209,13 +198,21 @@ TEST_CASE("resolve: a crossover's overlap goes to either tow; closed, disjoint, 
   }
 }
 
+/// An axis-aligned box, outward-oriented, 12 triangles.
+seam::TriangleSoup box(const seam::Point3d& lo, const seam::Point3d& hi) {
+  seam::TriangleSoup s;
+  for (int i = 0; i < 8; ++i) s.points.push_back({i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1], i & 4 ? hi[2] : lo[2]});
+  s.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                 {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return s;
+}
+
 TEST_CASE("resolve: flat contacts (coplanar overlap) are dropped from the loser, the rest becomes contact",
           "[resolve]") {
   seam_test::TempDir dir("seam_test_resolve_flat");
-  // Shifted along x, grid planes kept: the two tows share their flat tops and bottoms (same
-  // orientation) where they overlap.
-  const auto [sa, sb] = terraced_pair({0.3, 0, 0});
-  const auto [a2, b2] = paired(sa, sb);
+  // Two boxes overlapping in [1, 2] x [0.5, 1] x [0, 1]: their tops and bottoms coincide there
+  // (same orientation), made shared faces by seam::pair.
+  const auto [a2, b2] = paired(box({0, 0, 0}, {2, 1, 1}), box({1, 0.5, 0}, {3, 1.5, 1}));
   for (auto keeper : {seam::Keeper::a, seam::Keeper::b}) {
     INFO("keep " << seam::keeper_name(keeper));
     Mesh a3 = a2, b3 = b2;
@@ -224,9 +221,24 @@ TEST_CASE("resolve: flat contacts (coplanar overlap) are dropped from the loser,
     const auto st = seam::resolve<K>(a3, b3, o);
     CHECK(st.shared_faces > 0);
     CHECK(st.shared_faces_same_orientation == st.shared_faces);
-    CHECK(st.overlap_volume > 0);
+    CHECK(st.overlap_volume == 0.5);
     check_resolved_pair(a2, b2, a3, b3, st, dir);
   }
+}
+
+TEST_CASE("resolve: where the loser minus the keeper would be pinched, the input is refused", "[resolve]") {
+  // A terraced tow (heights on a grid, as CT tows have) and a copy shifted along y: their crumpled
+  // end caps cross in several curves through one point, where the difference of the two solids is
+  // pinched whichever tow keeps the overlap: refused, naming the point; the inputs unchanged.
+  auto s = seam::make_tow(small_tow());
+  for (auto& p : s.points) p[2] = 0.05 * std::round(p[2] / 0.05);
+  auto t = s;
+  for (auto& p : t.points) p[1] += 0.2;
+  const auto [a2, b2] = paired(s, t);
+  Mesh a3 = a2, b3 = b2;
+  CHECK_THROWS_WITH(seam::resolve<K>(a3, b3), Catch::Contains("not a closed 2-manifold at"));
+  CHECK(faces_of(a3) == faces_of(a2));
+  CHECK(faces_of(b3) == faces_of(b2));
 }
 
 TEST_CASE("resolve: a tow inside another: the smaller keeps it, the other becomes hollow", "[resolve]") {
@@ -372,4 +384,25 @@ TEST_CASE("cli: seam resolve writes verified outputs and a report; bad input exi
           "--keep");
   refused(run_seam(dir, {"resolve", dir.file("none.off"), dir.file("b2.off"), "--out-a", out_a, "--out-b", out_b}),
           "none.off");
+}
+
+TEST_CASE("cli: seam textile --resolve leaves the tows touching without overlap", "[resolve][cli][textile]") {
+  seam_test::TempDir dir("seam_test_textile_resolve");
+  const auto c = seam::make_crossover(16, 10, 14, 10, seam::Section::elliptical, 0.4);
+  seam::write_triangle_mesh(seam::make_tow(c.weft), dir.file("weft.off"));
+  seam::write_triangle_mesh(seam::make_tow(c.warp), dir.file("warp.off"));
+  const std::string out = (dir.path / "out").string();
+  const Run r = run_seam(dir, {"textile", dir.file("weft.off"), dir.file("warp.off"), "--out-dir", out, "--resolve",
+                               "--no-improve", "--quiet", "--report", dir.file("r.json")});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.out, Catch::Contains("resolved: 1 pairs"));
+  CHECK(seam_test::entries(dir.path / "out") == std::vector<std::string>{"warp.off", "weft.off"});  // no curves files
+  const Mesh a3 = seam::mesh_from_soup<K>(seam::read_triangle_mesh(out + "/weft.off"), "weft"),
+             b3 = seam::mesh_from_soup<K>(seam::read_triangle_mesh(out + "/warp.off"), "warp");
+  const auto check = seam::check_resolved<K>(a3, b3);
+  for (const auto& p : check.problems) UNSCOPED_INFO(p);
+  CHECK(check.ok());
+  CHECK(check.shared_faces > 0);
+  CHECK_THAT(seam_test::read_bytes(dir.file("r.json")), Catch::Contains("\"resolve\""));
 }
