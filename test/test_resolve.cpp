@@ -166,7 +166,7 @@ seam::TowOptions small_tow() {
 
 }  // namespace
 
-TEST_CASE("resolve: a crossover's overlap goes to either tow; closed, disjoint, volumes add up exactly",
+TEST_CASE("resolve: a crossover's overlap goes to either tow, closed, disjoint, volumes add up exactly",
           "[resolve]") {
   seam_test::TempDir dir("seam_test_resolve");
   const auto c = seam::make_crossover(30, 14, 23, 12, seam::Section::lenticular, 0.45);
@@ -332,7 +332,7 @@ Run run_seam(const seam_test::TempDir& dir, const std::vector<std::string>& args
 
 }  // namespace
 
-TEST_CASE("cli: seam resolve writes verified outputs and a report; bad input exits 2 writing nothing",
+TEST_CASE("cli: seam resolve writes verified outputs and a report, bad input exits 2 writing nothing",
           "[resolve][cli]") {
   seam_test::TempDir dir("seam_test_resolve_cli");
   seam_test::fs::create_directories(dir.path / "out");
