@@ -34,6 +34,7 @@ Command add_pair_command(CLI::App& app);
 Command add_check_command(CLI::App& app);
 Command add_textile_command(CLI::App& app);
 Command add_mesh_command(CLI::App& app);
+Command add_resolve_command(CLI::App& app);
 
 seam::KernelKind parse_kernel(const std::string& k);
 

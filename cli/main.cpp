@@ -23,7 +23,8 @@ int main(int argc, char** argv) {
   const std::vector<seam_cli::Command> commands = {seam_cli::add_embed_command(app), seam_cli::add_pair_command(app),
                                                     seam_cli::add_check_command(app),
                                                     seam_cli::add_textile_command(app),
-                                                    seam_cli::add_mesh_command(app)};
+                                                    seam_cli::add_mesh_command(app),
+                                                    seam_cli::add_resolve_command(app)};
 
   try {
     app.parse(argc, argv);

@@ -171,4 +171,30 @@ nlohmann::json textile_report_json(seam::KernelKind kernel, const seam::TextileS
   return j;
 }
 
+nlohmann::json resolve_report_json(seam::KernelKind kernel, const seam::ResolveStats& st,
+                                   const seam::ResolvedCheckReport& check) {
+  return {{"kernel", seam::kernel_name(kernel)},
+          {"keeper", seam::keeper_name(st.keeper)},
+          {"volume",
+           {{"a_before", st.volume_a_before},
+            {"b_before", st.volume_b_before},
+            {"a_after", st.volume_a_after},
+            {"b_after", st.volume_b_after},
+            {"overlap", st.overlap_volume}}},
+          {"contact_faces", st.contact_faces},
+          {"shared_in_input",
+           {{"edges", st.shared_edges}, {"faces", st.shared_faces}, {"faces_same_orientation", st.shared_faces_same_orientation}}},
+          {"patches",
+           {{"a", st.patches_a}, {"a_inside_b", st.patches_a_inside}, {"b", st.patches_b}, {"b_inside_a", st.patches_b_inside}}},
+          {"loser_faces", {{"removed", st.faces_removed}, {"added", st.faces_added}}},
+          {"verified", check.ok()},
+          {"check",
+           {{"shared_faces", check.shared_faces},
+            {"shared_edges", check.shared_edges},
+            {"pieces_a", check.pieces_a},
+            {"pieces_b", check.pieces_b}}},
+          {"note", st.note},
+          {"seconds", st.stage_seconds}};
+}
+
 }  // namespace seam_cli

@@ -10,6 +10,7 @@
 #include <seam/improve.h>
 #include <seam/io.h>
 #include <seam/pair.h>
+#include <seam/resolve.h>
 #include <seam/textile.h>
 
 #include <nlohmann/json.hpp>
@@ -49,6 +50,10 @@ nlohmann::json pair_report_json(seam::KernelKind kernel, const seam::PairStats& 
 
 /// `seam check --report`, without "files" and "seconds".
 nlohmann::json check_report_json(const seam::PairCheckReport& r, const std::string& kernel);
+
+/// `seam resolve --report`, without "files".
+nlohmann::json resolve_report_json(seam::KernelKind kernel, const seam::ResolveStats& st,
+                                   const seam::ResolvedCheckReport& check);
 
 /// `seam textile --report`, without the file names ("file" and "out" of each tow, "polylines"
 /// of each pair): `pairs` and `tows` by index, `names` the tows' names.

@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "common.h"
 
+#include <seam/resolve.h>
 #include <seam/textile.h>
 
 #include <tbb/blocked_range.h>
@@ -11,6 +12,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <fstream>
@@ -31,9 +33,41 @@ struct TextileArgs {
   std::vector<std::string> tows;
   std::string tows_list, out_dir, report, kernel = "exact";
   NumberText threads, min_angle, max_area, snap_tol;
-  bool quiet = false;
+  bool quiet = false, resolve = false;
   seam::TextileOptions options;
 };
+
+/// --resolve: the overlap of every intersecting pair given to one of its tows (the smaller, as
+/// `seam resolve --keep auto`), pair by pair in order, on the tows as written (doubles). A tow only
+/// shrinks (loser minus keeper), so pairs made disjoint stay disjoint; the faces a loser takes
+/// from its keeper carry the keeper's curves with the other tows, so the next pairs are still
+/// conforming (seam::resolve checks each). Then every pair is checked with seam::check_resolved.
+/// `soups` are replaced by the resolved tows. Throws InternalError naming the pair on a failure.
+std::vector<seam::ResolveStats> resolve_tows(std::vector<seam::TriangleSoup>& soups,
+                                             const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
+                                             const std::vector<std::string>& names) {
+  std::vector<seam::Mesh<seam::Exact>> tows;
+  for (std::size_t i = 0; i < soups.size(); ++i) tows.push_back(seam::mesh_from_soup<seam::Exact>(soups[i], names[i]));
+  std::vector<seam::ResolveStats> stats;
+  for (const auto& [a, b] : pairs) {
+    seam::ResolveOptions options;
+    options.name_a = names[a];
+    options.name_b = names[b];
+    try {
+      stats.push_back(seam::resolve<seam::Exact>(tows[a], tows[b], options));
+    } catch (const seam::InvalidInput& e) {
+      throw seam::InternalError(std::string("--resolve: tows ") + names[a] + " and " + names[b] + ": " + e.what());
+    }
+  }
+  for (const auto& [a, b] : pairs) {
+    const auto check = seam::check_resolved<seam::Exact>(tows[a], tows[b]);
+    if (!check.ok())
+      throw seam::InternalError(std::string("--resolve: tows ") + names[a] + " and " + names[b] +
+                                " failed the check: " + check.problems.front() + " (nothing written)");
+  }
+  for (std::size_t i = 0; i < soups.size(); ++i) soups[i] = seam::soup_from_mesh<seam::Exact>(tows[i]);
+  return stats;
+}
 
 /// The paths of a list file: one per line; blank lines and lines starting with '#' are skipped,
 /// surrounding blanks trimmed; a relative path is relative to the list file's directory.
@@ -239,12 +273,23 @@ int run_textile(TextileArgs& args) {
     const auto t1 = Clock::now();
     std::vector<seam::TriangleSoup> out_soups(meshes.size());
     parallel_indices(arena, meshes.size(), [&](std::size_t i) { out_soups[i] = seam::soup_from_mesh<K>(meshes[i]); });
+    std::vector<std::pair<std::size_t, std::size_t>> resolved_pairs;
+    std::vector<seam::ResolveStats> resolved;
+    if (args.resolve) {
+      const auto t2 = Clock::now();
+      for (const auto& p : result.pairs)  // pairs that only touch do not overlap
+        if (!p.curves.empty()) resolved_pairs.emplace_back(p.stats.a, p.stats.b);
+      resolved = resolve_tows(out_soups, resolved_pairs, names);
+      st.stage_seconds["resolve"] = std::chrono::duration<double>(Clock::now() - t2).count();
+    }
+    // The curves files (not with --resolve: the resolved tows are not seam check's pairs any more).
     std::vector<std::vector<std::vector<seam::Point3d>>> out_curves;
-    for (const auto& p : result.pairs)
-      if (!p.curves.empty()) out_curves.push_back(seam::to_doubles<K>(p.curves));
     std::vector<std::size_t> curve_file;
     for (const auto& p : result.pairs)
-      if (!p.curves.empty()) curve_file.push_back(files.add(curves_out(p.stats.a, p.stats.b)));
+      if (!p.curves.empty() && !args.resolve) {
+        out_curves.push_back(seam::to_doubles<K>(p.curves));
+        curve_file.push_back(files.add(curves_out(p.stats.a, p.stats.b)));
+      }
     const std::size_t n = out_soups.size() + out_curves.size();
     parallel_indices(arena, n, [&](std::size_t i) {
       if (i < out_soups.size())
@@ -262,7 +307,17 @@ int run_textile(TextileArgs& args) {
       }
       for (std::size_t k = 0; k < result.pairs.size(); ++k) {
         const auto& s = result.pairs[k].stats;
-        j["pairs"][k]["polylines"] = s.curves > 0 ? nlohmann::json(curves_out(s.a, s.b)) : nlohmann::json(nullptr);
+        j["pairs"][k]["polylines"] =
+            s.curves > 0 && !args.resolve ? nlohmann::json(curves_out(s.a, s.b)) : nlohmann::json(nullptr);
+        const auto done = std::find(resolved_pairs.begin(), resolved_pairs.end(), std::make_pair(s.a, s.b));
+        if (done != resolved_pairs.end()) {
+          const seam::ResolveStats& rs = resolved[std::size_t(done - resolved_pairs.begin())];
+          nlohmann::json r = resolve_report_json(seam::kernel_traits<seam::Exact>::kind, rs, {});
+          r.erase("verified");
+          r.erase("check");
+          r["keeper"] = names[rs.keeper == seam::Keeper::a ? s.a : s.b];
+          j["pairs"][k]["resolve"] = r;
+        }
       }
       files.write(report_file, [&](std::ostream& os) { write_json(j, os); });
     }
@@ -278,6 +333,12 @@ int run_textile(TextileArgs& args) {
       std::cout << "; quality stage (tolerance " << st.improve_tolerance << "): " << st.improve.shortfalls.size()
                 << " new faces below " << args.options.embed.min_angle_deg << " degrees";
     if (st.verified) std::cout << "; verified (seam check --tol " << tolerance_text(st.verify_tolerance) << ")";
+    if (args.resolve) {
+      double overlap = 0;
+      for (const auto& r : resolved) overlap += r.overlap_volume;
+      std::cout << "; resolved: " << resolved.size() << " pairs, overlap " << overlap
+                << " given to one tow of each, checked (no overlap left)";
+    }
     if (!st.note.empty()) std::cout << "; " << st.note;
     std::cout << "; outputs in " << args.out_dir << "\n";
     return 0;
@@ -306,6 +367,10 @@ Command add_textile_command(CLI::App& app) {
   add_number_option(cmd, "--threads", ta.threads,
                     "Worker threads, 0 to 1024; 0: every core (default). Results are identical for any value");
   cmd->add_flag("--quiet", ta.quiet, "No progress line on stderr");
+  cmd->add_flag("--resolve", ta.resolve,
+                "Then give each intersecting pair's overlap to its smaller tow (as seam resolve --keep auto), pair "
+                "by pair, so that the tows touch along shared contact surfaces without overlapping; checked as "
+                "seam resolve checks; no curves files are written");
   cmd->add_flag_callback(
       "--no-improve", [&ta] { ta.options.improve = false; },
       "No quality stage: the faces along the curves are left as the re-triangulation made them (every pair is "
