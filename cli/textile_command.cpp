@@ -190,6 +190,48 @@ class Progress {
   std::size_t width_ = 0;
 };
 
+/// Output names: the base name of each input, which must be unique.
+std::vector<std::string> output_names(const std::vector<std::string>& inputs) {
+  std::vector<std::string> names;
+  std::map<std::string, std::string> by_name;
+  for (const auto& in : inputs) {
+    const std::string name = fs::path(in).stem().string();
+    if (name.empty()) throw seam::InvalidInput(in + ": no base name to name its output after");
+    auto [it, inserted] = by_name.emplace(name, in);
+    if (!inserted)
+      throw seam::InvalidInput(in + ": has the same base name as " + it->second + " (their outputs " + name +
+                               ".off would collide)");
+    names.push_back(name);
+  }
+  return names;
+}
+
+/// The summary line on stdout.
+template <class K>
+void print_summary(const seam::TextileResult<K>& result, const TextileArgs& args,
+                   const std::vector<seam::ResolveStats>& resolved) {
+  const auto& st = result.stats;
+  std::size_t curves = 0, snapped = 0;
+  for (const auto& p : result.pairs) curves += p.stats.curves;
+  for (const auto& t : result.tows) snapped += t.vertices_snapped;
+  std::cout << "seam textile: " << result.tows.size() << " tows, " << st.candidate_pairs << " candidate pairs, "
+            << st.intersecting_pairs << " intersecting (" << curves << " curves), " << st.touching_pairs
+            << " touching only; " << snapped << " vertices snapped; " << st.threads
+            << (st.threads == 1 ? " thread" : " threads");
+  if (st.improved)
+    std::cout << "; quality stage (tolerance " << st.improve_tolerance << "): " << st.improve.shortfalls.size()
+              << " new faces below " << args.options.embed.min_angle_deg << " degrees";
+  if (st.verified) std::cout << "; verified (seam check --tol " << tolerance_text(st.verify_tolerance) << ")";
+  if (args.resolve) {
+    double overlap = 0;
+    for (const auto& r : resolved) overlap += r.overlap_volume;
+    std::cout << "; resolved: " << resolved.size() << " pairs, overlap " << overlap
+              << " given to one tow of each, checked (no overlap left)";
+  }
+  if (!st.note.empty()) std::cout << "; " << st.note;
+  std::cout << "; outputs in " << args.out_dir << "\n";
+}
+
 int run_textile(TextileArgs& args) {
   // Every option before any work.
   seam::EmbedOptions& o = args.options.embed;
@@ -206,18 +248,7 @@ int run_textile(TextileArgs& args) {
   }
   if (inputs.empty()) throw seam::InvalidInput("no tow given (TOW files or --tows LIST)");
 
-  // Output names: the base name of each input, which must be unique.
-  std::vector<std::string> names;
-  std::map<std::string, std::string> by_name;
-  for (const auto& in : inputs) {
-    const std::string name = fs::path(in).stem().string();
-    if (name.empty()) throw seam::InvalidInput(in + ": no base name to name its output after");
-    auto [it, inserted] = by_name.emplace(name, in);
-    if (!inserted)
-      throw seam::InvalidInput(in + ": has the same base name as " + it->second + " (their outputs " + name +
-                               ".off would collide)");
-    names.push_back(name);
-  }
+  const std::vector<std::string> names = output_names(inputs);
   const fs::path dir = args.out_dir;
   auto mesh_out = [&](std::size_t i) { return (dir / (names[i] + ".off")).string(); };
   auto curves_name = [&](std::size_t a, std::size_t b) { return names[a] + "__" + names[b] + ".polylines.txt"; };
@@ -322,25 +353,7 @@ int run_textile(TextileArgs& args) {
       files.write(report_file, [&](std::ostream& os) { write_json(j, os); });
     }
     files.commit();
-    std::size_t curves = 0, snapped = 0;
-    for (const auto& p : result.pairs) curves += p.stats.curves;
-    for (const auto& t : result.tows) snapped += t.vertices_snapped;
-    std::cout << "seam textile: " << meshes.size() << " tows, " << st.candidate_pairs << " candidate pairs, "
-              << st.intersecting_pairs << " intersecting (" << curves << " curves), " << st.touching_pairs
-              << " touching only; " << snapped << " vertices snapped; " << st.threads
-              << (st.threads == 1 ? " thread" : " threads");
-    if (st.improved)
-      std::cout << "; quality stage (tolerance " << st.improve_tolerance << "): " << st.improve.shortfalls.size()
-                << " new faces below " << args.options.embed.min_angle_deg << " degrees";
-    if (st.verified) std::cout << "; verified (seam check --tol " << tolerance_text(st.verify_tolerance) << ")";
-    if (args.resolve) {
-      double overlap = 0;
-      for (const auto& r : resolved) overlap += r.overlap_volume;
-      std::cout << "; resolved: " << resolved.size() << " pairs, overlap " << overlap
-                << " given to one tow of each, checked (no overlap left)";
-    }
-    if (!st.note.empty()) std::cout << "; " << st.note;
-    std::cout << "; outputs in " << args.out_dir << "\n";
+    print_summary<K>(result, args, resolved);
     return 0;
   });
 }
