@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "test_support.h"
+#include "tow_fixtures.h"
 
 namespace {
 
@@ -47,39 +48,9 @@ seam::TriangleSoup turned_copy(seam::TriangleSoup s, double degrees, double cx, 
   return s;
 }
 
-/// Both meshes as one OFF surface as a volume mesher gets them: vertices with the same
-/// coordinates merged, a face of both (a shared face of a flat contact) written once.
-void write_merged(const std::vector<seam::TriangleSoup>& soups, const std::string& path) {
-  seam::TriangleSoup merged;
-  std::map<seam::Point3d, std::size_t> index;
-  std::set<std::array<std::size_t, 3>> seen;
-  for (const auto& s : soups) {
-    std::vector<std::size_t> map(s.points.size());
-    for (std::size_t i = 0; i < s.points.size(); ++i) {
-      auto [it, inserted] = index.try_emplace(s.points[i], merged.points.size());
-      if (inserted) merged.points.push_back(s.points[i]);
-      map[i] = it->second;
-    }
-    for (const auto& t : s.triangles) {
-      std::array<std::size_t, 3> tri = {map[t[0]], map[t[1]], map[t[2]]}, key = tri;
-      std::sort(key.begin(), key.end());
-      if (seen.insert(key).second) merged.triangles.push_back(tri);
-    }
-  }
-  seam::write_triangle_mesh(merged, path);
-}
-
 /// `tetgen -d` on the two meshes merged: the number of intersecting face pairs it reports.
 long tetgen_pairs(const Mesh& a, const Mesh& b, const seam_test::TempDir& dir) {
-  write_merged({seam::soup_from_mesh<K>(a), seam::soup_from_mesh<K>(b)}, dir.file("merged.off"));
-  const std::string log = dir.file("tetgen.log");
-  const std::string cmd = "cd '" + dir.path.string() + "' && tetgen -d merged.off > '" + log + "' 2>&1";
-  REQUIRE(std::system(cmd.c_str()) == 0);
-  const std::string text = seam_test::read_bytes(log);
-  if (text.find("No faces are intersecting.") != std::string::npos) return 0;
-  const auto at = text.find("!! Found ");
-  REQUIRE(at != std::string::npos);
-  return std::strtol(text.c_str() + at + 9, nullptr, 10);
+  return seam_test::tetgen_intersecting_pairs({seam::soup_from_mesh<K>(a), seam::soup_from_mesh<K>(b)}, dir);
 }
 
 /// The meshes as they are written and read back (doubles), the form seam check and TetGen see.
@@ -101,18 +72,7 @@ struct Pair {
   seam::TriangleSoup a, b;
 };
 
-seam::TowOptions small_tow() {
-  seam::TowOptions t;
-  t.length = 4;
-  t.half_width = 0.8;
-  t.half_height = 0.3;
-  t.crimp_amplitude = 0.15;
-  t.crimp_wavelength = 4;
-  t.segments_along = 20;
-  t.segments_around = 18;
-  t.translate = {-2, 0, 0};
-  return t;
-}
+using seam_test::small_tow;
 
 std::vector<Pair> cross_validation_pairs() {
   std::vector<Pair> pairs;

@@ -26,6 +26,7 @@
 #include <sys/wait.h>
 
 #include "test_support.h"
+#include "tow_fixtures.h"
 
 namespace {
 
@@ -92,30 +93,7 @@ std::size_t common_faces(const Mesh& a, const Mesh& b_reversed_view) {
 /// number of intersecting face pairs it reports; -1 when tetgen is not installed.
 long tetgen_pairs(const Mesh& a, const Mesh& b, const seam_test::TempDir& dir) {
   if (std::system("command -v tetgen > /dev/null 2>&1") != 0) return -1;
-  seam::TriangleSoup merged;
-  std::map<seam::Point3d, std::size_t> index;
-  std::set<std::array<std::size_t, 3>> seen;
-  for (const auto& s : {seam::soup_from_mesh<K>(a), seam::soup_from_mesh<K>(b)}) {
-    std::vector<std::size_t> map(s.points.size());
-    for (std::size_t i = 0; i < s.points.size(); ++i) {
-      auto [it, inserted] = index.try_emplace(s.points[i], merged.points.size());
-      if (inserted) merged.points.push_back(s.points[i]);
-      map[i] = it->second;
-    }
-    for (const auto& t : s.triangles) {
-      std::array<std::size_t, 3> tri = {map[t[0]], map[t[1]], map[t[2]]}, key = tri;
-      std::sort(key.begin(), key.end());
-      if (seen.insert(key).second) merged.triangles.push_back(tri);
-    }
-  }
-  seam::write_triangle_mesh(merged, dir.file("merged.off"));
-  const std::string cmd = "cd '" + dir.path.string() + "' && tetgen -d merged.off > tetgen.log 2>&1";
-  REQUIRE(std::system(cmd.c_str()) == 0);
-  const std::string text = seam_test::read_bytes(dir.file("tetgen.log"));
-  if (text.find("No faces are intersecting.") != std::string::npos) return 0;
-  const auto at = text.find("!! Found ");
-  REQUIRE(at != std::string::npos);
-  return std::strtol(text.c_str() + at + 9, nullptr, 10);
+  return seam_test::tetgen_intersecting_pairs({seam::soup_from_mesh<K>(a), seam::soup_from_mesh<K>(b)}, dir);
 }
 
 /// Every invariant of a resolved pair: a2, b2 the inputs, a3, b3 the outputs.
@@ -151,18 +129,7 @@ void check_resolved_pair(const Mesh& a2, const Mesh& b2, const Mesh& a3, const M
   CHECK(tetgen_pairs(a3, b3, dir) <= 0);  // -1: no tetgen
 }
 
-seam::TowOptions small_tow() {
-  seam::TowOptions t;
-  t.length = 4;
-  t.half_width = 0.8;
-  t.half_height = 0.3;
-  t.crimp_amplitude = 0.15;
-  t.crimp_wavelength = 4;
-  t.segments_along = 20;
-  t.segments_around = 18;
-  t.translate = {-2, 0, 0};
-  return t;
-}
+using seam_test::small_tow;
 
 }  // namespace
 
