@@ -122,22 +122,31 @@ template <class K> std::optional<Verdict> Refiner<K>::attempt(const Edit<K>& edi
 /// predicate permitting (a flip inside one plane keeps the surface).
 template <class K> bool Refiner<K>::try_flip(std::size_t m, H h, Applied<K>* made) {
   const M& g = s_.mesh(m);
-  if (g.is_removed(g.edge(h)) || g.is_border(g.edge(h)) || s_.is_constraint(m, h)) return false;
+  if (g.is_removed(g.edge(h)) || g.is_border(g.edge(h))) return false;
   const F f0 = g.face(h), f1 = g.face(g.opposite(h));
   const V u = g.source(h), v = g.target(h), p = g.target(g.next(h)), q = g.target(g.next(g.opposite(h)));
   if (p == q || g.halfedge(p, q) != M::null_halfedge()) return false;
   const FP fu = s_.fpoint(m, u), fv = s_.fpoint(m, v), fp = s_.fpoint(m, p), fq = s_.fpoint(m, q);
   const double before = std::min(angle(m, f0), angle(m, f1));
   const double after = std::min(min_angle_deg(fp, fu, fq), min_angle_deg(fp, fq, fv));
-  if (!(after > before + 1e-6)) return false;
+  // The angles first (doubles), the constraint test then (with no tolerance an exact coplanarity test).
+  if (!(after > before + 1e-6) || s_.is_constraint(m, h)) return false;
   Edit<K> edit;
   edit.parts.emplace_back();
   if (!make_fan<K>(s_, m, {f0, f1}, corner(m, p), edit.parts.back())) return false;
-  const auto &pu = g.point(u), &pv = g.point(v), &pp = g.point(p), &pq = g.point(q);
-  // Inside one plane, and convex: the two new faces cover the two old ones.
-  edit.keeps_surface = CGAL::coplanar(pu, pv, pp, pq) && !CGAL::collinear(pp, pq, pu) && !CGAL::collinear(pu, pv, pp) &&
-                       CGAL::coplanar_orientation(pp, pq, pu, pv) == CGAL::NEGATIVE &&
-                       CGAL::coplanar_orientation(pu, pv, pp, pq) == CGAL::NEGATIVE;
+  // Inside one plane, and convex: the two new faces cover the two old ones. Exact predicates: the
+  // kernel's own under Exact (with no tolerance is_constraint found the four points coplanar
+  // already), Epick's on the same doubles otherwise (the float kernel's predicates can contradict
+  // each other, and coplanar_orientation's precondition then fails).
+  const auto convex_in_one_plane = [](bool coplanar_known, const auto& pu, const auto& pv, const auto& pp, const auto& pq) {
+    return (coplanar_known || CGAL::coplanar(pu, pv, pp, pq)) && !CGAL::collinear(pp, pq, pu) &&
+           !CGAL::collinear(pu, pv, pp) && CGAL::coplanar_orientation(pp, pq, pu, pv) == CGAL::NEGATIVE &&
+           CGAL::coplanar_orientation(pu, pv, pp, pq) == CGAL::NEGATIVE;
+  };
+  if constexpr (kernel_traits<K>::exact_constructions)
+    edit.keeps_surface = convex_in_one_plane(!(s_.tolerance > 0), g.point(u), g.point(v), g.point(p), g.point(q));
+  else
+    edit.keeps_surface = convex_in_one_plane(false, fu, fv, fp, fq);
   if (attempt(edit, made)) return false;
   ++s_.stats.flips;
   return true;
@@ -196,7 +205,7 @@ template <class K> void Refiner<K>::push_encroached(std::size_t m, F f) {
   const M& g = s_.mesh(m);
   if (!s_.face_in_band(m, f)) return;
   for (H h : CGAL::halfedges_around_face(g.halfedge(f), g))
-    if (s_.is_constraint(m, h) && is_encroached(m, h)) encroached_.emplace_back(m, g.source(h), g.target(h));
+    if (is_encroached(m, h) && s_.is_constraint(m, h)) encroached_.emplace_back(m, g.source(h), g.target(h));
 }
 
 /// Curve points closer than options.min_separation (not consecutive along a curve, or else the
@@ -271,7 +280,7 @@ template <class K> void Refiner<K>::refine() {
       const M& g = s_.mesh(m);
       if (g.is_removed(u) || g.is_removed(v)) continue;
       const H h = g.halfedge(u, v);
-      if (h == M::null_halfedge() || !s_.is_constraint(m, h) || !is_encroached(m, h)) continue;
+      if (h == M::null_halfedge() || !is_encroached(m, h) || !s_.is_constraint(m, h)) continue;
       split_constraint(m, h);
       continue;
     }

@@ -67,7 +67,7 @@ double InputSurface::sampled_distance(const Filtered::Point_3& p, const Filtered
   return std::sqrt(worst);
 }
 
-// ---------------------------------------------------------------- face grid
+// ---------------------------------------------------------------- curve cells
 
 namespace {
 std::uint64_t cell_key(long i, long j, long k) {
@@ -75,65 +75,6 @@ std::uint64_t cell_key(long i, long j, long k) {
   return part(i) | (part(j) << 21) | (part(k) << 42);
 }
 }  // namespace
-
-bool FaceGrid::cell_range(const CGAL::Bbox_3& box, std::array<long, 6>& range) const {
-  for (int d = 0; d < 3; ++d) {
-    range[std::size_t(d)] = long(std::floor(box.min(d) / cell_)) - 0;
-    range[std::size_t(d + 3)] = long(std::floor(box.max(d) / cell_));
-  }
-  const double cells = double(range[3] - range[0] + 1) * double(range[4] - range[1] + 1) * double(range[5] - range[2] + 1);
-  return cells <= 512;
-}
-
-namespace {
-/// Drops the dead entries of a grid list once it has grown to twice its size at its last purge
-/// (amortised O(1) liveness tests per insertion). `entry_of` gives an item's entry.
-template <class T, class EntryOf>
-void purge_when_grown(std::vector<T>& items, std::size_t& size_at_purge, const FaceGrid::Liveness* is_live,
-                      const EntryOf& entry_of) {
-  if (!is_live || items.size() < 2 * size_at_purge + 8) return;
-  items.erase(std::remove_if(items.begin(), items.end(), [&](const T& x) { return !(*is_live)(entry_of(x)); }),
-              items.end());
-  size_at_purge = items.size();
-}
-}  // namespace
-
-void FaceGrid::insert(const Entry& entry, const CGAL::Bbox_3& box, const Liveness* is_live) {
-  std::array<long, 6> r;
-  if (!cell_range(box, r)) {
-    purge_when_grown(oversized_, oversized_at_purge_, is_live, [](const auto& x) { return x.first; });
-    oversized_.emplace_back(entry, box);
-    return;
-  }
-  for (long i = r[0]; i <= r[3]; ++i)
-    for (long j = r[1]; j <= r[4]; ++j)
-      for (long k = r[2]; k <= r[5]; ++k) {
-        Cell& cell = cells_[cell_key(i, j, k)];
-        purge_when_grown(cell.entries, cell.size_at_purge, is_live, [](const Entry& x) { return x; });
-        cell.entries.push_back(entry);
-      }
-}
-
-std::vector<FaceGrid::Entry> FaceGrid::query(const CGAL::Bbox_3& box) const {
-  std::vector<Entry> found;
-  std::array<long, 6> r;
-  if (cell_range(box, r)) {
-    for (long i = r[0]; i <= r[3]; ++i)
-      for (long j = r[1]; j <= r[4]; ++j)
-        for (long k = r[2]; k <= r[5]; ++k)
-          if (const auto it = cells_.find(cell_key(i, j, k)); it != cells_.end())
-            found.insert(found.end(), it->second.entries.begin(), it->second.entries.end());
-  } else {  // a huge box (a hostile input): every entry
-    for (const auto& [key, cell] : cells_) found.insert(found.end(), cell.entries.begin(), cell.entries.end());
-  }
-  for (const auto& [entry, b] : oversized_)
-    if (CGAL::do_overlap(b, box)) found.push_back(entry);
-  auto key = [](const Entry& e) { return std::make_tuple(e.mesh, e.face, e.version); };
-  std::sort(found.begin(), found.end(), [&](const Entry& x, const Entry& y) { return key(x) < key(y); });
-  found.erase(std::unique(found.begin(), found.end(), [&](const Entry& x, const Entry& y) { return key(x) == key(y); }),
-              found.end());
-  return found;
-}
 
 // ---------------------------------------------------------------- state
 
@@ -233,6 +174,8 @@ template <class K> void add_properties(typename ImproveState<K>::MeshState& ms) 
   ms.band = g.template add_property_map<F, bool>("f:seam_improve_band", false).first;
   ms.version = g.template add_property_map<F, std::uint32_t>("f:seam_improve_version", 0).first;
   ms.cause = g.template add_property_map<F, std::uint8_t>("f:seam_improve_cause", 0).first;
+  ms.crease_memo = g.template add_property_map<typename M::Halfedge_index, CreaseMemo>("h:seam_improve_crease").first;
+  for (auto h : g.halfedges()) ms.crease_memo[h] = CreaseMemo{};
   for (auto v : g.vertices()) ms.point[v] = -1, ms.made[v] = false;
   for (auto f : g.faces()) ms.band[f] = false, ms.version[f] = 0, ms.cause[f] = 0;
   bool added_source = false;
@@ -351,6 +294,7 @@ template <class K> void drop_state_properties(ImproveState<K>& s) {
     ms.mesh->remove_property_map(ms.band);
     ms.mesh->remove_property_map(ms.version);
     ms.mesh->remove_property_map(ms.cause);
+    ms.mesh->remove_property_map(ms.crease_memo);
   }
 }
 

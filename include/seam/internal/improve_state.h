@@ -12,6 +12,7 @@
 #pragma once
 
 #include <seam/improve.h>
+#include <seam/internal/face_grid.h>
 #include <seam/internal/surface_point.h>
 
 #include <CGAL/Bbox_3.h>
@@ -71,35 +72,10 @@ class InputSurface {
   std::unique_ptr<Tree> tree_;
 };
 
-/// A uniform grid of face bounding boxes, for the predicate's search of faces near a new one.
-/// An entry whose face was removed or remade (another version) is dead: the caller skips it, and
-/// `insert` drops the dead entries of a cell whenever the cell has grown to twice its size at its
-/// last purge. So a cell holds at most about twice its live entries, however many edits were made
-/// at one place (without the purge, repeated edits in one spot made every query there longer, and
-/// the stage quadratic), at an amortised cost of O(1) liveness tests per insertion.
-class FaceGrid {
- public:
-  struct Entry {
-    std::uint32_t mesh, face, version;
-  };
-  using Liveness = std::function<bool(const Entry&)>;
-  FaceGrid() = default;
-  explicit FaceGrid(double cell) : cell_(cell) {}
-  /// `is_live` (optional): whether an entry's face is still the one it was made for.
-  void insert(const Entry& entry, const CGAL::Bbox_3& box, const Liveness* is_live = nullptr);
-  /// The entries whose cells meet `box` (each once), dead ones included.
-  std::vector<Entry> query(const CGAL::Bbox_3& box) const;
-
- private:
-  struct Cell {
-    std::vector<Entry> entries;
-    std::size_t size_at_purge = 0;
-  };
-  double cell_ = 1;
-  std::unordered_map<std::uint64_t, Cell> cells_;
-  std::vector<std::pair<Entry, CGAL::Bbox_3>> oversized_;  ///< boxes over too many cells
-  std::size_t oversized_at_purge_ = 0;
-  bool cell_range(const CGAL::Bbox_3& box, std::array<long, 6>& range) const;
+/// See ImproveState::MeshState::crease_memo.
+struct CreaseMemo {
+  std::uint32_t version = 0, opposite_version = 0;
+  std::int8_t crease = -1;  ///< -1: not known
 };
 
 template <class K> struct ImproveState {
@@ -125,6 +101,9 @@ template <class K> struct ImproveState {
     typename M::template Property_map<F, bool> shared, frozen;  ///< valid when has_shared / has_frozen
     bool has_shared = false, has_frozen = false;
     const std::vector<double>* source_min_angle = nullptr;
+    /// is_crease's last answer per halfedge, valid while both faces keep the versions it was
+    /// found for (an exact coplanarity test with no tolerance: costly on curve points).
+    mutable typename M::template Property_map<H, CreaseMemo> crease_memo;
   };
   struct CurvePoint {
     Point p;
@@ -204,6 +183,16 @@ template <class K> struct ImproveState {
   /// tetrahedron over that pair of edges): doubles, or an exact coplanarity test with no tolerance.
   bool is_crease(std::size_t m, H h) const {
     const M& g = mesh(m);
+    const MeshState& ms = meshes[m];
+    const std::uint32_t version = ms.version[g.face(h)], opposite_version = ms.version[g.face(g.opposite(h))];
+    CreaseMemo& memo = ms.crease_memo[h];
+    if (memo.crease >= 0 && memo.version == version && memo.opposite_version == opposite_version) return memo.crease;
+    const bool crease = is_crease_uncached(m, h);
+    memo = {version, opposite_version, std::int8_t(crease)};
+    return crease;
+  }
+  bool is_crease_uncached(std::size_t m, H h) const {
+    const M& g = mesh(m);
     const V u = g.source(h), v = g.target(h), p = g.target(g.next(h)), q = g.target(g.next(g.opposite(h)));
     if (!(tolerance > 0)) return !CGAL::coplanar(g.point(u), g.point(v), g.point(p), g.point(q));
     const Filtered::Point_3 fu = fpoint(m, u), fp = fpoint(m, p);
@@ -214,7 +203,7 @@ template <class K> struct ImproveState {
     return d * d > 0.25 * tolerance * tolerance * nn;
   }
   /// The edge of halfedge h may not be flipped: a curve segment, the band's border or the mesh's,
-  /// or a crease.
+  /// or a crease (tested last: both faces exist then).
   bool is_constraint(std::size_t m, H h) const {
     const M& g = mesh(m);
     return !face_in_band(m, g.face(h)) || !face_in_band(m, g.face(g.opposite(h))) ||
