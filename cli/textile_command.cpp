@@ -37,33 +37,22 @@ struct TextileArgs {
   seam::TextileOptions options;
 };
 
-/// --resolve: the overlap of every intersecting pair given to one of its tows (the smaller, as
-/// `seam resolve --keep auto`), pair by pair in order, on the tows as written (doubles). A tow only
-/// shrinks (loser minus keeper), so pairs made disjoint stay disjoint; the faces a loser takes
-/// from its keeper carry the keeper's curves with the other tows, so the next pairs are still
-/// conforming (seam::resolve checks each). Then every pair is checked with seam::check_resolved.
-/// `soups` are replaced by the resolved tows. Throws InternalError naming the pair on a failure.
+/// --resolve: seam::resolve_pairs on the tows as written (doubles), the smaller tow of each pair
+/// keeping its overlap (as `seam resolve --keep auto`). `soups` are replaced by the resolved tows.
+/// Throws InternalError naming the pair on a failure (the inputs were valid: the pipeline's own
+/// outputs are what resolve refused).
 std::vector<seam::ResolveStats> resolve_tows(std::vector<seam::TriangleSoup>& soups,
                                              const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
                                              const std::vector<std::string>& names) {
   std::vector<seam::Mesh<seam::Exact>> tows;
   for (std::size_t i = 0; i < soups.size(); ++i) tows.push_back(seam::mesh_from_soup<seam::Exact>(soups[i], names[i]));
   std::vector<seam::ResolveStats> stats;
-  for (const auto& [a, b] : pairs) {
-    seam::ResolveOptions options;
-    options.name_a = names[a];
-    options.name_b = names[b];
-    try {
-      stats.push_back(seam::resolve<seam::Exact>(tows[a], tows[b], options));
-    } catch (const seam::InvalidInput& e) {
-      throw seam::InternalError(std::string("--resolve: tows ") + names[a] + " and " + names[b] + ": " + e.what());
-    }
-  }
-  for (const auto& [a, b] : pairs) {
-    const auto check = seam::check_resolved<seam::Exact>(tows[a], tows[b]);
-    if (!check.ok())
-      throw seam::InternalError(std::string("--resolve: tows ") + names[a] + " and " + names[b] +
-                                " failed the check: " + check.problems.front() + " (nothing written)");
+  try {
+    stats = seam::resolve_pairs<seam::Exact>(tows, pairs, names);
+  } catch (const seam::InvalidInput& e) {
+    throw seam::InternalError(std::string("--resolve: ") + e.what());
+  } catch (const seam::InternalError& e) {
+    throw seam::InternalError(std::string("--resolve: ") + e.what() + " (nothing written)");
   }
   for (std::size_t i = 0; i < soups.size(); ++i) soups[i] = seam::soup_from_mesh<seam::Exact>(tows[i]);
   return stats;

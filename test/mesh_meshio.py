@@ -1,5 +1,6 @@
 """A real client reads the exports of `seam mesh`: meshio (Debian's python3-meshio 7.0) opens the
-.vtu, .inp and .msh files and finds the regions, the element counts and the volumes of the report.
+.vtu, .inp and .msh files and finds the regions, the element counts and the volumes of the report:
+for three boxes (two touching) and for the bundled plain weave after `seam textile --resolve`.
 
 usage: python3 mesh_meshio.py SEAM_CLI   (run by ctest as the test `mesh_meshio`)
 """
@@ -72,9 +73,42 @@ def check(mesh, regions_per_cell, report, what):
     print(f"{what}: {len(tets)} tets, {len(report['regions'])} regions, volume {vol.sum()}")
 
 
+def mesh_and_read(cli, paths, tmp, tag, extra=()):
+    """seam mesh on the tow files, to all three formats; meshio reads each back and finds the
+    regions, element counts and volumes of the report. Returns the report and the .inp mesh."""
+    out = {ext: os.path.join(tmp, f"{tag}.{ext}") for ext in ("vtu", "inp", "msh")}
+    report_path = os.path.join(tmp, f"{tag}.json")
+    cmd = [cli, "mesh", *paths, "--report", report_path, *extra]
+    for path in out.values():
+        cmd += ["-o", path]
+    subprocess.run(cmd, check=True)
+    with open(report_path) as f:
+        report = json.load(f)
+    names = [r["name"] for r in report["regions"]]
+
+    vtu = meshio.read(out["vtu"])
+    check(vtu, np.concatenate(vtu.cell_data["region"]), report, f"{tag}.vtu")
+
+    msh = meshio.read(out["msh"])
+    physical = np.concatenate(msh.cell_data["gmsh:physical"]) - 1  # physical group r + 1 is region r
+    check(msh, physical, report, f"{tag}.msh")
+    assert sorted(msh.field_data) == sorted(names), msh.field_data
+
+    inp = meshio.read(out["inp"])
+    region = np.full(sum(len(cb.data) for cb in inp.cells), -1)
+    offsets = np.cumsum([0] + [len(cb.data) for cb in inp.cells])
+    for r in report["regions"]:
+        for block, ids in enumerate(inp.cell_sets[r["name"]]):
+            region[offsets[block] + np.asarray(ids, dtype=int)] = r["id"]
+    assert (region >= 0).all(), f"{tag}.inp: a tet in no element set"
+    check(inp, region, report, f"{tag}.inp")
+    return report, inp
+
+
 def main():
     cli = sys.argv[1]
     with tempfile.TemporaryDirectory(prefix="seam_mesh_meshio_") as tmp:
+        # Three boxes: two with a common face (a contact patch of 3 x 3 quads), one apart.
         tows = {"left": ((0.0, 0.0, 0.0), (1.0, 1.0, 1.0)), "right": ((1.0, 0.0, 0.0), (2.0, 1.0, 1.0)),
                 "apart": ((0.0, 2.0, 0.0), (1.0, 3.0, 0.5))}
         paths = []
@@ -82,36 +116,23 @@ def main():
             paths.append(os.path.join(tmp, name + ".off"))
             with open(paths[-1], "w") as f:
                 f.write(box_off(lo, hi, 3))
-        out = {ext: os.path.join(tmp, "model." + ext) for ext in ("vtu", "inp", "msh")}
-        report_path = os.path.join(tmp, "report.json")
-        cmd = [cli, "mesh", *paths, "--margin", "0.5", "--report", report_path]
-        for path in out.values():
-            cmd += ["-o", path]
-        subprocess.run(cmd, check=True)
-        with open(report_path) as f:
-            report = json.load(f)
+        report, inp = mesh_and_read(cli, paths, tmp, "boxes", ["--margin", "0.5"])
         names = [r["name"] for r in report["regions"]]
         assert names == ["matrix", "left", "right", "apart"], names
-
-        vtu = meshio.read(out["vtu"])
-        check(vtu, np.concatenate(vtu.cell_data["region"]), report, "vtu")
-
-        msh = meshio.read(out["msh"])
-        physical = np.concatenate(msh.cell_data["gmsh:physical"]) - 1  # physical group r + 1 is region r
-        check(msh, physical, report, "msh")
-        assert sorted(msh.field_data) == sorted(names), msh.field_data
-
-        inp = meshio.read(out["inp"])
-        region = np.full(sum(len(cb.data) for cb in inp.cells), -1)
-        offsets = np.cumsum([0] + [len(cb.data) for cb in inp.cells])
-        for r in report["regions"]:
-            for block, ids in enumerate(inp.cell_sets[r["name"]]):
-                region[offsets[block] + np.asarray(ids, dtype=int)] = r["id"]
-        assert (region >= 0).all(), "inp: a tet in no element set"
-        check(inp, region, report, "inp")
         contact = [k for k in inp.cell_sets if k.startswith("CONTACT_left_right_S")]
         assert contact, f"inp: no element set of the contact surface ({sorted(inp.cell_sets)})"
         assert sum(len(ids) for k in contact for ids in inp.cell_sets[k]) == 2 * 3 * 3
+
+        # The bundled plain weave, from interpenetrating tows: seam textile --resolve, then seam mesh.
+        weave = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples", "plain_weave")
+        names = ["weft0", "weft1", "warp0", "warp1"]
+        resolved = os.path.join(tmp, "resolved")
+        subprocess.run([cli, "textile", *[os.path.join(weave, n + ".off") for n in names], "--out-dir", resolved,
+                        "--resolve", "--quiet"], check=True)
+        report, _ = mesh_and_read(cli, [os.path.join(resolved, n + ".off") for n in names], tmp, "weave",
+                                  ["--margin", "0.1"])
+        assert [r["name"] for r in report["regions"]] == ["matrix", *names], report["regions"]
+        assert len(report["contacts"]) == 4, report["contacts"]  # one contact patch per crossing
 
 
 if __name__ == "__main__":

@@ -2,6 +2,9 @@
 //
 //   examples/tow.off               an elliptical crimped tow (seam::make_tow, 60 x 24 segments)
 //   examples/ring.polylines.txt    a tilted ring curve on its smooth surface (1999 samples)
+//   examples/plain_weave/          a 2 x 2 plain weave unit cell (seam::make_weave, defaults):
+//                                  weft0, weft1, warp0, warp1 .off, interpenetrating by 0.03 at
+//                                  each of the four crossings
 //
 // Usage (from the repository root):  make_examples [output-directory]   (default: examples)
 //
@@ -46,6 +49,13 @@ int main(int argc, char** argv) {
     std::cout << mesh_path << ": " << mesh.points.size() << " vertices, " << mesh.triangles.size()
               << " triangles\n"
               << curve_path << ": 1 closed polyline, " << curves[0].size() << " points\n";
+
+    for (const auto& t : seam::make_weave(seam::WeaveOptions{})) {
+      const std::string path = dir + "/plain_weave/" + t.name + ".off";
+      const seam::TriangleSoup tow_mesh = seam::make_tow(t.options);
+      seam::write_triangle_mesh(tow_mesh, path);
+      std::cout << path << ": " << tow_mesh.points.size() << " vertices, " << tow_mesh.triangles.size() << " triangles\n";
+    }
   } catch (const std::exception& e) {
     std::cerr << "make_examples: " << e.what() << '\n';
     return 1;

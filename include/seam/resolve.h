@@ -56,6 +56,7 @@
 #include <cstddef>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace seam {
@@ -124,5 +125,18 @@ struct ResolvedCheckReport {
 };
 /// Every decision exact under every kernel (the meshes are converted to the exact kernel).
 template <class K> ResolvedCheckReport check_resolved(const Mesh<K>& a3, const Mesh<K>& b3);
+
+/// A whole textile (`seam textile --resolve`): the overlap of each pair (i, j) of `pairs` (the
+/// intersecting pairs of seam::textile, say) given to one of its two tows, pair by pair in the
+/// order given, each as seam::resolve with `keeper` (automatic: the smaller tow keeps it). A tow
+/// only shrinks (loser minus keeper), so pairs made disjoint stay disjoint, and the faces a loser
+/// takes from its keeper carry the keeper's curves with the other tows, so the later pairs are
+/// still conforming. Then every pair is checked with seam::check_resolved. `names` name the tows
+/// in messages (one per tow). Throws InvalidInput naming the pair that seam::resolve refuses,
+/// InternalError naming the pair that fails the check; on a throw `tows` are unchanged.
+template <class K>
+std::vector<ResolveStats> resolve_pairs(std::vector<Mesh<K>>& tows,
+                                        const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
+                                        const std::vector<std::string>& names, Keeper keeper = Keeper::automatic);
 
 }  // namespace seam

@@ -26,11 +26,15 @@ struct TetgenOutput {
   std::vector<int> attribute;  ///< per tet (the seed's; TetGen numbers unseeded regions itself)
 };
 
-/// Runs tetrahedralize(). TetGen reports failure by throwing an int (libtet is built with
-/// TETLIBRARY); it is caught here and thrown as InternalError with TetGen's meaning of the code
-/// (1 out of memory, 2 internal error, 3 self-intersection, 4 small feature, 5 close facets,
-/// 10 input error). TetGen's own assertions (libtet keeps them) cannot be caught: inputs are
-/// checked before (volume_mesh's checks) so that they do not fire.
+/// Runs tetrahedralize() in a child process (fork) that sends the mesh back through a pipe.
+/// TetGen reports failure by throwing an int (libtet is built with TETLIBRARY); it is caught and
+/// thrown here as InternalError with TetGen's meaning of the code (1 out of memory: bad_alloc,
+/// 2 internal error, 3 self-intersection, 4 small feature, 5 close facets, 10 input error). But
+/// Debian's libtet 1.5.0 also keeps its assert()s, and some valid inputs fire one (its point
+/// location walks off the mesh while refining for quality: "locate: Assertion `searchtet->ver !=
+/// 4' failed", seen on a 4 x 4 weave with some box grids), which aborts the process. In the
+/// child that abort ends the child only: it is thrown here as InternalError quoting TetGen's
+/// message, and the caller (seam mesh: exit 3, nothing written) goes on.
 TetgenOutput run_tetgen(const TetgenInput& input);
 
 }  // namespace seam::internal
