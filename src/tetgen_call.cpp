@@ -190,6 +190,7 @@ class Reader {
 
  private:
   void take(void* out, std::size_t size) {
+    if (size == 0) return;  // (an empty vector's data() may be null, which memcpy may not get)
     if (size > bytes_.size() - at_) throw InternalError("TetGen's process sent a truncated mesh");
     std::memcpy(out, bytes_.data() + at_, size);
     at_ += size;
