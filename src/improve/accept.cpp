@@ -179,7 +179,7 @@ template <class K, class PK> bool no_crossing(const ImproveState<K>& s, const Ed
   for (std::size_t k = 0; k < edit.parts.size(); ++k)
     for (const Tri<K, PK>& t : made[k]) {
       CGAL::Bbox_3 box;
-      for (const auto& p : t.p) box += to_filtered(p).bbox();
+      for (const auto& p : t.p) box += p.bbox();  // conservative: from the intervals under Exact
       for (const auto& e : s.grid.query(box)) {
         const typename Mesh<K>::Face_index f(e.face);
         const auto& g = s.mesh(e.mesh);
@@ -201,7 +201,7 @@ template <class K> bool removes_a_written_crossing(const ImproveState<K>& s, con
     for (const auto f0 : part.removed) {
       const auto t = existing_tri<K, Filtered>(s, part.mesh, f0);
       CGAL::Bbox_3 box;
-      for (const auto& p : t.p) box += to_filtered(p).bbox();
+      for (const auto& p : t.p) box += p.bbox();  // conservative: from the intervals under Exact
       for (const auto& e : s.grid.query(box)) {
         const typename Mesh<K>::Face_index f(e.face);
         if ((e.mesh == part.mesh && f == f0) || s.mesh(e.mesh).is_removed(f) || s.meshes[e.mesh].version[f] != e.version)

@@ -196,7 +196,7 @@ template <class K> Applied<K> apply_edit(ImproveState<K>& s, const Edit<K>& edit
       ms.cause[f] = 0;
       ms.version[f] = ++s.last_version;  // (Surface_mesh resets a recycled face's properties)
       CGAL::Bbox_3 box;
-      for (V v : vs) box += s.fpoint(part.mesh, v).bbox();
+      for (V v : vs) box += g.point(v).bbox();  // conservative (FaceGrid needs boxes holding the faces)
       s.grid.insert({std::uint32_t(part.mesh), std::uint32_t(std::size_t(f)), ms.version[f]}, box, &is_live);
       made.faces.emplace_back(part.mesh, f);
     }

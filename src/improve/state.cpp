@@ -103,10 +103,13 @@ template <class K> bool ImproveState<K>::may_join_band(std::size_t m, F f) const
 
 namespace {
 
+/// The box of a face, holding it: under Exact, from the interval approximations of its corners
+/// (to_filtered's doubles are their midpoints, which may lie outside; FaceGrid's overlap test needs
+/// boxes that hold the exact faces and their roundings).
 template <class K> CGAL::Bbox_3 face_box(const ImproveState<K>& s, std::size_t m, typename ImproveState<K>::F f) {
   const auto c = s.corners(m, f);
   CGAL::Bbox_3 box;
-  for (auto v : c) box += s.fpoint(m, v).bbox();
+  for (auto v : c) box += s.mesh(m).point(v).bbox();
   return box;
 }
 

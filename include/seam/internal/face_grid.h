@@ -18,6 +18,9 @@
 // last purge. So a cell holds at most about twice its live entries however many edits were made at
 // one place, at an amortised cost of O(1) liveness tests per insertion.
 //
+// The boxes must hold their faces (under the exact kernel: from the interval approximations, not
+// from the rounded corners): the grid returns only entries whose boxes overlap the query box.
+//
 // Boxes whose cell index would not fit (hostile coordinates: |x| over 2^62 cells) and boxes wider
 // than the coarsest level go to one list that every query tests box by box.
 //
