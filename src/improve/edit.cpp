@@ -195,9 +195,8 @@ template <class K> Applied<K> apply_edit(ImproveState<K>& s, const Edit<K>& edit
       ms.is_new[f] = true;
       ms.cause[f] = 0;
       ms.version[f] = ++s.last_version;  // (Surface_mesh resets a recycled face's properties)
-      CGAL::Bbox_3 box;
-      for (V v : vs) box += g.point(v).bbox();  // conservative (FaceGrid needs boxes holding the faces)
-      s.grid.insert({std::uint32_t(part.mesh), std::uint32_t(std::size_t(f)), ms.version[f]}, box, &is_live);
+      s.grid.insert({std::uint32_t(part.mesh), std::uint32_t(std::size_t(f)), ms.version[f]}, s.face_box(part.mesh, f),
+                    &is_live);
       made.faces.emplace_back(part.mesh, f);
     }
     made.fresh.push_back(fresh);

@@ -103,16 +103,6 @@ template <class K> bool ImproveState<K>::may_join_band(std::size_t m, F f) const
 
 namespace {
 
-/// The box of a face, holding it: under Exact, from the interval approximations of its corners
-/// (to_filtered's doubles are their midpoints, which may lie outside; FaceGrid's overlap test needs
-/// boxes that hold the exact faces and their roundings).
-template <class K> CGAL::Bbox_3 face_box(const ImproveState<K>& s, std::size_t m, typename ImproveState<K>::F f) {
-  const auto c = s.corners(m, f);
-  CGAL::Bbox_3 box;
-  for (auto v : c) box += s.mesh(m).point(v).bbox();
-  return box;
-}
-
 /// Curve points numbered across the meshes (the same point in two meshes is one), their links
 /// along each curve, and each segment's curve.
 template <class K> void number_curve_points(ImproveState<K>& s, const SharedCurves<K>& in) {
@@ -236,7 +226,7 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
       if (!touches) continue;
       ms.band[f] = true;
       ++s.stats.band_faces;
-      band_box += face_box<K>(s, m, f);
+      band_box += s.face_box(m, f);
       const double angle = face_min_angle<K>(s, m, f);
       s.stats.min_angle_deg_before = std::min(s.stats.min_angle_deg_before, angle);
       if (angle < s.target_angle(m, f)) ++s.stats.below_bound_before;
@@ -250,7 +240,7 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
                            band_box.xmax() + margin, band_box.ymax() + margin, band_box.zmax() + margin);
   for (std::size_t m = 0; m < s.meshes.size(); ++m)
     for (auto f : s.meshes[m].mesh->faces()) {
-      const CGAL::Bbox_3 box = face_box<K>(s, m, f);
+      const CGAL::Bbox_3 box = s.face_box(m, f);
       if (CGAL::do_overlap(box, reach))
         s.grid.insert({std::uint32_t(m), std::uint32_t(std::size_t(f)), s.meshes[m].version[f]}, box);
     }

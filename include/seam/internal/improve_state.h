@@ -147,6 +147,14 @@ template <class K> struct ImproveState {
     const auto h = mesh(m).halfedge(f);
     return {mesh(m).source(h), mesh(m).target(h), mesh(m).target(mesh(m).next(h))};
   }
+  /// The box of a face, holding it: under Exact, from the interval approximations of its corners
+  /// (fpoint's doubles are their midpoints, which may lie outside; FaceGrid's overlap test needs
+  /// boxes that hold the exact faces and their roundings).
+  CGAL::Bbox_3 face_box(std::size_t m, F f) const {
+    CGAL::Bbox_3 box;
+    for (V v : corners(m, f)) box += mesh(m).point(v).bbox();
+    return box;
+  }
   /// The node at the start of segment (a, b) of point ids, or -1.
   int segment_start(int a, int b) const {
     if (a < 0 || b < 0) return -1;
