@@ -169,9 +169,13 @@ template <class K> bool triangulate(Patch<K>& patch, double expected_area, std::
       return false;
     }
   }
-  // Inside: an odd number of border edges crossed from the infinite face.
+  // Inside: an odd number of border edges crossed from the infinite face. An edge at the infinite
+  // vertex is never one (its info was never set: reading it made the result depend on whatever
+  // the allocator left there).
   auto on_border = [&](const Edge& e) {
-    const std::size_t i = e.first->vertex(CDT::cw(e.second))->info(), j = e.first->vertex(CDT::ccw(e.second))->info();
+    const auto s = e.first->vertex(CDT::cw(e.second)), t = e.first->vertex(CDT::ccw(e.second));
+    if (cdt.is_infinite(s) || cdt.is_infinite(t)) return false;
+    const std::size_t i = s->info(), j = t->info();
     return patch.border.count({std::min(i, j), std::max(i, j)}) > 0;
   };
   for (FH f : cdt.all_face_handles()) f->info().nesting = -1;
