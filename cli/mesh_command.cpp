@@ -44,7 +44,8 @@ nlohmann::json mesh_report(const MeshArgs& args, const seam::VolumeMeshOptions& 
                   {"tetgen_switches", st.tetgen_switches}};
   j["box"] = {{"min", st.box.min}, {"max", st.box.max}};
   j["input"] = {{"points", st.input_points}, {"triangles", st.input_triangles}, {"tow_triangles", st.tow_triangles},
-                {"shared_triangles", st.shared_triangles}, {"box_triangles", st.box_triangles}};
+                {"shared_triangles", st.shared_triangles}, {"box_triangles", st.box_triangles},
+                {"clipped_tows", st.clipped_tows}};
   j["output"] = {{"points", st.points}, {"tets", st.tets}, {"steiner_points", st.steiner_points}};
   j["regions"] = nlohmann::json::array();
   for (std::size_t i = 0; i < st.regions.size(); ++i) {
@@ -99,7 +100,9 @@ int run_mesh(MeshArgs& args) {
   files.commit();
 
   std::cout << "seam mesh: " << st.tets << " tets, " << st.points << " points (" << st.steiner_points
-            << " added inside); " << tows.size() << " tows + matrix, region volumes equal their surfaces' (exact sums), "
+            << " added inside); " << tows.size() << " tows + matrix";
+  if (st.clipped_tows > 0) std::cout << " (" << st.clipped_tows << " tow(s) cut by the box)";
+  std::cout << ", region volumes equal their surfaces' (exact sums), "
             << st.shared_triangles << " shared faces in " << result.contacts.size() << " contact patch(es); min dihedral "
             << st.min_dihedral_deg << " deg, max radius-edge " << st.max_radius_edge;
   if (st.tets_above_radius_edge > 0) std::cout << " (" << st.tets_above_radius_edge << " tets above " << o.radius_edge << ")";
@@ -121,7 +124,8 @@ Command add_mesh_command(CLI::App& app) {
       ->required();
   cmd->add_option("-o,--out", ma.outputs, "Output, format by extension: .vtu, .inp or .msh (repeat for several)")
       ->required();
-  cmd->add_option("--box", ma.box, "Matrix box: xmin ymin zmin xmax ymax zmax (default: the tows' bounding box)")
+  cmd->add_option("--box", ma.box, "Matrix box: xmin ymin zmin xmax ymax zmax (default: the tows' bounding box); tows crossing it are cut by it "
+                  "(a periodic unit cell)")
       ->expected(6)
       ->allow_extra_args(false);
   add_number_option(cmd, "--margin", ma.margin, "Grow the default box by this length on every side (default 0)");

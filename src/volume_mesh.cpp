@@ -78,6 +78,7 @@ AxisBox matrix_box(const std::vector<TriangleSoup>& tows, const std::vector<std:
       box.max[k] += o.margin;
     }
   }
+  if (o.box) return box;  // a tow crossing the box is cut by it (clip_tows_to_box)
   static const char* axis = "xyz";
   for (std::size_t i = 0; i < tows.size(); ++i)
     for (const auto& p : tows[i].points)
@@ -249,7 +250,10 @@ VolumeMeshResult volume_mesh(const std::vector<TriangleSoup>& tows, const std::v
     check_closed(tows[i], names[i]);
   }
   st.box = matrix_box(tows, names, options);
-  internal::Plc plc = internal::merge_tows(tows, names);
+  // Tows crossing the box (a periodic unit cell) are cut by it; the box faces then close them.
+  const internal::ClippedTows cut = internal::clip_tows_to_box(tows, names, st.box);
+  for (const char c : cut.clipped) st.clipped_tows += c ? 1 : 0;
+  internal::Plc plc = internal::merge_tows(cut.surfaces, names, &tows);
   internal::check_no_overlap(plc, names);
   internal::check_no_crossing_at_edges(plc, names);
   st.stage_seconds["check"] = seconds_since(t0);
@@ -259,9 +263,18 @@ VolumeMeshResult volume_mesh(const std::vector<TriangleSoup>& tows, const std::v
   if (spacing == 0) {  // auto: the tows' mean edge length, but at most 20 steps along the box's longest side
     double longest = 0;
     for (int k = 0; k < 3; ++k) longest = std::max(longest, st.box.max[k] - st.box.min[k]);
-    spacing = std::max(internal::mean_edge_length(tows), longest / 20);
+    spacing = std::max(internal::mean_edge_length(cut.surfaces), longest / 20);
   }
   internal::add_box_faces(plc, st.box, spacing);
+  const std::vector<TriangleSoup> closed = internal::close_clipped_tows(plc, tows, cut, st.box, names);
+  for (std::size_t i = 0; i < closed.size(); ++i)
+    if (cut.clipped[i]) {
+      try {
+        check_closed(closed[i], names[i]);
+      } catch (const InvalidInput& e) {
+        throw InternalError(std::string("the tow cut by the box is not closed by its caps: ") + e.what());
+      }
+    }
   internal::TetgenInput input;
   add_seeds(plc, names, input);
   input.points = plc.points;
@@ -285,7 +298,7 @@ VolumeMeshResult volume_mesh(const std::vector<TriangleSoup>& tows, const std::v
   st.steiner_points = st.points - plc.points.size();
 
   t0 = Clock::now();
-  const auto problems = verify_volume_mesh(result.mesh, tows, st.box, options.steiner_on_surfaces, st);
+  const auto problems = verify_volume_mesh(result.mesh, closed, st.box, options.steiner_on_surfaces, st);
   if (!problems.empty())
     throw InternalError("the volume mesh failed its verification: " + problems.front() +
                         (problems.size() > 1 ? say(" (and ", problems.size() - 1, " more problems)") : std::string()));

@@ -5,13 +5,17 @@
 #include <seam/internal/message.h>
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 #include <CGAL/box_intersection_d.h>
 #include <CGAL/intersections.h>
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numeric>
+#include <optional>
+#include <set>
 #include <unordered_map>
 
 namespace seam::internal {
@@ -250,11 +254,12 @@ std::size_t Plc::add_point(const Point3d& p) {
   return it->second;
 }
 
-Plc merge_tows(const std::vector<TriangleSoup>& tows, const std::vector<std::string>& names) {
+Plc merge_tows(const std::vector<TriangleSoup>& tows, const std::vector<std::string>& names,
+               const std::vector<TriangleSoup>* closed) {
   Plc plc;
   std::vector<int> orientation;  // +1: outward normals (positive enclosed volume), -1: inward
   for (std::size_t i = 0; i < tows.size(); ++i) {
-    orientation.push_back(signed_volume(tows[i]) >= 0 ? 1 : -1);
+    orientation.push_back(signed_volume(closed ? (*closed)[i] : tows[i]) >= 0 ? 1 : -1);
     plc.orientation.push_back(orientation.back());
     const int tow = static_cast<int>(i);
     std::vector<std::size_t> id(tows[i].points.size());
@@ -366,6 +371,151 @@ void check_no_crossing_at_edges(const Plc& plc, const std::vector<std::string>& 
                                      "run seam resolve first)"));
       }
   }
+}
+
+std::vector<TriangleSoup> close_clipped_tows(Plc& plc, const std::vector<TriangleSoup>& uncut, const ClippedTows& clipped,
+                                             const AxisBox& box, const std::vector<std::string>& names) {
+  std::vector<TriangleSoup> closed = clipped.surfaces;
+  if (std::none_of(clipped.clipped.begin(), clipped.clipped.end(), [](char c) { return c != 0; })) return closed;
+  const std::size_t n = plc.triangles.size(), first = plc.tow_triangle_count;
+  auto edge_key = [](std::size_t a, std::size_t b) { return std::make_pair(std::min(a, b), std::max(a, b)); };
+  std::set<std::pair<std::size_t, std::size_t>> tow_edges;
+  for (std::size_t f = 0; f < first; ++f)
+    for (int k = 0; k < 3; ++k) tow_edges.insert(edge_key(plc.triangles[f][k], plc.triangles[f][(k + 1) % 3]));
+  // The box face of each box triangle (axis * 2 + 1 for the upper face), -1 for tow triangles.
+  std::vector<int> face_of(n, -1);
+  for (std::size_t f = first; f < n; ++f) {
+    if (plc.owner[f].tow_a >= 0) continue;  // a tow face lying in the box face
+    const auto& t = plc.triangles[f];
+    for (int a = 0; a < 3 && face_of[f] < 0; ++a)
+      for (int upper = 0; upper < 2; ++upper) {
+        const double c = upper ? box.max[a] : box.min[a];
+        if (plc.points[t[0]][a] == c && plc.points[t[1]][a] == c && plc.points[t[2]][a] == c) face_of[f] = 2 * a + upper;
+      }
+    if (face_of[f] < 0) throw InternalError("a box triangle lies in no face of the box");
+  }
+  // Regions: box triangles of one face joined across edges that are no tow edge.
+  Components regions(n);
+  std::map<std::pair<std::size_t, std::size_t>, std::size_t> first_face;
+  for (std::size_t f = first; f < n; ++f) {
+    if (face_of[f] < 0) continue;
+    for (int k = 0; k < 3; ++k) {
+      const auto e = edge_key(plc.triangles[f][k], plc.triangles[f][(k + 1) % 3]);
+      if (tow_edges.count(e)) continue;
+      const auto [it, added] = first_face.emplace(e, f);
+      if (!added && face_of[it->second] == face_of[f]) regions.join(f, it->second);
+    }
+  }
+  std::map<std::size_t, std::vector<std::size_t>> members;
+  for (std::size_t f = first; f < n; ++f)
+    if (face_of[f] >= 0) members[regions.find(f)].push_back(f);
+  // The exact side test of each clipped tow's uncut surface.
+  struct Side {
+    Mesh<K> mesh;
+    std::unique_ptr<CGAL::Side_of_triangle_mesh<Mesh<K>, K>> test;
+    CGAL::Bbox_3 bbox;
+  };
+  std::vector<std::unique_ptr<Side>> sides(uncut.size());
+  for (std::size_t i = 0; i < uncut.size(); ++i) {
+    if (!clipped.clipped[i]) continue;
+    auto s = std::make_unique<Side>();
+    std::vector<Mesh<K>::Vertex_index> v;
+    for (const auto& p : uncut[i].points) {
+      v.push_back(s->mesh.add_vertex(K::Point_3(p[0], p[1], p[2])));
+      s->bbox += s->mesh.point(v.back()).bbox();
+    }
+    for (const auto& t : uncut[i].triangles)
+      if (s->mesh.add_face(v[t[0]], v[t[1]], v[t[2]]) == Mesh<K>::null_face())
+        throw InternalError(names[i] + ": the uncut tow could not be built as a mesh");
+    s->test = std::make_unique<CGAL::Side_of_triangle_mesh<Mesh<K>, K>>(s->mesh);
+    sides[i] = std::move(s);
+  }
+  auto area = [&](std::size_t f) {
+    const auto& t = plc.triangles[f];
+    return CGAL::cross_product(plc.point(t[1]) - plc.point(t[0]), plc.point(t[2]) - plc.point(t[0])).squared_length();
+  };
+  // A point strictly inside box triangle f (its centroid in doubles, checked exactly), if any.
+  auto inner_point = [&](std::size_t f) -> std::optional<K::Point_3> {
+    const auto& t = plc.triangles[f];
+    const int a = face_of[f] / 2, u = (a + 1) % 3, v = (a + 2) % 3;
+    Point3d c;
+    for (int k = 0; k < 3; ++k) c[k] = (plc.points[t[0]][k] + plc.points[t[1]][k] + plc.points[t[2]][k]) / 3;
+    c[a] = plc.points[t[0]][a];
+    const K::Point_2 p(plc.points[t[0]][u], plc.points[t[0]][v]), q(plc.points[t[1]][u], plc.points[t[1]][v]),
+        r(plc.points[t[2]][u], plc.points[t[2]][v]), x(c[u], c[v]);
+    const auto turn = CGAL::orientation(p, q, r);
+    if (turn == CGAL::COLLINEAR || CGAL::orientation(p, q, x) != turn || CGAL::orientation(q, r, x) != turn ||
+        CGAL::orientation(r, p, x) != turn)
+      return std::nullopt;
+    return K::Point_3(c[0], c[1], c[2]);
+  };
+  std::vector<std::vector<std::array<std::size_t, 3>>> caps(uncut.size());
+  for (auto& [root, faces] : members) {
+    std::sort(faces.begin(), faces.end(), [&](std::size_t x, std::size_t y) { return area(x) > area(y); });
+    int inside = -2;  // -2: not decided yet, -1: in no tow
+    std::size_t tested = 0;
+    for (const std::size_t f : faces) {
+      if (tested == 3) break;
+      const auto point = inner_point(f);
+      if (!point) continue;
+      ++tested;
+      int in = -1;
+      for (std::size_t i = 0; i < sides.size(); ++i) {
+        if (!sides[i] || !CGAL::do_overlap(point->bbox(), sides[i]->bbox)) continue;
+        const auto side = (*sides[i]->test)(*point);
+        if (side == CGAL::ON_BOUNDARY) throw InternalError(names[i] + ": a box face touches the uncut tow inside a cap");
+        if (side != CGAL::ON_BOUNDED_SIDE) continue;
+        if (in >= 0)
+          throw InvalidInput(say(names[std::size_t(in)], " and ", names[i],
+                                 ": the tows overlap in a face of the box (run seam resolve first)"));
+        in = int(i);
+      }
+      if (inside != -2 && inside != in) throw InternalError("the caps of a clipped tow: the side tests of one region disagree");
+      inside = in;
+    }
+    if (inside == -2) throw InternalError("the caps of a clipped tow: a region of a box face has no triangle with an inner point");
+    if (inside < 0) continue;
+    const std::size_t i = std::size_t(inside);
+    for (const std::size_t f : faces) {
+      auto t = plc.triangles[f];
+      // Outward from the tow is outward from the box, for a tow oriented outwards.
+      const int a = face_of[f] / 2, u = (a + 1) % 3, v = (a + 2) % 3;
+      const auto turn = CGAL::orientation(K::Point_2(plc.points[t[0]][u], plc.points[t[0]][v]),
+                                          K::Point_2(plc.points[t[1]][u], plc.points[t[1]][v]),
+                                          K::Point_2(plc.points[t[2]][u], plc.points[t[2]][v]));
+      const int outward = (face_of[f] % 2 ? 1 : -1) * plc.orientation[i];
+      if ((turn == CGAL::LEFT_TURN ? 1 : -1) != outward) std::swap(t[1], t[2]);
+      plc.owner[f].tow_a = int(i);
+      plc.owner[f].face_a = closed[i].triangles.size() + caps[i].size();
+      caps[i].push_back(t);
+    }
+  }
+  // The closed tows, and their components again.
+  for (std::size_t i = 0; i < uncut.size(); ++i) {
+    if (!clipped.clipped[i]) continue;
+    std::map<Point3d, std::size_t> local;
+    for (std::size_t v = 0; v < closed[i].points.size(); ++v) local.emplace(closed[i].points[v], v);
+    std::vector<std::array<std::size_t, 3>> in_plc;
+    for (const auto& t : closed[i].triangles)
+      in_plc.push_back({plc.index.at(closed[i].points[t[0]]), plc.index.at(closed[i].points[t[1]]),
+                        plc.index.at(closed[i].points[t[2]])});
+    for (const auto& t : caps[i]) {
+      std::array<std::size_t, 3> m;
+      for (int k = 0; k < 3; ++k) {
+        const auto [it, added] = local.emplace(plc.points[t[k]], closed[i].points.size());
+        if (added) closed[i].points.push_back(plc.points[t[k]]);
+        m[k] = it->second;
+      }
+      closed[i].triangles.push_back(m);
+      in_plc.push_back(t);
+    }
+    const int tow = int(i);
+    plc.components.erase(std::remove_if(plc.components.begin(), plc.components.end(),
+                                        [&](const TowComponent& c) { return c.tow == tow; }),
+                         plc.components.end());
+    add_components(plc, tow, in_plc);
+  }
+  return closed;
 }
 
 }  // namespace seam::internal

@@ -1,6 +1,7 @@
 """A real client reads the exports of `seam mesh`: meshio (Debian's python3-meshio 7.0) opens the
 .vtu, .inp and .msh files and finds the regions, the element counts and the volumes of the report:
-for three boxes (two touching) and for the bundled plain weave after `seam textile --resolve`.
+for three boxes (two touching) and for the bundled plain weave after `seam textile --resolve`, in
+its bounding box and in a unit cell that cuts every tow.
 
 usage: python3 mesh_meshio.py SEAM_CLI   (run by ctest as the test `mesh_meshio`)
 """
@@ -133,6 +134,13 @@ def main():
                                   ["--margin", "0.1"])
         assert [r["name"] for r in report["regions"]] == ["matrix", *names], report["regions"]
         assert len(report["contacts"]) == 4, report["contacts"]  # one contact patch per crossing
+
+        # The same weave in a unit cell that cuts every tow (a periodic cell): each tow is closed
+        # by the box faces; the regions still tile the box.
+        report, _ = mesh_and_read(cli, [os.path.join(resolved, n + ".off") for n in names], tmp, "cell",
+                                  ["--box", "0.5", "0.5", "-0.4", "3.5", "3.5", "0.4"])
+        assert report["input"]["clipped_tows"] == 4, report["input"]
+        assert len(report["contacts"]) == 4, report["contacts"]
 
 
 if __name__ == "__main__":

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <array>
 #include <map>
+#include <optional>
 #include <set>
 
 namespace {
@@ -62,7 +63,8 @@ double relative(const FT& x, const FT& y) { return CGAL::to_double(CGAL::abs(x -
 /// surface and the matrix against the box minus the tows, no tet inverted, one contact patch per
 /// crossing, and that the volumes lost add up to the overlaps.
 void weave_chain(const std::vector<seam::TriangleSoup>& soups, const std::vector<std::string>& names,
-                 std::size_t crossings, double box_face_spacing = 0) {
+                 std::size_t crossings, double box_face_spacing = 0,
+                 const std::optional<seam::AxisBox>& cell = std::nullopt) {
   std::vector<seam::Mesh<K>> tows;
   for (std::size_t i = 0; i < soups.size(); ++i) tows.push_back(seam::mesh_from_soup<K>(soups[i], names[i]));
   const auto woven = seam::textile<K>(tows, names);
@@ -95,20 +97,36 @@ void weave_chain(const std::vector<seam::TriangleSoup>& soups, const std::vector
   seam::VolumeMeshOptions options;
   options.margin = 0.1;
   options.box_face_spacing = box_face_spacing;
+  options.box = cell;
   const auto model = seam::volume_mesh(out, names, options);
   const auto& m = model.mesh;
   REQUIRE(m.region_names.size() == tows.size() + 1);
-  FT tows_volume = 0;
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    const FT v = enclosed_volume(out[i]);
-    tows_volume += v;
-    INFO("tow " << names[i]);
-    CHECK(relative(tet_volume(m, int(i) + 1), v) <= 1e-9);
-  }
   const auto& box = model.stats.box;
   const FT box_volume = (FT(box.max[0]) - FT(box.min[0])) * (FT(box.max[1]) - FT(box.min[1])) *
                         (FT(box.max[2]) - FT(box.min[2]));
-  CHECK(relative(tet_volume(m, 0), box_volume - tows_volume) <= 1e-9);
+  if (cell) {
+    // A unit cell that cuts every tow: each keeps part of its volume, the regions tile the box.
+    CHECK(model.stats.clipped_tows == out.size());
+    FT total = tet_volume(m, 0);
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      const FT v = tet_volume(m, int(i) + 1);
+      INFO("tow " << names[i]);
+      CHECK(v > 0);
+      CHECK(v < enclosed_volume(out[i]));
+      CHECK(model.stats.regions.at(i + 1).relative_error <= 1e-9);
+      total += v;
+    }
+    CHECK(total == box_volume);
+  } else {
+    FT tows_volume = 0;
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      const FT v = enclosed_volume(out[i]);
+      tows_volume += v;
+      INFO("tow " << names[i]);
+      CHECK(relative(tet_volume(m, int(i) + 1), v) <= 1e-9);
+    }
+    CHECK(relative(tet_volume(m, 0), box_volume - tows_volume) <= 1e-9);
+  }
   std::size_t inverted = 0;
   for (const auto& t : m.tets)
     inverted += CGAL::orientation(exact_point(m.points[t[0]]), exact_point(m.points[t[1]]), exact_point(m.points[t[2]]),
@@ -202,6 +220,12 @@ TEST_CASE("chain: the bundled plain weave becomes a tetrahedral model, a region 
   const std::vector<std::string> names = {"weft0", "weft1", "warp0", "warp1"};
   for (const auto& n : names) soups.push_back(seam::read_triangle_mesh(SEAM_SOURCE_DIR "/examples/plain_weave/" + n + ".off"));
   weave_chain(soups, names, 4);
+  SECTION("in a unit cell that cuts every tow") {
+    seam::AxisBox cell;
+    cell.min = {0.5, 0.5, -0.4};
+    cell.max = {3.5, 3.5, 0.4};
+    weave_chain(soups, names, 4, 0, cell);
+  }
 }
 
 TEST_CASE("chain: a generated 4x4 plain weave becomes a tetrahedral model, a region per tow", "[chain][resolve][mesh][textile]") {

@@ -5,7 +5,7 @@
 // along shared edges or at shared vertices; and an axis-aligned matrix box that contains them.
 // Steps:
 //   1. Checks (InvalidInput naming the tow): every tow is closed; every tow lies in the closed
-//      box; the tows meet each other (and themselves) only in common vertices, edges and faces.
+//      default box (a given box cuts the tows that cross it, see below); the tows meet each other (and themselves) only in common vertices, edges and faces.
 //      That test is exact (CGAL predicates on the doubles, box_intersection_d candidates).
 //   2. One piecewise-linear complex: vertices merged by exact coordinate equality, each shared
 //      triangle once, and the box's six faces, each triangulated (a constrained Delaunay
@@ -22,8 +22,11 @@
 //      each input triangle stays a triangle of the mesh). Tets in regions without a tow seed are
 //      the matrix.
 //   4. Verification of the result (verify_volume_mesh below): if it fails, InternalError.
-// Tows that cross the box (periodic unit cells whose tows are cut by the cell faces) are refused
-// (InvalidInput): intersecting them with the box first is not implemented yet.
+// Tows that cross a given box (a periodic unit cell whose tows the cell faces cut) are first cut
+// by it (before step 2): exact cuts, the pieces Delaunay-triangulated (the same in two tows that
+// share a face), the cut points rounded onto the box planes; the box faces' triangles inside a
+// cut tow become its caps, so each cut tow is closed again by triangles of the box's boundary
+// (see internal/volume_plc.h). The default box never cuts (it is the tows' bounding box).
 //
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
@@ -97,6 +100,8 @@ struct VolumeMeshStats {
   AxisBox box;
   std::size_t input_points = 0, input_triangles = 0;  ///< the PLC (box faces included)
   std::size_t tow_triangles = 0, shared_triangles = 0, box_triangles = 0;
+  /// Tows that crossed the box and were cut by it (their caps are box triangles).
+  std::size_t clipped_tows = 0;
   std::size_t points = 0, tets = 0;
   std::size_t steiner_points = 0;  ///< points TetGen added (none on the input faces with -Y)
   std::vector<RegionStats> regions;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <seam/kernels.h>
+#include <seam/io.h>
 #include <seam/volume_mesh.h>
 
 #include <array>
@@ -66,7 +67,9 @@ struct Plc {
 
 /// All tows in one complex: points merged by exact equality, a triangle of two tows once (a
 /// third owner, or the same triangle twice in one tow, is InvalidInput), components per tow.
-Plc merge_tows(const std::vector<TriangleSoup>& tows, const std::vector<std::string>& names);
+/// `closed`, when given, holds the closed surfaces the tows were cut from (their orientations).
+Plc merge_tows(const std::vector<TriangleSoup>& tows, const std::vector<std::string>& names,
+               const std::vector<TriangleSoup>* closed = nullptr);
 
 /// Exact test that the triangles of the complex meet only in common vertices and edges (no
 /// crossing, no touching elsewhere, no coplanar overlap). InvalidInput naming both tows and faces.
@@ -85,6 +88,32 @@ double mean_edge_length(const std::vector<TriangleSoup>& tows);
 /// in it and, when spacing > 0, a grid of that spacing away from them. Tow triangles in a box face
 /// are marked on_box, not added again.
 void add_box_faces(Plc& plc, const AxisBox& box, double spacing);
+
+/// Tows cut by the matrix box (periodic unit cells): per tow, its surface inside the box and
+/// whether it crossed the box. A face inside the closed box is kept as it is; a face crossing it
+/// is cut exactly by the box planes (Sutherland-Hodgman with exact cut points) and the convex
+/// piece inside is Delaunay-triangulated in a projection (exact predicates, symbolic perturbation:
+/// the triangles depend on the piece's corners only, so a face two tows share is cut alike in
+/// both); the new corners are then rounded to doubles, each lying exactly in its box plane. A
+/// crossing tow is left open along the box; close_clipped_tows adds its caps from the box faces.
+/// InvalidInput (naming the tow) when a crossing tow has a face lying in a plane of the box, when
+/// rounding merges two corners of a piece, or when nothing of a tow is inside the box.
+struct ClippedTows {
+  std::vector<TriangleSoup> surfaces;
+  std::vector<char> clipped;
+};
+ClippedTows clip_tows_to_box(const std::vector<TriangleSoup>& tows, const std::vector<std::string>& names,
+                             const AxisBox& box);
+
+/// After add_box_faces, on a complex of clipped tows: the box triangles inside a clipped tow are
+/// its caps (owned by the tow and the box). The box faces' triangles are grouped into regions
+/// that no tow edge separates; each region lies inside or outside each tow as a whole, which an
+/// exact side test against the tow's uncut surface decides on a point inside one of the region's
+/// largest triangles (three of them, which must agree). Returns the tows closed (the clipped
+/// surfaces plus their caps, oriented as the tow), rebuilds their components. InvalidInput when a
+/// region lies inside two tows; InternalError when the tests on one region disagree.
+std::vector<TriangleSoup> close_clipped_tows(Plc& plc, const std::vector<TriangleSoup>& uncut, const ClippedTows& clipped,
+                                             const AxisBox& box, const std::vector<std::string>& names);
 
 /// Minimum / maximum dihedral angle, largest radius-edge ratio and the tets above `bound` (0: none).
 void tet_quality(const TetMesh& mesh, double bound, VolumeMeshStats& stats);

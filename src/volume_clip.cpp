@@ -1,0 +1,177 @@
+// seam internal: tows cut by the matrix box (periodic unit cells). See seam/internal/volume_plc.h.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// Exact: which side of a box plane a point is on, the cut points (the intersection of an edge
+// with a plane, constructed with lazy exact numbers), the Delaunay triangulation of each cut
+// face. Rounded: the cut points are written as doubles at the end. A cut point's coordinate along
+// the plane's axis is the plane's coordinate itself, a double, so it stays exactly in the box face.
+#include <seam/internal/message.h>
+#include <seam/internal/volume_plc.h>
+
+#include <CGAL/Delaunay_triangulation_2.h>
+#include <CGAL/Projection_traits_xy_3.h>
+#include <CGAL/Projection_traits_xz_3.h>
+#include <CGAL/Projection_traits_yz_3.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace seam::internal {
+
+namespace {
+
+using EPoint = Exact::Point_3;
+using EFT = Exact::FT;
+
+bool in_closed_box(const Point3d& p, const AxisBox& box) {
+  for (int a = 0; a < 3; ++a)
+    if (p[a] < box.min[a] || p[a] > box.max[a]) return false;
+  return true;
+}
+
+/// The point of segment pq on the plane x_a = c (p and q strictly on either side of it, or one on
+/// it): exact, with coordinate a exactly c. The same value whichever way round p and q are given.
+EPoint cut_point(const EPoint& p, const EPoint& q, int a, double c) {
+  const EFT t = (EFT(c) - p[a]) / (q[a] - p[a]);
+  EFT x[3];
+  for (int k = 0; k < 3; ++k) x[k] = k == a ? EFT(c) : p[k] + t * (q[k] - p[k]);
+  EPoint r(x[0], x[1], x[2]);
+  make_exact(r);
+  return r;
+}
+
+/// The convex polygon of a triangle inside the closed box: Sutherland-Hodgman against the six
+/// half-spaces, exactly. Empty when less than a polygon with area is left.
+std::vector<EPoint> clip_to_box(std::vector<EPoint> polygon, const AxisBox& box) {
+  for (int a = 0; a < 3; ++a)
+    for (const bool lower : {true, false}) {
+      const double c = lower ? box.min[a] : box.max[a];
+      const EFT cc(c);
+      auto inside = [&](const EPoint& p) { return lower ? p[a] >= cc : p[a] <= cc; };
+      std::vector<EPoint> out;
+      for (std::size_t i = 0; i < polygon.size(); ++i) {
+        const EPoint& p = polygon[i];
+        const EPoint& q = polygon[(i + 1) % polygon.size()];
+        const bool p_in = inside(p), q_in = inside(q);
+        // A cut point equals a corner on the plane: each point once (consecutive repeats dropped).
+        auto add = [&](const EPoint& r) {
+          if (out.empty() || out.back() != r) out.push_back(r);
+        };
+        if (p_in) add(p);
+        if (p_in != q_in) add(p_in ? cut_point(q, p, a, c) : cut_point(p, q, a, c));
+      }
+      while (out.size() > 1 && out.front() == out.back()) out.pop_back();
+      polygon.swap(out);
+      if (polygon.size() < 3) return {};
+    }
+  return polygon;
+}
+
+/// The Delaunay triangulation of a convex polygon's corners in a projection (exact predicates;
+/// cocircular corners are resolved by CGAL's symbolic perturbation, so the result depends on the
+/// points only, not on their order): the same triangles for a face that two tows share.
+template <class Traits> std::vector<std::array<std::size_t, 3>> delaunay(const std::vector<EPoint>& polygon, bool reverse) {
+  using Vb = CGAL::Triangulation_vertex_base_with_info_2<std::size_t, Traits>;
+  using Fb = CGAL::Triangulation_face_base_2<Traits>;
+  using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+  CGAL::Delaunay_triangulation_2<Traits, Tds> dt;
+  for (std::size_t i = 0; i < polygon.size(); ++i) dt.insert(polygon[i])->info() = i;
+  std::vector<std::array<std::size_t, 3>> triangles;
+  if (dt.number_of_vertices() != polygon.size()) return triangles;  // two corners with one projection
+  for (auto f = dt.finite_faces_begin(); f != dt.finite_faces_end(); ++f) {
+    std::array<std::size_t, 3> t{f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()};
+    if (reverse) std::swap(t[1], t[2]);
+    triangles.push_back(t);
+  }
+  return triangles;
+}
+
+/// A cut face: its polygon inside the box triangulated, in the orientation of the face.
+std::vector<std::array<std::size_t, 3>> triangulate_cut(const std::array<Point3d, 3>& corners,
+                                                        const std::vector<EPoint>& polygon) {
+  // The projection axis from the corners in a fixed order (the same for a face two tows share,
+  // whichever way round each has it): the largest normal component, in doubles.
+  std::array<Point3d, 3> sorted = corners;
+  std::sort(sorted.begin(), sorted.end());
+  const Filtered::Point_3 p(sorted[0][0], sorted[0][1], sorted[0][2]), q(sorted[1][0], sorted[1][1], sorted[1][2]),
+      r(sorted[2][0], sorted[2][1], sorted[2][2]);
+  const auto n = CGAL::cross_product(q - p, r - p);
+  const double x = std::abs(n.x()), y = std::abs(n.y()), z = std::abs(n.z());
+  const int axis = x >= y && x >= z ? 0 : (y >= z ? 1 : 2);
+  const EPoint a(corners[0][0], corners[0][1], corners[0][2]), b(corners[1][0], corners[1][1], corners[1][2]),
+      c(corners[2][0], corners[2][1], corners[2][2]);
+  auto with = [&](auto traits) {
+    using Traits = decltype(traits);
+    const bool reverse = traits.orientation_2_object()(a, b, c) != CGAL::LEFT_TURN;
+    return delaunay<Traits>(polygon, reverse);
+  };
+  if (axis == 0) return with(CGAL::Projection_traits_yz_3<Exact>());
+  if (axis == 1) return with(CGAL::Projection_traits_xz_3<Exact>());
+  return with(CGAL::Projection_traits_xy_3<Exact>());
+}
+
+}  // namespace
+
+ClippedTows clip_tows_to_box(const std::vector<TriangleSoup>& tows, const std::vector<std::string>& names,
+                             const AxisBox& box) {
+  ClippedTows result;
+  for (std::size_t i = 0; i < tows.size(); ++i) {
+    const TriangleSoup& tow = tows[i];
+    const bool crosses = !std::all_of(tow.points.begin(), tow.points.end(), [&](const Point3d& p) { return in_closed_box(p, box); });
+    result.clipped.push_back(crosses ? 1 : 0);
+    if (!crosses) {
+      result.surfaces.push_back(tow);
+      continue;
+    }
+    TriangleSoup out;
+    std::map<Point3d, std::size_t> index;
+    auto point_index = [&](const Point3d& p) {
+      const auto [it, added] = index.emplace(p, out.points.size());
+      if (added) out.points.push_back(p);
+      return it->second;
+    };
+    for (std::size_t f = 0; f < tow.triangles.size(); ++f) {
+      const auto& t = tow.triangles[f];
+      const std::array<Point3d, 3> corners{tow.points[t[0]], tow.points[t[1]], tow.points[t[2]]};
+      // A face lying in a plane of the box: its side of the cut would be undecided.
+      for (int a = 0; a < 3; ++a)
+        for (const double c : {box.min[a], box.max[a]})
+          if (corners[0][a] == c && corners[1][a] == c && corners[2][a] == c)
+            throw InvalidInput(say(names[i], ": face ", f, " lies in the plane ", "xyz"[a], " = ", c,
+                                   " of a box face while the tow crosses the box: choose another box"));
+      if (in_closed_box(corners[0], box) && in_closed_box(corners[1], box) && in_closed_box(corners[2], box)) {
+        out.triangles.push_back({point_index(corners[0]), point_index(corners[1]), point_index(corners[2])});
+        continue;
+      }
+      bool outside = false;  // all corners on the outer side of one plane (on it, or beyond)
+      for (int a = 0; a < 3 && !outside; ++a)
+        outside = std::all_of(corners.begin(), corners.end(), [&](const Point3d& p) { return p[a] <= box.min[a]; }) ||
+                  std::all_of(corners.begin(), corners.end(), [&](const Point3d& p) { return p[a] >= box.max[a]; });
+      if (outside) continue;
+      std::vector<EPoint> polygon;
+      for (const auto& p : corners) polygon.emplace_back(p[0], p[1], p[2]);
+      polygon = clip_to_box(std::move(polygon), box);
+      if (polygon.empty()) continue;
+      // Rounded to doubles (the same rounding of the same exact point in every face and tow).
+      std::vector<std::size_t> ids;
+      for (const auto& p : polygon) {
+        const auto& e = CGAL::exact(p);
+        ids.push_back(point_index({CGAL::to_double(e.x()), CGAL::to_double(e.y()), CGAL::to_double(e.z())}));
+      }
+      for (const auto& tri : triangulate_cut(corners, polygon)) {
+        const std::array<std::size_t, 3> m{ids[tri[0]], ids[tri[1]], ids[tri[2]]};
+        if (m[0] == m[1] || m[1] == m[2] || m[0] == m[2])
+          throw InvalidInput(say(names[i], ": face ", f, " is cut by the box into pieces thinner than doubles can "
+                                 "represent: choose another box"));
+        out.triangles.push_back(m);
+      }
+    }
+    if (out.triangles.empty()) throw InvalidInput(names[i] + ": the tow lies outside the matrix box");
+    result.surfaces.push_back(std::move(out));
+  }
+  return result;
+}
+
+}  // namespace seam::internal
