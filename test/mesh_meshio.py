@@ -3,7 +3,8 @@
 for three boxes (two touching) and for the bundled plain weave after `seam textile --resolve`, in
 its bounding box and in a unit cell that cuts every tow.
 
-usage: python3 mesh_meshio.py SEAM_CLI   (run by ctest as the test `mesh_meshio`)
+usage: python3 mesh_meshio.py SEAM_CLI [--weave-4x4]   (run by ctest as the tests `mesh_meshio` and
+       `mesh_meshio: a generated 4x4 plain weave`)
 """
 import json
 import os
@@ -106,8 +107,28 @@ def mesh_and_read(cli, paths, tmp, tag, extra=()):
     return report, inp
 
 
+def weave_4x4(cli):
+    """The bundled 4 x 4 plain weave (examples/weave_4x4, sixteen crossings) through
+    `seam textile --resolve` and `seam mesh`, read back from all three formats."""
+    weave = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples", "weave_4x4")
+    names = [f"weft{i}" for i in range(4)] + [f"warp{i}" for i in range(4)]
+    with tempfile.TemporaryDirectory(prefix="seam_mesh_meshio_4x4_") as tmp:
+        resolved = os.path.join(tmp, "resolved")
+        subprocess.run([cli, "textile", *[os.path.join(weave, n + ".off") for n in names], "--out-dir", resolved,
+                        "--resolve", "--quiet"], check=True)
+        # The automatic box grid makes Debian's TetGen 1.5.0 fail an assertion on this weave
+        # (docs/mesh.md); a finer grid does not.
+        report, _ = mesh_and_read(cli, [os.path.join(resolved, n + ".off") for n in names], tmp, "weave4x4",
+                                  ["--margin", "0.1", "--box-spacing", "0.1"])
+        assert [r["name"] for r in report["regions"]] == ["matrix", *names], report["regions"]
+        assert len(report["contacts"]) == 16, report["contacts"]  # one contact patch per crossing
+
+
 def main():
     cli = sys.argv[1]
+    if sys.argv[2:] == ["--weave-4x4"]:
+        weave_4x4(cli)
+        return
     with tempfile.TemporaryDirectory(prefix="seam_mesh_meshio_") as tmp:
         # Three boxes: two with a common face (a contact patch of 3 x 3 quads), one apart.
         tows = {"left": ((0.0, 0.0, 0.0), (1.0, 1.0, 1.0)), "right": ((1.0, 0.0, 0.0), (2.0, 1.0, 1.0)),

@@ -5,6 +5,8 @@
 //   examples/plain_weave/          a 2 x 2 plain weave unit cell (seam::make_weave, defaults):
 //                                  weft0, weft1, warp0, warp1 .off, interpenetrating by 0.03 at
 //                                  each of the four crossings
+//   examples/weave_4x4/            a 4 x 4 plain weave (4 warps, 4 wefts; 8 segments per crossing,
+//                                  12 around): sixteen crossings, for the mesh chain's tests
 //
 // Usage (from the repository root):  make_examples [output-directory]   (default: examples)
 //
@@ -52,6 +54,16 @@ int main(int argc, char** argv) {
 
     for (const auto& t : seam::make_weave(seam::WeaveOptions{})) {
       const std::string path = dir + "/plain_weave/" + t.name + ".off";
+      const seam::TriangleSoup tow_mesh = seam::make_tow(t.options);
+      seam::write_triangle_mesh(tow_mesh, path);
+      std::cout << path << ": " << tow_mesh.points.size() << " vertices, " << tow_mesh.triangles.size() << " triangles\n";
+    }
+    seam::WeaveOptions four;
+    four.warps = four.wefts = 4;
+    four.segments_per_crossing = 8;
+    four.segments_around = 12;
+    for (const auto& t : seam::make_weave(four)) {
+      const std::string path = dir + "/weave_4x4/" + t.name + ".off";
       const seam::TriangleSoup tow_mesh = seam::make_tow(t.options);
       seam::write_triangle_mesh(tow_mesh, path);
       std::cout << path << ": " << tow_mesh.points.size() << " vertices, " << tow_mesh.triangles.size() << " triangles\n";
