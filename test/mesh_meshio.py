@@ -4,7 +4,7 @@ for three boxes (two touching) and for the bundled plain weave after `seam texti
 its bounding box and in a unit cell that cuts every tow.
 
 usage: python3 mesh_meshio.py SEAM_CLI [--weave-4x4]   (run by ctest as the tests `mesh_meshio` and
-       `mesh_meshio: a generated 4x4 plain weave`)
+       `mesh_meshio_weave_4x4`)
 """
 import json
 import os
