@@ -14,7 +14,7 @@ namespace {
 struct MeshArgs {
   std::vector<std::string> tows, outputs, box;
   std::string report;
-  NumberText margin, radius_edge, max_volume, box_spacing;
+  NumberText margin, radius_edge, max_volume, box_spacing, cut_snap;
   bool steiner_on_surfaces = false;
 };
 
@@ -40,12 +40,14 @@ nlohmann::json mesh_report(const MeshArgs& args, const seam::VolumeMeshOptions& 
   nlohmann::json j;
   j["files"] = {{"tows", args.tows}, {"outputs", args.outputs}};
   j["options"] = {{"radius_edge", o.radius_edge}, {"max_volume", o.max_volume}, {"margin", o.margin},
-                  {"box_face_spacing", o.box_face_spacing}, {"steiner_on_surfaces", o.steiner_on_surfaces},
+                  {"box_face_spacing", o.box_face_spacing}, {"cut_snap", o.cut_snap},
+                  {"steiner_on_surfaces", o.steiner_on_surfaces},
                   {"tetgen_switches", st.tetgen_switches}};
   j["box"] = {{"min", st.box.min}, {"max", st.box.max}};
   j["input"] = {{"points", st.input_points}, {"triangles", st.input_triangles}, {"tow_triangles", st.tow_triangles},
                 {"shared_triangles", st.shared_triangles}, {"box_triangles", st.box_triangles},
-                {"clipped_tows", st.clipped_tows}};
+                {"clipped_tows", st.clipped_tows}, {"cut_snapped_vertices", st.cut_snapped_vertices},
+                {"cut_snap_max_move", st.cut_snap_max_move}};
   j["output"] = {{"points", st.points}, {"tets", st.tets}, {"steiner_points", st.steiner_points}};
   j["regions"] = nlohmann::json::array();
   for (std::size_t i = 0; i < st.regions.size(); ++i) {
@@ -73,6 +75,7 @@ int run_mesh(MeshArgs& args) {
   o.max_volume = number_option("--max-volume", args.max_volume, NumberRange::non_negative(), o.max_volume);
   o.box_face_spacing = number_option("--box-spacing", args.box_spacing, NumberRange::non_negative_or_auto(), 0.0, 0.0);
   if (args.box_spacing.given && args.box_spacing.text != "auto" && o.box_face_spacing == 0) o.box_face_spacing = -1;  // 0: no grid
+  o.cut_snap = number_option("--cut-snap", args.cut_snap, NumberRange::between(0, 0.5, "a fraction from 0 to 0.5"), o.cut_snap);
   if (!args.box.empty()) o.box = parse_box(args.box);
   o.steiner_on_surfaces = args.steiner_on_surfaces;
   std::vector<std::string> formats;
@@ -101,7 +104,9 @@ int run_mesh(MeshArgs& args) {
 
   std::cout << "seam mesh: " << st.tets << " tets, " << st.points << " points (" << st.steiner_points
             << " added inside); " << tows.size() << " tows + matrix";
-  if (st.clipped_tows > 0) std::cout << " (" << st.clipped_tows << " tow(s) cut by the box)";
+  if (st.clipped_tows > 0)
+    std::cout << " (" << st.clipped_tows << " tow(s) cut by the box, " << st.cut_snapped_vertices
+              << " vertices moved onto its planes first, by at most " << st.cut_snap_max_move << ")";
   std::cout << ", region volumes equal their surfaces' (exact sums), "
             << st.shared_triangles << " shared faces in " << result.contacts.size() << " contact patch(es); min dihedral "
             << st.min_dihedral_deg << " deg, max radius-edge " << st.max_radius_edge;
@@ -134,6 +139,9 @@ Command add_mesh_command(CLI::App& app) {
   add_number_option(cmd, "--max-volume", ma.max_volume, "Largest tet volume (-a); 0: no bound (default)");
   add_number_option(cmd, "--box-spacing", ma.box_spacing,
                     "Spacing of the points put on the box faces; 0: none (default: auto, the tows' mean edge length or 1/20 of the box's longest side, the larger)");
+  add_number_option(cmd, "--cut-snap", ma.cut_snap,
+                    "Where --box cuts tows: vertices closer than this fraction of the mean edge length to a box plane "
+                    "move onto it first, so that no cut leaves a sliver; 0: none (default 0.1)");
   cmd->add_flag("--steiner-on-surfaces", ma.steiner_on_surfaces,
                 "Let TetGen split the tow surfaces (no -Y): better tets, but the surfaces are no longer seam's");
   cmd->add_option("--report", ma.report, "Write a JSON report (regions, volumes, quality, seconds per stage)");

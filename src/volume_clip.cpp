@@ -17,6 +17,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
+#include <tuple>
+#include <utility>
 
 namespace seam::internal {
 
@@ -112,11 +115,79 @@ std::vector<std::array<std::size_t, 3>> triangulate_cut(const std::array<Point3d
   return with(CGAL::Projection_traits_xy_3<Exact>());
 }
 
+/// Moves tow vertices near a box plane onto it (see ClippedTows in the header): returns how many
+/// distinct points moved, and the longest move.
+std::pair<std::size_t, double> snap_to_planes(std::vector<TriangleSoup>& tows, const AxisBox& box, double snap) {
+  struct Use {
+    std::size_t tow, face;
+  };
+  std::map<Point3d, std::vector<Use>> uses;  // every tow point, with the faces at it
+  for (std::size_t i = 0; i < tows.size(); ++i)
+    for (std::size_t f = 0; f < tows[i].triangles.size(); ++f)
+      for (const std::size_t v : tows[i].triangles[f]) uses[tows[i].points[v]].push_back({i, f});
+  std::map<Point3d, Point3d> moved;
+  std::set<Point3d> occupied;  // where points are now: a move onto one would merge two vertices
+  for (const auto& [p, faces] : uses) occupied.insert(p);
+  auto now = [&](const Point3d& p) {
+    const auto it = moved.find(p);
+    return it == moved.end() ? p : it->second;
+  };
+  auto fp = [](const Point3d& p) { return Filtered::Point_3(p[0], p[1], p[2]); };
+  double max_move = 0;
+  for (const auto& [p, faces] : uses) {
+    Point3d q = p;
+    for (int a = 0; a < 3; ++a) {
+      bool near_box = true;  // within snap of the box in the other two axes
+      for (int b = 0; b < 3; ++b)
+        if (b != a && (p[b] < box.min[b] - snap || p[b] > box.max[b] + snap)) near_box = false;
+      if (!near_box) continue;
+      const double to_min = std::abs(p[a] - box.min[a]), to_max = std::abs(p[a] - box.max[a]);
+      const double c = to_min <= to_max ? box.min[a] : box.max[a];
+      if (std::min(to_min, to_max) <= snap) q[a] = c;
+    }
+    if (q == p || occupied.count(q)) continue;
+    bool allowed = true;
+    for (const Use& u : faces) {
+      const auto& t = tows[u.tow].triangles[u.face];
+      std::array<Point3d, 3> before, after;
+      for (int k = 0; k < 3; ++k) {
+        const Point3d& c = tows[u.tow].points[t[k]];
+        before[k] = now(c);
+        after[k] = c == p ? q : before[k];
+      }
+      if (CGAL::collinear(fp(after[0]), fp(after[1]), fp(after[2]))) {
+        allowed = false;
+        break;
+      }
+      const auto n0 = CGAL::cross_product(fp(before[1]) - fp(before[0]), fp(before[2]) - fp(before[0]));
+      const auto n1 = CGAL::cross_product(fp(after[1]) - fp(after[0]), fp(after[2]) - fp(after[0]));
+      if (!(n0 * n1 > 0)) {
+        allowed = false;
+        break;
+      }
+    }
+    if (!allowed) continue;
+    moved.emplace(p, q);
+    occupied.erase(p);
+    occupied.insert(q);
+    max_move = std::max(max_move, std::sqrt(CGAL::squared_distance(fp(p), fp(q))));
+  }
+  for (auto& tow : tows)
+    for (auto& p : tow.points) p = now(p);
+  return {moved.size(), max_move};
+}
+
 }  // namespace
 
-ClippedTows clip_tows_to_box(const std::vector<TriangleSoup>& tows, const std::vector<std::string>& names,
-                             const AxisBox& box) {
+ClippedTows clip_tows_to_box(const std::vector<TriangleSoup>& input, const std::vector<std::string>& names,
+                             const AxisBox& box, double snap) {
   ClippedTows result;
+  result.uncut = input;
+  const bool any_crosses = std::any_of(input.begin(), input.end(), [&](const TriangleSoup& tow) {
+    return !std::all_of(tow.points.begin(), tow.points.end(), [&](const Point3d& p) { return in_closed_box(p, box); });
+  });
+  if (any_crosses && snap > 0) std::tie(result.snapped, result.max_move) = snap_to_planes(result.uncut, box, snap);
+  const std::vector<TriangleSoup>& tows = result.uncut;
   for (std::size_t i = 0; i < tows.size(); ++i) {
     const TriangleSoup& tow = tows[i];
     const bool crosses = !std::all_of(tow.points.begin(), tow.points.end(), [&](const Point3d& p) { return in_closed_box(p, box); });
@@ -125,6 +196,7 @@ ClippedTows clip_tows_to_box(const std::vector<TriangleSoup>& tows, const std::v
       result.surfaces.push_back(tow);
       continue;
     }
+    const int orientation = signed_volume(tow) >= 0 ? 1 : -1;  // +1: outward normals
     TriangleSoup out;
     std::map<Point3d, std::size_t> index;
     auto point_index = [&](const Point3d& p) {
@@ -135,12 +207,23 @@ ClippedTows clip_tows_to_box(const std::vector<TriangleSoup>& tows, const std::v
     for (std::size_t f = 0; f < tow.triangles.size(); ++f) {
       const auto& t = tow.triangles[f];
       const std::array<Point3d, 3> corners{tow.points[t[0]], tow.points[t[1]], tow.points[t[2]]};
-      // A face lying in a plane of the box: its side of the cut would be undecided.
+      // A face lying in a plane of the box: kept where the tow lies inside the box there (the
+      // face is then part of the box's boundary), dropped where it lies outside (exact: the sign
+      // of the face's normal along the plane's axis, with the tow's orientation).
+      bool drop = false;
       for (int a = 0; a < 3; ++a)
-        for (const double c : {box.min[a], box.max[a]})
-          if (corners[0][a] == c && corners[1][a] == c && corners[2][a] == c)
-            throw InvalidInput(say(names[i], ": face ", f, " lies in the plane ", "xyz"[a], " = ", c,
-                                   " of a box face while the tow crosses the box: choose another box"));
+        for (const bool upper : {false, true}) {
+          const double c = upper ? box.max[a] : box.min[a];
+          if (!(corners[0][a] == c && corners[1][a] == c && corners[2][a] == c)) continue;
+          const int u = (a + 1) % 3, v = (a + 2) % 3;
+          const CGAL::Orientation turn = CGAL::orientation(Filtered::Point_2(corners[0][u], corners[0][v]),
+                                                           Filtered::Point_2(corners[1][u], corners[1][v]),
+                                                           Filtered::Point_2(corners[2][u], corners[2][v]));
+          if (turn == CGAL::COLLINEAR) throw InvalidInput(say(names[i], ": face ", f, " is degenerate"));
+          const int outward_along_a = (turn == CGAL::LEFT_TURN ? 1 : -1) * orientation;
+          drop = outward_along_a != (upper ? 1 : -1);
+        }
+      if (drop) continue;
       if (in_closed_box(corners[0], box) && in_closed_box(corners[1], box) && in_closed_box(corners[2], box)) {
         out.triangles.push_back({point_index(corners[0]), point_index(corners[1]), point_index(corners[2])});
         continue;

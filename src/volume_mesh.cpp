@@ -37,6 +37,8 @@ void check_options(const VolumeMeshOptions& o, std::size_t tows, std::size_t nam
   if (!(std::isfinite(o.max_volume) && o.max_volume >= 0))
     throw InvalidInput(say("max-volume ", o.max_volume, ": must be a finite number >= 0"));
   if (!std::isfinite(o.box_face_spacing)) throw InvalidInput("box face spacing: must be finite");
+  if (!(std::isfinite(o.cut_snap) && o.cut_snap >= 0 && o.cut_snap <= 0.5))
+    throw InvalidInput(say("cut snap ", o.cut_snap, ": must be from 0 to 0.5 (a fraction of the mean edge length)"));
   if (o.box) {
     for (int k = 0; k < 3; ++k)
       if (!(std::isfinite(o.box->min[k]) && std::isfinite(o.box->max[k]) && o.box->min[k] < o.box->max[k]))
@@ -251,11 +253,25 @@ VolumeMeshResult volume_mesh(const std::vector<TriangleSoup>& tows, const std::v
   }
   st.box = matrix_box(tows, names, options);
   // Tows crossing the box (a periodic unit cell) are cut by it; the box faces then close them.
-  const internal::ClippedTows cut = internal::clip_tows_to_box(tows, names, st.box);
+  // Vertices near a box plane move onto it first; if the tows moved so fail the checks, they are
+  // cut as they are (the checks then speak about the input).
+  const double snap = options.cut_snap > 0 ? options.cut_snap * internal::mean_edge_length(tows) : 0.0;
+  internal::ClippedTows cut;
+  internal::Plc plc;
+  for (const double s : {snap, 0.0}) {
+    cut = internal::clip_tows_to_box(tows, names, st.box, s);
+    try {
+      plc = internal::merge_tows(cut.surfaces, names, &cut.uncut);
+      internal::check_no_overlap(plc, names);
+      internal::check_no_crossing_at_edges(plc, names);
+      break;
+    } catch (const InvalidInput&) {
+      if (cut.snapped == 0) throw;
+    }
+  }
   for (const char c : cut.clipped) st.clipped_tows += c ? 1 : 0;
-  internal::Plc plc = internal::merge_tows(cut.surfaces, names, &tows);
-  internal::check_no_overlap(plc, names);
-  internal::check_no_crossing_at_edges(plc, names);
+  st.cut_snapped_vertices = cut.snapped;
+  st.cut_snap_max_move = cut.max_move;
   st.stage_seconds["check"] = seconds_since(t0);
 
   t0 = Clock::now();
@@ -266,7 +282,7 @@ VolumeMeshResult volume_mesh(const std::vector<TriangleSoup>& tows, const std::v
     spacing = std::max(internal::mean_edge_length(cut.surfaces), longest / 20);
   }
   internal::add_box_faces(plc, st.box, spacing);
-  const std::vector<TriangleSoup> closed = internal::close_clipped_tows(plc, tows, cut, st.box, names);
+  const std::vector<TriangleSoup> closed = internal::close_clipped_tows(plc, cut.uncut, cut, st.box, names);
   for (std::size_t i = 0; i < closed.size(); ++i)
     if (cut.clipped[i]) {
       try {

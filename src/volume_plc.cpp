@@ -53,8 +53,8 @@ void add_components(Plc& plc, int tow, const std::vector<std::array<std::size_t,
   }
 }
 
-/// The volume enclosed by a closed surface, signed by its orientation (long double: only the sign
-/// is used, and a closed valid surface does not enclose a volume near zero).
+}  // namespace
+
 long double signed_volume(const TriangleSoup& s) {
   long double sum = 0;
   const Point3d& o = s.points.front();
@@ -70,6 +70,7 @@ long double signed_volume(const TriangleSoup& s) {
   return sum;
 }
 
+namespace {
 
 /// A tow's two faces at an edge, as oriented in the tow, with the tow's orientation sign.
 struct EdgeWedge {
@@ -462,9 +463,9 @@ std::vector<TriangleSoup> close_clipped_tows(Plc& plc, const std::vector<Triangl
       int in = -1;
       for (std::size_t i = 0; i < sides.size(); ++i) {
         if (!sides[i] || !CGAL::do_overlap(point->bbox(), sides[i]->bbox)) continue;
-        const auto side = (*sides[i]->test)(*point);
-        if (side == CGAL::ON_BOUNDARY) throw InternalError(names[i] + ": a box face touches the uncut tow inside a cap");
-        if (side != CGAL::ON_BOUNDED_SIDE) continue;
+        // On the boundary: the point lies on a face of the tow in the box plane that the cut
+        // dropped (the tow lies outside the box there): not a cap.
+        if ((*sides[i]->test)(*point) != CGAL::ON_BOUNDED_SIDE) continue;
         if (in >= 0)
           throw InvalidInput(say(names[std::size_t(in)], " and ", names[i],
                                  ": the tows overlap in a face of the box (run seam resolve first)"));

@@ -322,13 +322,33 @@ TEST_CASE("volume_mesh: tows crossing the box are cut by it and closed by its fa
     CHECK(std::abs(v[1] - 0.1L) <= 1e-13L);
     CHECK(std::abs(v[2] - 0.5L * 0.4L * 0.4L) <= 1e-15L);
   }
-  SECTION("a tow outside the box, and a tow with a face in a box plane, are refused") {
+  SECTION("faces in a box plane: kept where the tow is inside, dropped where it is outside") {
     const auto cube = box_tow({0, 0, 0}, {1, 1, 1}, 2);
+    o.box = make_box({-1, -1, 0}, {0.5, 2, 2});  // the bottom face lies in z = 0, the cube above it
+    const auto r = seam::volume_mesh({cube}, {"cube.off"}, o);
+    CHECK(std::abs(check_cut_model(r, *o.box)[1] - 0.5L) <= 1e-15L);
+    o.box = make_box({-1, -1, 1}, {0.5, 2, 2});  // only the top face, in z = 1, with the cube below
+    CHECK_THROWS_WITH(seam::volume_mesh({cube}, {"cube.off"}, o), Catch::StartsWith("cube.off: the tow lies outside"));
     o.box = make_box({2, 2, 2}, {3, 3, 3});
     CHECK_THROWS_WITH(seam::volume_mesh({cube}, {"cube.off"}, o), Catch::StartsWith("cube.off: the tow lies outside"));
-    o.box = make_box({-1, -1, 0}, {0.5, 2, 2});  // the bottom face lies in z = 0
-    CHECK_THROWS_WITH(seam::volume_mesh({cube}, {"cube.off"}, o),
-                      Catch::StartsWith("cube.off: face") && Catch::Contains("lies in the plane z = 0"));
+  }
+  SECTION("vertices a hair's breadth from a box plane move onto it: no sliver") {
+    const auto cube = box_tow({0, 0, 0}, {1, 1, 1}, 3);  // vertices at x = 1/3 (rounded)
+    const double c = 1.0 / 3 + 1e-9;
+    o.box = make_box({-1, -1, -1}, {c, 2, 2});
+    o.cut_snap = 0;
+    const auto sliver = seam::volume_mesh({cube}, {"cube.off"}, o);
+    CHECK(sliver.stats.cut_snapped_vertices == 0);
+    o.cut_snap = 0.1;
+    const auto snapped = seam::volume_mesh({cube}, {"cube.off"}, o);
+    CHECK(snapped.stats.cut_snapped_vertices == 12);  // the ring of vertices at x = 1/3
+    CHECK(snapped.stats.cut_snap_max_move == Approx(1e-9).epsilon(1e-6));
+    for (const auto* r : {&sliver, &snapped}) {
+      const auto v = check_cut_model(*r, *o.box);
+      CHECK(std::abs(v[1] - (long double)c) <= 1e-15L);
+    }
+    CHECK(sliver.stats.min_dihedral_deg < 1e-3);
+    CHECK(snapped.stats.min_dihedral_deg > 5);
   }
 }
 
@@ -430,10 +450,19 @@ TEST_CASE("seam mesh: writes verified models, refuses bad input with exit 2 and 
     CHECK_THAT(e, Catch::StartsWith("seam: ") && Catch::Contains(names));
     CHECK(seam_test::entries(dir.path / "out").empty());
   };
-  refused({"mesh", left, right, "-o", out + "/m.vtu", "--box", "0", "0", "0", "1.5", "1", "1"}, right);
+  refused({"mesh", left, right, "-o", out + "/m.vtu", "--box", "-1", "-1", "-1", "0.9", "2", "2"}, right + ": the tow lies outside");
+  refused({"mesh", left, right, "-o", out + "/m.vtu", "--cut-snap", "0.6"}, "--cut-snap");
   refused({"mesh", left, right, "-o", out + "/m.stl"}, "m.stl");
   refused({"mesh", left, right, "-o", out + "/m.vtu", "--radius-edge", "0.5"}, "--radius-edge");
   refused({"mesh", left, right, "-o", out + "/m.vtu", "--box", "0", "0", "0", "-1", "1", "1"}, "--box");
   refused({"mesh", left, right, "-o", out + "/m.vtu", "-o", out + "/m.vtu"}, "the same path is given for two outputs");
   refused({"mesh", left, left, "-o", out + "/m.vtu", "--margin", "1"}, "the tows overlap");
+  // A unit cell that cuts both boxes in half: written, verified, both cut.
+  REQUIRE(run_seam(dir, {"mesh", left, right, "-o", out + "/cell.vtu", "--box", "0.5", "0", "0", "1.5", "1", "1",
+                         "--report", out + "/cell.json"}, err) == 0);
+  const auto cell = nlohmann::json::parse(seam_test::read_bytes(out + "/cell.json"));
+  CHECK(cell["input"]["clipped_tows"] == 2);
+  CHECK(cell["regions"][1]["volume"] == 0.5);
+  CHECK(cell["regions"][2]["volume"] == 0.5);
+  CHECK(cell["regions"][0]["tets"] == 0);  // the two halves fill the cell
 }

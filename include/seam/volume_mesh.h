@@ -62,6 +62,11 @@ struct VolumeMeshOptions {
   /// tows, or 1/20 of the box's longest side if that is larger); a negative value: none (each face's triangulation has only the corners and the
   /// tow vertices lying in it).
   double box_face_spacing = 0.0;
+  /// Where a given box cuts tows: tow vertices closer than this fraction of the tows' mean edge
+  /// length to a box plane move onto it first (no cut then passes that close to a vertex, which
+  /// would leave a sliver piece); 0: none. A move that would put a face in a box plane, make it
+  /// degenerate or turn it over is not made.
+  double cut_snap = 0.1;
   /// Let TetGen put Steiner points on the input faces (drops -Y). The tow surfaces then change
   /// (split triangles); the checks that every input triangle is a mesh face are skipped.
   bool steiner_on_surfaces = false;
@@ -100,8 +105,10 @@ struct VolumeMeshStats {
   AxisBox box;
   std::size_t input_points = 0, input_triangles = 0;  ///< the PLC (box faces included)
   std::size_t tow_triangles = 0, shared_triangles = 0, box_triangles = 0;
-  /// Tows that crossed the box and were cut by it (their caps are box triangles).
-  std::size_t clipped_tows = 0;
+  /// Tows that crossed the box and were cut by it (their caps are box triangles); tow vertices
+  /// moved onto a box plane first (VolumeMeshOptions::cut_snap), and the longest such move.
+  std::size_t clipped_tows = 0, cut_snapped_vertices = 0;
+  double cut_snap_max_move = 0;
   std::size_t points = 0, tets = 0;
   std::size_t steiner_points = 0;  ///< points TetGen added (none on the input faces with -Y)
   std::vector<RegionStats> regions;

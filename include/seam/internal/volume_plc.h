@@ -81,6 +81,10 @@ void check_no_overlap(const Plc& plc, const std::vector<std::string>& names);
 /// InvalidInput naming both tows. Indices above 2^32 are not supported (edge keys).
 void check_no_crossing_at_edges(const Plc& plc, const std::vector<std::string>& names);
 
+/// The volume enclosed by a closed surface, times 6, signed by its orientation (long double: only
+/// the sign is used, and a closed valid surface does not enclose a volume near zero).
+long double signed_volume(const TriangleSoup& s);
+
 /// The mean edge length over all tow triangles.
 double mean_edge_length(const std::vector<TriangleSoup>& tows);
 
@@ -96,14 +100,26 @@ void add_box_faces(Plc& plc, const AxisBox& box, double spacing);
 /// the triangles depend on the piece's corners only, so a face two tows share is cut alike in
 /// both); the new corners are then rounded to doubles, each lying exactly in its box plane. A
 /// crossing tow is left open along the box; close_clipped_tows adds its caps from the box faces.
-/// InvalidInput (naming the tow) when a crossing tow has a face lying in a plane of the box, when
-/// rounding merges two corners of a piece, or when nothing of a tow is inside the box.
+/// A face of a crossing tow lying in a box plane is kept where the tow lies inside the box there
+/// (it is then part of the box's boundary) and dropped where the tow lies outside. InvalidInput
+/// (naming the tow) when rounding merges two corners of a piece, or when nothing of a tow is
+/// inside the box.
+///
+/// Before the cut, when some tow crosses the box and `snap` > 0: every tow vertex closer than
+/// `snap` to a box plane (and within `snap` of the box in the other two axes) moves onto that
+/// plane, the points in increasing order, each move made only when no face at that point (in any
+/// tow) would then be degenerate (exact) or have its normal turned by more than 90 degrees, and
+/// no other point is already there. The decision depends on the point only, so tows that share a vertex move it
+/// alike. `uncut` holds the tows so moved (the tows themselves when nothing moved).
 struct ClippedTows {
   std::vector<TriangleSoup> surfaces;
+  std::vector<TriangleSoup> uncut;
   std::vector<char> clipped;
+  std::size_t snapped = 0;
+  double max_move = 0;
 };
 ClippedTows clip_tows_to_box(const std::vector<TriangleSoup>& tows, const std::vector<std::string>& names,
-                             const AxisBox& box);
+                             const AxisBox& box, double snap = 0);
 
 /// After add_box_faces, on a complex of clipped tows: the box triangles inside a clipped tow are
 /// its caps (owned by the tow and the box). The box faces' triangles are grouped into regions
