@@ -166,6 +166,60 @@ std::pair<std::size_t, double> snap_to_planes(std::vector<TriangleSoup>& tows, c
         break;
       }
     }
+    // An edge that would lie in a box plane with the tow's two faces at it on the same side: the
+    // tow would touch the plane along it, from inside (a thin wedge of matrix) or from outside
+    // (its part in the box pinched to a line, caps on both sides). Left as it is, the cut makes
+    // small pieces instead, which are valid.
+    if (allowed) {
+      std::map<std::tuple<std::size_t, Point3d, int>, std::vector<int>> sides;  // (tow, other end, axis) -> sides
+      for (const Use& u : faces) {
+        const auto& t = tows[u.tow].triangles[u.face];
+        std::array<Point3d, 3> after;
+        for (int k = 0; k < 3; ++k) {
+          const Point3d& c = tows[u.tow].points[t[k]];
+          after[k] = c == p ? q : now(c);
+        }
+        for (int a = 0; a < 3; ++a) {
+          if (q[a] == p[a]) continue;  // the planes p moved onto
+          for (int k = 0; k < 3; ++k) {
+            if (after[k] != q) continue;
+            for (const int j : {1, 2}) {
+              const Point3d &w = after[(k + j) % 3], &x = after[(k + 3 - j) % 3];
+              if (w[a] != q[a]) continue;  // edge (q, w) in the plane, x the third corner
+              sides[{u.tow, w, a}].push_back(x[a] < q[a] ? -1 : x[a] > q[a] ? 1 : 0);
+            }
+          }
+        }
+      }
+      for (const auto& [key, s] : sides)
+        if (s.size() == 2 && s[0] == s[1] && s[0] != 0) allowed = false;
+    }
+    // Around the moved point, in each tow, the neighbours off each plane it moved onto must form
+    // one arc on either side (two changes of side around the fan): otherwise the plane would
+    // touch the tow at the point, or pinch its part in the box there (a non-manifold vertex).
+    for (int a = 0; a < 3 && allowed; ++a) {
+      if (q[a] == p[a]) continue;
+      std::map<std::size_t, std::map<Point3d, Point3d>> next;  // per tow: the fan's link, w -> x
+      for (const Use& u : faces) {
+        const auto& t = tows[u.tow].triangles[u.face];
+        for (int k = 0; k < 3; ++k)
+          if (tows[u.tow].points[t[k]] == p)
+            next[u.tow][now(tows[u.tow].points[t[(k + 1) % 3]])] = now(tows[u.tow].points[t[(k + 2) % 3]]);
+      }
+      for (const auto& [tow, link] : next) {
+        std::vector<int> signs;
+        Point3d w = link.begin()->first;
+        for (std::size_t steps = 0; steps < link.size(); ++steps) {
+          if (w[a] != q[a]) signs.push_back(w[a] < q[a] ? -1 : 1);
+          const auto it = link.find(w);
+          if (it == link.end()) break;
+          w = it->second;
+        }
+        int changes = 0;
+        for (std::size_t k = 0; k < signs.size(); ++k) changes += signs[k] != signs[(k + 1) % signs.size()];
+        if (w != link.begin()->first || changes != 2) allowed = false;
+      }
+    }
     if (!allowed) continue;
     moved.emplace(p, q);
     occupied.erase(p);
@@ -245,9 +299,10 @@ ClippedTows clip_tows_to_box(const std::vector<TriangleSoup>& input, const std::
       }
       for (const auto& tri : triangulate_cut(corners, polygon)) {
         const std::array<std::size_t, 3> m{ids[tri[0]], ids[tri[1]], ids[tri[2]]};
-        if (m[0] == m[1] || m[1] == m[2] || m[0] == m[2])
-          throw InvalidInput(say(names[i], ": face ", f, " is cut by the box into pieces thinner than doubles can "
-                                 "represent: choose another box"));
+        // Two corners that round to one point (a box edge passing a few units in the last place
+        // from a tow edge, say): the triangle between them collapses, in every face that has
+        // them (they round alike), and the faces around it close over it.
+        if (m[0] == m[1] || m[1] == m[2] || m[0] == m[2]) continue;
         out.triangles.push_back(m);
       }
     }

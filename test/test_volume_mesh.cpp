@@ -260,6 +260,33 @@ TriangleSoup oblique_prism(double x0, double x1, int segments) {
   return s;
 }
 
+/// A prism along x over the polygon `section` (points (y, z), counterclockwise, every corner
+/// visible from the first), from x0 to x1 in `segments` steps, outward oriented.
+TriangleSoup extruded(const std::vector<std::array<double, 2>>& section, double x0, double x1, int segments) {
+  TriangleSoup s;
+  const std::size_t n = section.size();
+  for (int i = 0; i <= segments; ++i) {
+    const double x = i == segments ? x1 : x0 + (x1 - x0) * i / segments;
+    for (const auto& q : section) s.points.push_back({x, q[0], q[1]});
+  }
+  for (std::size_t i = 0; i < std::size_t(segments); ++i)
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t a = n * i + k, b = n * i + (k + 1) % n, c = a + n, d = b + n;
+      s.triangles.push_back({a, c, d});
+      s.triangles.push_back({a, d, b});
+    }
+  const std::size_t last = n * std::size_t(segments);
+  for (std::size_t k = 1; k + 1 < n; ++k) {
+    s.triangles.push_back({0, k, k + 1});
+    s.triangles.push_back({last, last + k + 1, last + k});
+  }
+  long double signed_sum = 0;
+  for (const auto& t : s.triangles) signed_sum += det(s.points[0], s.points[t[0]], s.points[t[1]], s.points[t[2]]);
+  if (signed_sum < 0)
+    for (auto& t : s.triangles) std::swap(t[1], t[2]);
+  return s;
+}
+
 /// Independent checks of a model of tows cut by its box: no inverted tet, the regions tile the
 /// box exactly (long double sums), every tet face on the box's boundary lies in a box face.
 std::vector<long double> check_cut_model(const seam::VolumeMeshResult& r, const seam::AxisBox& box) {
@@ -349,6 +376,16 @@ TEST_CASE("volume_mesh: tows crossing the box are cut by it and closed by its fa
     }
     CHECK(sliver.stats.min_dihedral_deg < 1e-3);
     CHECK(snapped.stats.min_dihedral_deg > 5);
+  }
+  SECTION("a ridge just beyond a box plane stays there: moved onto it, it would pinch the tow") {
+    // The tow's underside is a roof whose ridge (z = 0.05) lies 0.01 above the box's top face
+    // z = 0.04, within the snapping distance; inside the box are two thin wedges beside it.
+    const auto roof = extruded({{0, 0.05}, {1, 0}, {1, 1}, {-1, 1}, {-1, 0}}, 0, 1, 4);
+    o.box = make_box({0.3, -2, -1}, {0.7, 2, 0.04});
+    const auto r = seam::volume_mesh({roof}, {"roof"}, o);
+    const auto v = check_cut_model(r, *o.box);
+    // Each wedge: the integral of 0.04 - 0.05 (1 - |y|) for |y| from 0.2 to 1 (0.016), times 0.4.
+    CHECK(std::abs(v[1] - 2 * 0.016L * 0.4L) <= 1e-15L);
   }
 }
 

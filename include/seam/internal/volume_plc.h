@@ -101,9 +101,9 @@ void add_box_faces(Plc& plc, const AxisBox& box, double spacing);
 /// both); the new corners are then rounded to doubles, each lying exactly in its box plane. A
 /// crossing tow is left open along the box; close_clipped_tows adds its caps from the box faces.
 /// A face of a crossing tow lying in a box plane is kept where the tow lies inside the box there
-/// (it is then part of the box's boundary) and dropped where the tow lies outside. InvalidInput
-/// (naming the tow) when rounding merges two corners of a piece, or when nothing of a tow is
-/// inside the box.
+/// (it is then part of the box's boundary) and dropped where the tow lies outside. A triangle of
+/// a piece whose corners round onto one point is dropped (the same in every face that has them).
+/// InvalidInput (naming the tow) when nothing of a tow is inside the box.
 ///
 /// Before the cut, when some tow crosses the box and `snap` > 0: every tow vertex closer than
 /// `snap` to a box plane (and within `snap` of the box in the other two axes) moves onto that
