@@ -5,6 +5,8 @@
 // with a plane, constructed with lazy exact numbers), the Delaunay triangulation of each cut
 // face. Rounded: the cut points are written as doubles at the end. A cut point's coordinate along
 // the plane's axis is the plane's coordinate itself, a double, so it stays exactly in the box face.
+// Before the cut, vertices near a box plane may move onto it (snap_to_planes): decided on doubles
+// and exact predicates, per point, so that no cut leaves a sliver next to a vertex.
 #include <seam/internal/message.h>
 #include <seam/internal/volume_plc.h>
 

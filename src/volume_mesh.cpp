@@ -14,7 +14,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <map>
 #include <memory>
 #include <numeric>
@@ -290,26 +289,6 @@ VolumeMeshResult volume_mesh(const std::vector<TriangleSoup>& tows, const std::v
       try {
         check_closed(closed[i], names[i]);
       } catch (const InvalidInput& e) {
-        if (std::getenv("SEAM_DBG")) {
-          std::map<std::pair<std::size_t, std::size_t>, int> uses;
-          for (const auto& t : closed[i].triangles)
-            for (int k = 0; k < 3; ++k) ++uses[{std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])}];
-          for (const auto& [e, n] : uses)
-            if (n != 2) {
-              const auto& p = closed[i].points[e.first]; const auto& q = closed[i].points[e.second];
-              std::fprintf(stderr, "DBG edge uses %d: (%.17g %.17g %.17g) - (%.17g %.17g %.17g)\n", n, p[0], p[1], p[2], q[0], q[1], q[2]);
-              for (std::size_t f = 0; f < closed[i].triangles.size(); ++f) {
-                const auto& t = closed[i].triangles[f];
-                int hits = 0;
-                for (int k = 0; k < 3; ++k) hits += (t[k] == e.first || t[k] == e.second);
-                if (hits < 2) continue;
-                std::fprintf(stderr, "   face %zu (%s):", f, f < cut.surfaces[i].triangles.size() ? "tow" : "cap");
-                for (int k = 0; k < 3; ++k) std::fprintf(stderr, " (%.9g %.9g %.12g)", closed[i].points[t[k]][0], closed[i].points[t[k]][1], closed[i].points[t[k]][2]);
-                std::fprintf(stderr, "\n");
-              }
-              break;
-            }
-        }
         throw InternalError(std::string("the tow cut by the box is not closed by its caps: ") + e.what());
       }
     }
