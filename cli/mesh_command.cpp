@@ -47,7 +47,7 @@ nlohmann::json mesh_report(const MeshArgs& args, const seam::VolumeMeshOptions& 
   j["input"] = {{"points", st.input_points}, {"triangles", st.input_triangles}, {"tow_triangles", st.tow_triangles},
                 {"shared_triangles", st.shared_triangles}, {"box_triangles", st.box_triangles},
                 {"clipped_tows", st.clipped_tows}, {"cut_snapped_vertices", st.cut_snapped_vertices},
-                {"cut_snap_max_move", st.cut_snap_max_move}};
+                {"cut_snap_max_move", st.cut_snap_max_move}, {"cut_snap_undone", st.cut_snap_undone}};
   j["output"] = {{"points", st.points}, {"tets", st.tets}, {"steiner_points", st.steiner_points}};
   j["regions"] = nlohmann::json::array();
   for (std::size_t i = 0; i < st.regions.size(); ++i) {

@@ -118,7 +118,11 @@ std::vector<std::array<std::size_t, 3>> triangulate_cut(const std::array<Point3d
 }
 
 /// Moves tow vertices near a box plane onto it (see ClippedTows in the header): returns how many
-/// distinct points moved, and the longest move.
+/// distinct points moved, and the longest move. Every point near a plane is a candidate; each
+/// candidate is tested with all the others moved, and those that fail go back, until all pass:
+/// each round drops at least one candidate or ends, so there are at most as many rounds as
+/// candidates (in practice one or two). Testing with the others moved lets a ring of vertices a
+/// few units in the last place on either side of a plane move together.
 std::pair<std::size_t, double> snap_to_planes(std::vector<TriangleSoup>& tows, const AxisBox& box, double snap) {
   struct Use {
     std::size_t tow, face;
@@ -127,15 +131,7 @@ std::pair<std::size_t, double> snap_to_planes(std::vector<TriangleSoup>& tows, c
   for (std::size_t i = 0; i < tows.size(); ++i)
     for (std::size_t f = 0; f < tows[i].triangles.size(); ++f)
       for (const std::size_t v : tows[i].triangles[f]) uses[tows[i].points[v]].push_back({i, f});
-  std::map<Point3d, Point3d> moved;
-  std::set<Point3d> occupied;  // where points are now: a move onto one would merge two vertices
-  for (const auto& [p, faces] : uses) occupied.insert(p);
-  auto now = [&](const Point3d& p) {
-    const auto it = moved.find(p);
-    return it == moved.end() ? p : it->second;
-  };
-  auto fp = [](const Point3d& p) { return Filtered::Point_3(p[0], p[1], p[2]); };
-  double max_move = 0;
+  std::map<Point3d, Point3d> moved;  // the candidates still in, point -> where it goes
   for (const auto& [p, faces] : uses) {
     Point3d q = p;
     for (int a = 0; a < 3; ++a) {
@@ -147,87 +143,106 @@ std::pair<std::size_t, double> snap_to_planes(std::vector<TriangleSoup>& tows, c
       const double c = to_min <= to_max ? box.min[a] : box.max[a];
       if (std::min(to_min, to_max) <= snap) q[a] = c;
     }
-    if (q == p || occupied.count(q)) continue;
-    bool allowed = true;
-    for (const Use& u : faces) {
+    if (q != p) moved.emplace(p, q);
+  }
+  auto now = [&](const Point3d& p) {
+    const auto it = moved.find(p);
+    return it == moved.end() ? p : it->second;
+  };
+  auto fp = [](const Point3d& p) { return Filtered::Point_3(p[0], p[1], p[2]); };
+  std::vector<int> orientation;  // per tow: +1 outward normals
+  for (const auto& tow : tows) orientation.push_back(signed_volume(tow) >= 0 ? 1 : -1);
+  // Whether moving p to q (the other candidates moved) keeps every face at p sound and the plane
+  // crossing the tow there.
+  auto valid = [&](const Point3d& p, const Point3d& q) {
+    const auto& faces = uses.at(p);
+    for (const Use& u : faces) {  // no face degenerate (exact) or turned over
       const auto& t = tows[u.tow].triangles[u.face];
       std::array<Point3d, 3> before, after;
       for (int k = 0; k < 3; ++k) {
-        const Point3d& c = tows[u.tow].points[t[k]];
-        before[k] = now(c);
-        after[k] = c == p ? q : before[k];
+        before[k] = tows[u.tow].points[t[k]];
+        after[k] = now(before[k]);
       }
-      if (CGAL::collinear(fp(after[0]), fp(after[1]), fp(after[2]))) {
-        allowed = false;
-        break;
-      }
+      if (CGAL::collinear(fp(after[0]), fp(after[1]), fp(after[2]))) return false;
       const auto n0 = CGAL::cross_product(fp(before[1]) - fp(before[0]), fp(before[2]) - fp(before[0]));
       const auto n1 = CGAL::cross_product(fp(after[1]) - fp(after[0]), fp(after[2]) - fp(after[0]));
-      if (!(n0 * n1 > 0)) {
-        allowed = false;
-        break;
-      }
+      if (!(n0 * n1 > 0)) return false;
     }
-    // An edge that would lie in a box plane with the tow's two faces at it on the same side: the
-    // tow would touch the plane along it, from inside (a thin wedge of matrix) or from outside
-    // (its part in the box pinched to a line, caps on both sides). Left as it is, the cut makes
-    // small pieces instead, which are valid.
-    if (allowed) {
-      std::map<std::tuple<std::size_t, Point3d, int>, std::vector<int>> sides;  // (tow, other end, axis) -> sides
+    // Where the plane would then touch the tow instead of crossing it (the neighbours around q,
+    // or the two faces at an edge in the plane, all on one side), the tow's interior must lie
+    // away from the plane (a tow lying against the box face from inside, or touching it from
+    // outside): where it faced the plane, the tow's part in the box would be pinched to a line
+    // or a point, with caps on both sides (a ridge of a CT tow 0.004 beyond the plane did that).
+    // Left as it is, the cut makes small pieces there instead, which are valid. More than one arc
+    // on either side around q is refused too.
+    for (int a = 0; a < 3; ++a) {
+      if (q[a] == p[a]) continue;  // only the planes p moves onto
+      const int out = q[a] == box.max[a] ? 1 : -1;  // the box's outward direction along a
+      auto side = [&](const Point3d& x) { return x[a] == q[a] ? 0 : ((x[a] - q[a]) * out < 0 ? -1 : 1); };  // -1: inner
+      // The normal of face (x, y, z) of tow i along a, outward from the tow, positive out of the
+      // box (doubles; twice the face's area times the cosine).
+      auto normal_out = [&](std::size_t i, const Point3d& x, const Point3d& y, const Point3d& z) {
+        return CGAL::cross_product(fp(y) - fp(x), fp(z) - fp(x))[a] * out * orientation[i];
+      };
+      std::map<std::pair<std::size_t, Point3d>, std::pair<std::vector<int>, double>> at_edge;  // (tow, w): sides, normals
+      std::map<std::size_t, std::map<Point3d, Point3d>> link;  // per tow: the fan's link around q, w -> x
+      std::map<std::size_t, double> fan_normal;                // per tow: the sum of the fan's normals along a
       for (const Use& u : faces) {
         const auto& t = tows[u.tow].triangles[u.face];
-        std::array<Point3d, 3> after;
+        std::array<Point3d, 3> c;
+        int k0 = 0;
         for (int k = 0; k < 3; ++k) {
-          const Point3d& c = tows[u.tow].points[t[k]];
-          after[k] = c == p ? q : now(c);
+          const Point3d& x = tows[u.tow].points[t[k]];
+          c[k] = now(x);
+          if (x == p) k0 = k;
         }
-        for (int a = 0; a < 3; ++a) {
-          if (q[a] == p[a]) continue;  // the planes p moved onto
-          for (int k = 0; k < 3; ++k) {
-            if (after[k] != q) continue;
-            for (const int j : {1, 2}) {
-              const Point3d &w = after[(k + j) % 3], &x = after[(k + 3 - j) % 3];
-              if (w[a] != q[a]) continue;  // edge (q, w) in the plane, x the third corner
-              sides[{u.tow, w, a}].push_back(x[a] < q[a] ? -1 : x[a] > q[a] ? 1 : 0);
-            }
+        const double n = normal_out(u.tow, c[0], c[1], c[2]);
+        const Point3d &w = c[(k0 + 1) % 3], &x = c[(k0 + 2) % 3];
+        link[u.tow][w] = x;
+        fan_normal[u.tow] += n;
+        for (const auto& [end, third] : {std::pair{w, x}, std::pair{x, w}})
+          if (side(end) == 0) {
+            auto& e = at_edge[{u.tow, end}];
+            e.first.push_back(side(third));
+            e.second += n;
           }
-        }
       }
-      for (const auto& [key, s] : sides)
-        if (s.size() == 2 && s[0] == s[1] && s[0] != 0) allowed = false;
-    }
-    // Around the moved point, in each tow, the neighbours off each plane it moved onto must form
-    // one arc on either side (two changes of side around the fan): otherwise the plane would
-    // touch the tow at the point, or pinch its part in the box there (a non-manifold vertex).
-    for (int a = 0; a < 3 && allowed; ++a) {
-      if (q[a] == p[a]) continue;
-      std::map<std::size_t, std::map<Point3d, Point3d>> next;  // per tow: the fan's link, w -> x
-      for (const Use& u : faces) {
-        const auto& t = tows[u.tow].triangles[u.face];
-        for (int k = 0; k < 3; ++k)
-          if (tows[u.tow].points[t[k]] == p)
-            next[u.tow][now(tows[u.tow].points[t[(k + 1) % 3]])] = now(tows[u.tow].points[t[(k + 2) % 3]]);
-      }
-      for (const auto& [tow, link] : next) {
-        std::vector<int> signs;
-        Point3d w = link.begin()->first;
-        for (std::size_t steps = 0; steps < link.size(); ++steps) {
-          if (w[a] != q[a]) signs.push_back(w[a] < q[a] ? -1 : 1);
-          const auto it = link.find(w);
-          if (it == link.end()) break;
+      // The tow lies away from the plane where the faces there face out of the box (their normals
+      // summed) from the inner side, or into it from the outer side.
+      auto away = [](int s, double n) { return s == -1 ? n > 0 : n < 0; };
+      // An edge in the plane with both faces on one side.
+      for (const auto& [edge, e] : at_edge)
+        if (e.first.size() == 2 && e.first[0] == e.first[1] && e.first[0] != 0 && !away(e.first[0], e.second))
+          return false;
+      for (const auto& [tow, next] : link) {
+        std::vector<int> signs;  // the sides of the neighbours off the plane, around q
+        Point3d w = next.begin()->first;
+        for (std::size_t steps = 0; steps < next.size(); ++steps) {
+          if (side(w) != 0) signs.push_back(side(w));
+          const auto it = next.find(w);
+          if (it == next.end()) break;
           w = it->second;
         }
         int changes = 0;
         for (std::size_t k = 0; k < signs.size(); ++k) changes += signs[k] != signs[(k + 1) % signs.size()];
-        if (w != link.begin()->first || changes != 2) allowed = false;
+        // All neighbours off the plane on one side: the same test on the whole fan.
+        const bool fan_away = signs.empty() || changes > 0 || away(signs.front(), fan_normal[tow]);
+        if (w != next.begin()->first || changes > 2 || !fan_away) return false;
       }
     }
-    if (!allowed) continue;
-    moved.emplace(p, q);
-    occupied.erase(p);
-    occupied.insert(q);
-    max_move = std::max(max_move, std::sqrt(CGAL::squared_distance(fp(p), fp(q))));
+    return true;
+  };
+  for (;;) {
+    std::map<Point3d, int> at;  // how many points end where (two at one place would merge)
+    for (const auto& [p, faces] : uses) ++at[now(p)];
+    std::vector<Point3d> back;
+    for (const auto& [p, q] : moved)
+      if (at[q] > 1 || !valid(p, q)) back.push_back(p);
+    if (back.empty()) break;
+    for (const auto& p : back) moved.erase(p);
   }
+  double max_move = 0;
+  for (const auto& [p, q] : moved) max_move = std::max(max_move, std::sqrt(CGAL::squared_distance(fp(p), fp(q))));
   for (auto& tow : tows)
     for (auto& p : tow.points) p = now(p);
   return {moved.size(), max_move};

@@ -254,20 +254,21 @@ VolumeMeshResult volume_mesh(const std::vector<TriangleSoup>& tows, const std::v
   }
   st.box = matrix_box(tows, names, options);
   // Tows crossing the box (a periodic unit cell) are cut by it; the box faces then close them.
-  // Vertices near a box plane move onto it first; if the tows moved so fail the checks, they are
-  // cut as they are (the checks then speak about the input).
+  // Vertices near a box plane move onto it first; if the tows moved so fail the checks (or one
+  // keeps nothing in the box), they are cut as they are (the checks then speak about the input).
   const double snap = options.cut_snap > 0 ? options.cut_snap * internal::mean_edge_length(tows) : 0.0;
   internal::ClippedTows cut;
   internal::Plc plc;
   for (const double s : {snap, 0.0}) {
-    cut = internal::clip_tows_to_box(tows, names, st.box, s);
     try {
+      cut = internal::clip_tows_to_box(tows, names, st.box, s);
       plc = internal::merge_tows(cut.surfaces, names, &cut.uncut);
       internal::check_no_overlap(plc, names);
       internal::check_no_crossing_at_edges(plc, names);
       break;
-    } catch (const InvalidInput&) {
-      if (cut.snapped == 0) throw;
+    } catch (const InvalidInput& e) {
+      if (s == 0) throw;  // moved, the tows failed (or lost their part in the box): as they are
+      st.cut_snap_undone = e.what();
     }
   }
   for (const char c : cut.clipped) st.clipped_tows += c ? 1 : 0;

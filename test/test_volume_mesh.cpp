@@ -379,13 +379,14 @@ TEST_CASE("volume_mesh: tows crossing the box are cut by it and closed by its fa
   }
   SECTION("a ridge just beyond a box plane stays there: moved onto it, it would pinch the tow") {
     // The tow's underside is a roof whose ridge (z = 0.05) lies 0.01 above the box's top face
-    // z = 0.04, within the snapping distance; inside the box are two thin wedges beside it.
-    const auto roof = extruded({{0, 0.05}, {1, 0}, {1, 1}, {-1, 1}, {-1, 0}}, 0, 1, 4);
+    // z = 0.04, within the snapping distance; inside the box are two wedges beside it.
+    const auto roof = extruded({{0, 0.05}, {1, -0.5}, {1, 1}, {-1, 1}, {-1, -0.5}}, 0, 1, 4);
     o.box = make_box({0.3, -2, -1}, {0.7, 2, 0.04});
     const auto r = seam::volume_mesh({roof}, {"roof"}, o);
     const auto v = check_cut_model(r, *o.box);
-    // Each wedge: the integral of 0.04 - 0.05 (1 - |y|) for |y| from 0.2 to 1 (0.016), times 0.4.
-    CHECK(std::abs(v[1] - 2 * 0.016L * 0.4L) <= 1e-15L);
+    // Each wedge: the integral of 0.04 - (0.05 - 0.55 |y|) for |y| from 1/55 to 1 (0.265 +
+    // 1/11000), times the length 0.4.
+    CHECK(std::abs(v[1] - 0.8L * (0.265L + 1.0L / 11000)) <= 1e-14L);
   }
 }
 

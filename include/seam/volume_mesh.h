@@ -109,6 +109,9 @@ struct VolumeMeshStats {
   /// moved onto a box plane first (VolumeMeshOptions::cut_snap), and the longest such move.
   std::size_t clipped_tows = 0, cut_snapped_vertices = 0;
   double cut_snap_max_move = 0;
+  /// Why the tows were cut without moving vertices onto the box planes, when moved they failed
+  /// the checks (empty otherwise).
+  std::string cut_snap_undone;
   std::size_t points = 0, tets = 0;
   std::size_t steiner_points = 0;  ///< points TetGen added (none on the input faces with -Y)
   std::vector<RegionStats> regions;
