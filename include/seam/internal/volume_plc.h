@@ -106,11 +106,16 @@ void add_box_faces(Plc& plc, const AxisBox& box, double spacing);
 /// InvalidInput (naming the tow) when nothing of a tow is inside the box.
 ///
 /// Before the cut, when some tow crosses the box and `snap` > 0: every tow vertex closer than
-/// `snap` to a box plane (and within `snap` of the box in the other two axes) moves onto that
-/// plane, the points in increasing order, each move made only when no face at that point (in any
-/// tow) would then be degenerate (exact) or have its normal turned by more than 90 degrees, and
-/// no other point is already there. The decision depends on the point only, so tows that share a vertex move it
-/// alike. `uncut` holds the tows so moved (the tows themselves when nothing moved).
+/// `snap` to a box plane (and within `snap` of the box in the other two axes) is a candidate to
+/// move onto that plane. A candidate moves only if, with all other candidates moved, no face at
+/// it (in any tow) is degenerate (exact) or turned over, no two points end at one place, and the
+/// plane still crosses the tow there: around the point, in each tow, the neighbours off the plane
+/// form at most one arc on either side, and where they (or the two faces at an edge in the plane)
+/// are all on one side, those faces, their normals summed, face away from the plane (otherwise
+/// the tow's part in the box would be pinched to a point or a line). Candidates that fail go back
+/// and the rest are tested again, until all pass: each round drops one or ends. The decision
+/// depends on the points only, so tows that share a vertex move it alike. `uncut` holds the tows
+/// so moved (the tows themselves when nothing moved).
 struct ClippedTows {
   std::vector<TriangleSoup> surfaces;
   std::vector<TriangleSoup> uncut;
