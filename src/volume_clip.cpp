@@ -36,6 +36,11 @@ bool in_closed_box(const Point3d& p, const AxisBox& box) {
   return true;
 }
 
+/// Whether a tow has a vertex outside the closed box.
+bool crosses_box(const TriangleSoup& tow, const AxisBox& box) {
+  return !std::all_of(tow.points.begin(), tow.points.end(), [&](const Point3d& p) { return in_closed_box(p, box); });
+}
+
 /// The point of segment pq on the plane x_a = c (p and q strictly on either side of it, or one on
 /// it): exact, with coordinate a exactly c. The same value whichever way round p and q are given.
 EPoint cut_point(const EPoint& p, const EPoint& q, int a, double c) {
@@ -254,14 +259,12 @@ ClippedTows clip_tows_to_box(const std::vector<TriangleSoup>& input, const std::
                              const AxisBox& box, double snap) {
   ClippedTows result;
   result.uncut = input;
-  const bool any_crosses = std::any_of(input.begin(), input.end(), [&](const TriangleSoup& tow) {
-    return !std::all_of(tow.points.begin(), tow.points.end(), [&](const Point3d& p) { return in_closed_box(p, box); });
-  });
+  const bool any_crosses = std::any_of(input.begin(), input.end(), [&](const TriangleSoup& tow) { return crosses_box(tow, box); });
   if (any_crosses && snap > 0) std::tie(result.snapped, result.max_move) = snap_to_planes(result.uncut, box, snap);
   const std::vector<TriangleSoup>& tows = result.uncut;
   for (std::size_t i = 0; i < tows.size(); ++i) {
     const TriangleSoup& tow = tows[i];
-    const bool crosses = !std::all_of(tow.points.begin(), tow.points.end(), [&](const Point3d& p) { return in_closed_box(p, box); });
+    const bool crosses = crosses_box(tow, box);  // after the moves: a tow moved onto the box lies against it
     result.clipped.push_back(crosses ? 1 : 0);
     if (!crosses) {
       result.surfaces.push_back(tow);

@@ -284,7 +284,7 @@ VolumeMeshResult volume_mesh(const std::vector<TriangleSoup>& tows, const std::v
     spacing = std::max(internal::mean_edge_length(cut.surfaces), longest / 20);
   }
   internal::add_box_faces(plc, st.box, spacing);
-  const std::vector<TriangleSoup> closed = internal::close_clipped_tows(plc, cut.uncut, cut, st.box, names);
+  const std::vector<TriangleSoup> closed = internal::close_clipped_tows(plc, cut, st.box, names);
   for (std::size_t i = 0; i < closed.size(); ++i)
     if (cut.clipped[i]) {
       try {

@@ -3,6 +3,7 @@
 #include <seam/internal/volume_plc.h>
 
 #include <seam/internal/message.h>
+#include <seam/io.h>
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Side_of_triangle_mesh.h>
@@ -374,8 +375,9 @@ void check_no_crossing_at_edges(const Plc& plc, const std::vector<std::string>& 
   }
 }
 
-std::vector<TriangleSoup> close_clipped_tows(Plc& plc, const std::vector<TriangleSoup>& uncut, const ClippedTows& clipped,
-                                             const AxisBox& box, const std::vector<std::string>& names) {
+std::vector<TriangleSoup> close_clipped_tows(Plc& plc, const ClippedTows& clipped, const AxisBox& box,
+                                             const std::vector<std::string>& names) {
+  const std::vector<TriangleSoup>& uncut = clipped.uncut;
   std::vector<TriangleSoup> closed = clipped.surfaces;
   if (std::none_of(clipped.clipped.begin(), clipped.clipped.end(), [](char c) { return c != 0; })) return closed;
   const std::size_t n = plc.triangles.size(), first = plc.tow_triangle_count;
@@ -420,14 +422,8 @@ std::vector<TriangleSoup> close_clipped_tows(Plc& plc, const std::vector<Triangl
   for (std::size_t i = 0; i < uncut.size(); ++i) {
     if (!clipped.clipped[i]) continue;
     auto s = std::make_unique<Side>();
-    std::vector<Mesh<K>::Vertex_index> v;
-    for (const auto& p : uncut[i].points) {
-      v.push_back(s->mesh.add_vertex(K::Point_3(p[0], p[1], p[2])));
-      s->bbox += s->mesh.point(v.back()).bbox();
-    }
-    for (const auto& t : uncut[i].triangles)
-      if (s->mesh.add_face(v[t[0]], v[t[1]], v[t[2]]) == Mesh<K>::null_face())
-        throw InternalError(names[i] + ": the uncut tow could not be built as a mesh");
+    s->mesh = mesh_from_soup<K>(uncut[i], names[i]);
+    for (auto v : s->mesh.vertices()) s->bbox += s->mesh.point(v).bbox();
     s->test = std::make_unique<CGAL::Side_of_triangle_mesh<Mesh<K>, K>>(s->mesh);
     sides[i] = std::move(s);
   }
@@ -435,19 +431,26 @@ std::vector<TriangleSoup> close_clipped_tows(Plc& plc, const std::vector<Triangl
     const auto& t = plc.triangles[f];
     return CGAL::cross_product(plc.point(t[1]) - plc.point(t[0]), plc.point(t[2]) - plc.point(t[0])).squared_length();
   };
+  // A point of box triangle f's face, in the face's plane coordinates (exact: a projection).
+  auto in_plane = [&](std::size_t f, const Point3d& x) {
+    const int a = face_of[f] / 2;
+    return K::Point_2(x[(a + 1) % 3], x[(a + 2) % 3]);
+  };
+  auto turn_of = [&](std::size_t f, const std::array<std::size_t, 3>& t) {
+    return CGAL::orientation(in_plane(f, plc.points[t[0]]), in_plane(f, plc.points[t[1]]), in_plane(f, plc.points[t[2]]));
+  };
   // A point strictly inside box triangle f (its centroid in doubles, checked exactly), if any.
   auto inner_point = [&](std::size_t f) -> std::optional<K::Point_3> {
     const auto& t = plc.triangles[f];
-    const int a = face_of[f] / 2, u = (a + 1) % 3, v = (a + 2) % 3;
     Point3d c;
     for (int k = 0; k < 3; ++k) c[k] = (plc.points[t[0]][k] + plc.points[t[1]][k] + plc.points[t[2]][k]) / 3;
-    c[a] = plc.points[t[0]][a];
-    const K::Point_2 p(plc.points[t[0]][u], plc.points[t[0]][v]), q(plc.points[t[1]][u], plc.points[t[1]][v]),
-        r(plc.points[t[2]][u], plc.points[t[2]][v]), x(c[u], c[v]);
-    const auto turn = CGAL::orientation(p, q, r);
-    if (turn == CGAL::COLLINEAR || CGAL::orientation(p, q, x) != turn || CGAL::orientation(q, r, x) != turn ||
-        CGAL::orientation(r, p, x) != turn)
-      return std::nullopt;
+    c[face_of[f] / 2] = plc.points[t[0]][face_of[f] / 2];
+    const auto turn = turn_of(f, t);
+    const K::Point_2 x = in_plane(f, c);
+    for (int k = 0; k < 3; ++k)
+      if (turn == CGAL::COLLINEAR ||
+          CGAL::orientation(in_plane(f, plc.points[t[k]]), in_plane(f, plc.points[t[(k + 1) % 3]]), x) != turn)
+        return std::nullopt;
     return K::Point_3(c[0], c[1], c[2]);
   };
   std::vector<std::vector<std::array<std::size_t, 3>>> caps(uncut.size());
@@ -480,12 +483,8 @@ std::vector<TriangleSoup> close_clipped_tows(Plc& plc, const std::vector<Triangl
     for (const std::size_t f : faces) {
       auto t = plc.triangles[f];
       // Outward from the tow is outward from the box, for a tow oriented outwards.
-      const int a = face_of[f] / 2, u = (a + 1) % 3, v = (a + 2) % 3;
-      const auto turn = CGAL::orientation(K::Point_2(plc.points[t[0]][u], plc.points[t[0]][v]),
-                                          K::Point_2(plc.points[t[1]][u], plc.points[t[1]][v]),
-                                          K::Point_2(plc.points[t[2]][u], plc.points[t[2]][v]));
       const int outward = (face_of[f] % 2 ? 1 : -1) * plc.orientation[i];
-      if ((turn == CGAL::LEFT_TURN ? 1 : -1) != outward) std::swap(t[1], t[2]);
+      if ((turn_of(f, t) == CGAL::LEFT_TURN ? 1 : -1) != outward) std::swap(t[1], t[2]);
       plc.owner[f].tow_a = int(i);
       plc.owner[f].face_a = closed[i].triangles.size() + caps[i].size();
       caps[i].push_back(t);

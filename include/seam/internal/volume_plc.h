@@ -129,12 +129,13 @@ ClippedTows clip_tows_to_box(const std::vector<TriangleSoup>& tows, const std::v
 /// After add_box_faces, on a complex of clipped tows: the box triangles inside a clipped tow are
 /// its caps (owned by the tow and the box). The box faces' triangles are grouped into regions
 /// that no tow edge separates; each region lies inside or outside each tow as a whole, which an
-/// exact side test against the tow's uncut surface decides on a point inside one of the region's
-/// largest triangles (three of them, which must agree). Returns the tows closed (the clipped
+/// exact side test against the tow's uncut surface (clipped.uncut) decides on a point inside
+/// one of the region's largest triangles (three of them, which must agree). Returns the tows
+/// closed (the clipped
 /// surfaces plus their caps, oriented as the tow), rebuilds their components. InvalidInput when a
 /// region lies inside two tows; InternalError when the tests on one region disagree.
-std::vector<TriangleSoup> close_clipped_tows(Plc& plc, const std::vector<TriangleSoup>& uncut, const ClippedTows& clipped,
-                                             const AxisBox& box, const std::vector<std::string>& names);
+std::vector<TriangleSoup> close_clipped_tows(Plc& plc, const ClippedTows& clipped, const AxisBox& box,
+                                             const std::vector<std::string>& names);
 
 /// Minimum / maximum dihedral angle, largest radius-edge ratio and the tets above `bound` (0: none).
 void tet_quality(const TetMesh& mesh, double bound, VolumeMeshStats& stats);
