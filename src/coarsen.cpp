@@ -1,6 +1,7 @@
 // seam, pipeline step 4: coarsening. See seam/internal/coarsen.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/internal/coarsen.h>
+#include <seam/internal/trace.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +11,8 @@ namespace seam::internal {
 namespace {
 
 template <class P> std::array<double, 3> dbl(const P& p) {
-  return {CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())};
+  const auto q = to_filtered(p);  // under Epeck from the interval approximation, no lazy number
+  return {q.x(), q.y(), q.z()};
 }
 
 /// Squared distance from p to the segment [a, b] (to a when a == b), in doubles: used only to
@@ -82,7 +84,8 @@ template <class K> class CurveCoarsener {
   CurveCoarsener(const Mesh<K>& mesh, const TracedCurve<K>& tc, double curve_tol, bool keep_all_nodes)
       : mesh_(mesh), tc_(tc), pts_(tc.points), n_(pts_.size()), closed_(tc.closed), curve_tol_(curve_tol),
         xyz_(n_), kept_(n_, 0) {
-    for (std::size_t i = 0; i < n_; ++i) xyz_[i] = dbl(pts_[i].p);
+    for (std::size_t i = 0; i < n_; ++i)
+      xyz_[i] = tc.face_points_deferred && pts_[i].where == Where::face ? rounded_projection(pts_[i]) : dbl(pts_[i].p);
     keep_crossings(keep_all_nodes);
     if (closed_ && std::none_of(kept_.begin(), kept_.end(), [](char k) { return k != 0; })) keep_three_of_a_loop();
     refine_runs();
@@ -96,7 +99,7 @@ template <class K> class CurveCoarsener {
     for (std::size_t i = 0; i < n_; ++i)
       if (kept_[i]) k.push_back(i);
     for (std::size_t j = 0; j < k.size(); ++j) {
-      cc.ids.push_back(points.id(pts_[k[j]]));
+      cc.ids.push_back(points.id(location(k[j])));
       cc.traced_index.push_back(k[j]);
       const bool last = j + 1 == k.size();
       if (last && !closed_) break;
@@ -115,6 +118,32 @@ template <class K> class CurveCoarsener {
   }
 
  private:
+  /// Where traced point i lies (its exact projection when the trace deferred it).
+  SurfacePoint<K> location(std::size_t i) const {
+    return tc_.face_points_deferred ? traced_location<K>(mesh_, tc_, i) : pts_[i];
+  }
+
+  /// A deferred face point's projection onto its face's plane, in doubles (for choosing which
+  /// nodes to keep, as the rounded exact projection would be).
+  std::array<double, 3> rounded_projection(const SurfacePoint<K>& sp) {
+    if (sp.f != plane_face_) {  // consecutive points mostly share a face
+      plane_face_ = sp.f;
+      const auto h = mesh_.halfedge(sp.f);
+      const auto b = dbl(mesh_.point(mesh_.target(h))), c = dbl(mesh_.point(mesh_.target(mesh_.next(h))));
+      plane_a_ = dbl(mesh_.point(mesh_.source(h)));
+      const auto& a = plane_a_;
+      const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+      plane_n_ = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    }
+    const auto &a = plane_a_, &n = plane_n_;
+    const auto q = dbl(sp.p);
+    const double nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+    const double t = nn > 0 ? ((q[0] - a[0]) * n[0] + (q[1] - a[1]) * n[1] + (q[2] - a[2]) * n[2]) / nn : 0.0;
+    return {q[0] - t * n[0], q[1] - t * n[1], q[2] - t * n[2]};
+  }
+  typename MeshTypes<K>::F plane_face_;  ///< rounded_projection's face, its corner a and normal n
+  std::array<double, 3> plane_a_{}, plane_n_{};
+
   /// Points on edges and vertices (crossings), the ends of an open curve, and with
   /// keep_all_nodes every input node. A point inside an edge with both neighbours on that same
   /// edge is not a crossing: the curve runs along the edge there. It is dropped (the edge is not
@@ -194,7 +223,7 @@ template <class K> class CurveCoarsener {
       if (pts_[(a + 1) % n].where != Where::face) continue;  // dropped points along an edge
       const auto f = pts_[(a + 1) % n].f;
       std::size_t keep = n;
-      if (pts_[a].same_as(pts_[b])) {
+      if (location(a).same_as(location(b))) {
         // A loop from a point back to itself: keep the two nodes farthest apart from it.
         auto [i1, d1] = farthest(a, b, n);
         auto [i2, d2] = farthest(a, b, i1);

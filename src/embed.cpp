@@ -345,7 +345,8 @@ EmbedResult<K> embed_with_known_sites(Mesh<K>& mesh, const std::vector<Polyline<
 
   // ---- 2, 3. locate and cross
   TraceReport trace_report;
-  const auto traced = trace_curves<K>(mesh, curves, st.max_distance, trace_report, options.keep_all_nodes, 0.0, known);
+  const auto traced = trace_curves<K>(mesh, curves, st.max_distance, trace_report, options.keep_all_nodes, 0.0, known,
+                                      /*defer_projections=*/true);
   st.stage_seconds["locate"] = trace_report.locate_seconds;
   st.stage_seconds["cross"] = trace_report.cross_seconds;
 

@@ -85,19 +85,13 @@ SnapReport<K> snap_vertices(Mesh<K>& mesh, const std::vector<Polyline<K>>& curve
   }
   std::sort(candidates.begin(), candidates.end());
 
-  // Nodes at the same place (a closing repeat, duplicate points) are one node: `canonical`
-  // maps each to the first of its group, and a group takes at most one vertex.
-  std::vector<std::size_t> order(ids), canonical(ids.size());
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return std::make_tuple(dnodes[a].x(), dnodes[a].y(), dnodes[a].z(), a) <
-           std::make_tuple(dnodes[b].x(), dnodes[b].y(), dnodes[b].z(), b);
-  });
-  for (std::size_t k = 0; k < order.size(); ++k)
-    canonical[order[k]] = (k > 0 && dnodes[order[k]] == dnodes[order[k - 1]]) ? canonical[order[k - 1]] : order[k];
-
-  std::vector<char> node_taken(dnodes.size(), 0);
+  // Nodes at the same place (a closing repeat, duplicate points) are one node: a place takes at
+  // most one vertex. Keyed by the candidates' rounded coordinates only (not a sort of all nodes:
+  // a curve of millions of nodes snaps a handful of vertices).
+  std::set<std::array<double, 3>> places_taken;
   for (const auto& [d, vi, node] : candidates) {
-    if (node_taken[canonical[node]]) continue;
+    const std::array<double, 3> place{dnodes[node].x(), dnodes[node].y(), dnodes[node].z()};
+    if (places_taken.count(place)) continue;
     const V v(static_cast<typename V::size_type>(vi));
     const auto& target = *nodes[node];
     if (!move_keeps_faces<K>(mesh, v, target)) {
@@ -105,7 +99,7 @@ SnapReport<K> snap_vertices(Mesh<K>& mesh, const std::vector<Polyline<K>>& curve
       continue;
     }
     mesh.point(v) = target;
-    node_taken[canonical[node]] = 1;
+    places_taken.insert(place);
     ++report.snapped;
     report.max_move = std::max(report.max_move, d);
     report.moved.push_back(v);

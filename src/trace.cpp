@@ -67,11 +67,7 @@ template <class K> class Tracer {
       }
     }
     F f = search->face_of[std::size_t(it - search->triangles.begin())];
-    auto project = [&](F g) {
-      auto hg = m_.halfedge(g);
-      return typename K::Construct_projected_point_3()(
-          typename K::Triangle_3(m_.point(m_.source(hg)), m_.point(m_.target(hg)), m_.point(m_.target(m_.next(hg)))), q);
-    };
+    auto project = [&](F g) { return typename K::Construct_projected_point_3()(triangle(g), q); };
     // The closest point of the triangle, constructed in the kernel (exact under Epeck).
     // Not made exact here: most located nodes are dropped by coarsening, and forcing the exact
     // value of each projection dominated the run time. The points that are kept are made exact
@@ -156,6 +152,19 @@ template <class K> class Tracer {
     sp.where = Where::face;
     sp.f = f;
     return sp;
+  }
+
+  /// Face g as a kernel triangle, built once per face: under Epeck each projection onto it keeps
+  /// a reference to the triangle in its lazy expression, so one triangle per located node cost
+  /// about 200 bytes per node (a million nodes in one face: 200 MB).
+  const typename K::Triangle_3& triangle(F g) const {
+    auto [it, inserted] = triangles_.try_emplace(std::size_t(g));
+    if (inserted) {
+      const auto hg = m_.halfedge(g);
+      it->second = typename K::Triangle_3(m_.point(m_.source(hg)), m_.point(m_.target(hg)),
+                                          m_.point(m_.target(m_.next(hg))));
+    }
+    return it->second;
   }
 
   /// Unnormalised outward normal of face f (exact under Epeck).
@@ -333,6 +342,7 @@ template <class K> class Tracer {
   std::optional<CGAL::Bbox_3> region_;  ///< where near_ is complete; none: near_ holds all faces
   mutable std::unique_ptr<Search> near_;
   mutable std::unique_ptr<Search> all_;  ///< built on the first node near the region's walls
+  mutable std::unordered_map<std::size_t, typename K::Triangle_3> triangles_;  ///< see triangle()
 };
 
 template <class P> std::string describe_point(const P& p) {
@@ -345,9 +355,21 @@ template <class P> std::string describe_point(const P& p) {
 }  // namespace
 
 template <class K>
+SurfacePoint<K> traced_location(const Mesh<K>& mesh, const TracedCurve<K>& tc, std::size_t i) {
+  SurfacePoint<K> sp = tc.points[i];
+  if (tc.face_points_deferred && sp.where == Where::face) {
+    const auto h = mesh.halfedge(sp.f);
+    sp.p = typename K::Construct_projected_point_3()(
+        typename K::Triangle_3(mesh.point(mesh.source(h)), mesh.point(mesh.target(h)), mesh.point(mesh.target(mesh.next(h)))),
+        sp.p);
+  }
+  return sp;
+}
+
+template <class K>
 std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<Polyline<K>>& curves,
                                          double max_distance, TraceReport& report, bool nodes_on_surface,
-                                         double feature_tol, const KnownSites<K>* known) {
+                                         double feature_tol, const KnownSites<K>* known, bool defer_projections) {
   using Clock = std::chrono::steady_clock;
   auto t0 = Clock::now();
   // The region the nodes can be located in: their bounding box, grown by max_distance (or by a
@@ -371,56 +393,73 @@ std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<
                             nodes_box.xmax() + margin, nodes_box.ymax() + margin, nodes_box.zmax() + margin);
   Tracer<K> tracer(mesh, feature_tol, any_node && std::isfinite(margin) ? &region : nullptr);
 
-  // Locate every node.
-  std::vector<std::vector<SurfacePoint<K>>> located(curves.size());
-  for (std::size_t c = 0; c < curves.size(); ++c) {
+  // Locate each node and follow the curve from the previous one, node after node: a located
+  // node's projection (under Epeck a lazy expression of about 100 bytes) is needed only until the
+  // walk has left it. With `defer_projections` a face point then keeps its input node as p (see
+  // TracedCurve::face_points_deferred), so memory stays at the traced curve's own size.
+  const bool defer = defer_projections && kernel_traits<K>::exact_constructions && !nodes_on_surface && !known;
+  double locate_seconds = 0;
+  auto locate_node = [&](std::size_t c, std::size_t i) {
     const auto& curve = curves[c];
-    const std::size_t n = is_closed(curve) ? curve.size() - 1 : curve.size();
-    located[c].reserve(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      double distance = 0;
-      if (const SurfacePoint<K>* site = known ? known->find(curve[i]) : nullptr) {
-        located[c].push_back(*site);
-        continue;
-      }
-      located[c].push_back(tracer.locate(curve[i], distance));
-      if (nodes_on_surface && located[c].back().where != Where::vertex) located[c].back().p = curve[i];
-      if (!(distance <= max_distance)) {
-        std::ostringstream msg;
-        msg << "curve " << c << " node " << i << " " << describe_point(curve[i]) << " is " << distance
-            << " from the surface (max distance " << max_distance << ")";
-        throw InvalidInput(msg.str());
-      }
+    if (const SurfacePoint<K>* site = known ? known->find(curve[i]) : nullptr) return *site;
+    const auto t = Clock::now();
+    double distance = 0;
+    SurfacePoint<K> sp = tracer.locate(curve[i], distance);
+    if (nodes_on_surface && sp.where != Where::vertex) sp.p = curve[i];
+    locate_seconds += std::chrono::duration<double>(Clock::now() - t).count();
+    if (!(distance <= max_distance)) {
+      std::ostringstream msg;
+      msg << "curve " << c << " node " << i << " " << describe_point(curve[i]) << " is " << distance
+          << " from the surface (max distance " << max_distance << ")";
+      throw InvalidInput(msg.str());
     }
-  }
-  auto t1 = Clock::now();
+    return sp;
+  };
+  // A walk that fails is an internal error, but a node too far from the surface is bad input and
+  // is reported first, wherever it comes in the curves.
+  auto fail = [&](std::size_t c, std::size_t i, const std::string& what) {
+    for (std::size_t c2 = c; c2 < curves.size(); ++c2) {
+      const std::size_t n2 = is_closed(curves[c2]) ? curves[c2].size() - 1 : curves[c2].size();
+      for (std::size_t i2 = c2 == c ? i + 1 : 0; i2 < n2; ++i2) locate_node(c2, i2);
+    }
+    throw InternalError(what);
+  };
+  // Replaces the projection of a face point by the input node it was located from.
+  auto demote = [&](TracedCurve<K>& tc, std::size_t k, std::size_t c) {
+    if (!defer || k >= tc.points.size() || tc.points[k].where != Where::face || tc.input_node[k] < 0) return;
+    tc.points[k].p = curves[c][std::size_t(tc.input_node[k])];
+  };
 
-  // Follow each curve from node to node.
   std::vector<TracedCurve<K>> traced(curves.size());
   for (std::size_t c = 0; c < curves.size(); ++c) {
-    const auto& nodes = located[c];
     TracedCurve<K>& tc = traced[c];
     tc.closed = is_closed(curves[c]);
-    const std::size_t n = nodes.size();
+    tc.face_points_deferred = defer;
+    const std::size_t n = is_closed(curves[c]) ? curves[c].size() - 1 : curves[c].size();
+    SurfacePoint<K> first;  // the first point, projected (the closing walk goes back to it)
+    std::size_t last_node_point = 0;  // index in tc.points of the last located node
     for (std::size_t i = 0; i < n; ++i) {
+      SurfacePoint<K> node = locate_node(c, i);
       if (tc.points.empty()) {
-        tc.points.push_back(nodes[i]);
+        first = node;
+        tc.points.push_back(node);
         tc.input_node.push_back(long(i));
         continue;
       }
-      if (tc.points.back().same_as(nodes[i])) continue;  // duplicate node on the surface
-      if (!tracer.connect(tc.points.back(), nodes[i], tc.points, tc.step_face, report.retries)) {
+      if (tc.points.back().same_as(node)) continue;  // duplicate node on the surface
+      if (!tracer.connect(tc.points.back(), node, tc.points, tc.step_face, report.retries)) {
         std::ostringstream msg;
         msg << "could not follow curve " << c << " on the surface from node " << (i - 1) << " to node " << i;
-        throw InternalError(msg.str());
+        fail(c, i, msg.str());
       }
       tc.input_node.resize(tc.points.size(), -1);
       tc.input_node.back() = long(i);
+      demote(tc, last_node_point, c);  // the walk has left it
+      last_node_point = tc.points.size() - 1;
     }
     if (tc.closed && tc.points.size() > 1) {
       // Close the loop back to the first point.
-      if (!tc.points.back().same_as(tc.points.front())) {
-        const auto first = tc.points.front();
+      if (!tc.points.back().same_as(first)) {
         if (!tracer.connect(tc.points.back(), first, tc.points, tc.step_face, report.retries)) {
           std::ostringstream msg;
           msg << "could not close curve " << c << " on the surface";
@@ -434,20 +473,25 @@ std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<
       tc.input_node.pop_back();
       // step_face keeps the closing step: size == points.size() for a closed curve.
     }
+    demote(tc, 0, c);
+    demote(tc, last_node_point, c);
     if (tc.points.size() < 2) {
       std::ostringstream msg;
       msg << "curve " << c << " has no length on the surface (all its nodes project to one point)";
       throw InvalidInput(msg.str());
     }
   }
-  auto t2 = Clock::now();
-  report.locate_seconds = std::chrono::duration<double>(t1 - t0).count();
-  report.cross_seconds = std::chrono::duration<double>(t2 - t1).count();
+  const double total = std::chrono::duration<double>(Clock::now() - t0).count();
+  report.locate_seconds = locate_seconds;
+  report.cross_seconds = std::max(0.0, total - locate_seconds);
   return traced;
 }
 
-template std::vector<TracedCurve<Exact>> trace_curves<Exact>(const Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double, TraceReport&, bool, double, const KnownSites<Exact>*);
-template std::vector<TracedCurve<Filtered>> trace_curves<Filtered>(const Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double, TraceReport&, bool, double, const KnownSites<Filtered>*);
-template std::vector<TracedCurve<Float>> trace_curves<Float>(const Mesh<Float>&, const std::vector<Polyline<Float>>&, double, TraceReport&, bool, double, const KnownSites<Float>*);
+template SurfacePoint<Exact> traced_location<Exact>(const Mesh<Exact>&, const TracedCurve<Exact>&, std::size_t);
+template SurfacePoint<Filtered> traced_location<Filtered>(const Mesh<Filtered>&, const TracedCurve<Filtered>&, std::size_t);
+template SurfacePoint<Float> traced_location<Float>(const Mesh<Float>&, const TracedCurve<Float>&, std::size_t);
+template std::vector<TracedCurve<Exact>> trace_curves<Exact>(const Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double, TraceReport&, bool, double, const KnownSites<Exact>*, bool);
+template std::vector<TracedCurve<Filtered>> trace_curves<Filtered>(const Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double, TraceReport&, bool, double, const KnownSites<Filtered>*, bool);
+template std::vector<TracedCurve<Float>> trace_curves<Float>(const Mesh<Float>&, const std::vector<Polyline<Float>>&, double, TraceReport&, bool, double, const KnownSites<Float>*, bool);
 
 }  // namespace seam::internal

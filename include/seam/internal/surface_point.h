@@ -112,6 +112,10 @@ template <class K> struct TracedCurve {
   std::vector<typename MeshTypes<K>::F> step_face;
   std::vector<long> input_node;  ///< input node index of each point, -1 for crossings found on the way
   bool closed = false;           ///< points.back() is the same location as points.front()
+  /// When true, a point inside a face (where == face) holds the input node it was located from,
+  /// not the node's projection onto the face: use traced_location() (seam/internal/trace.h) for
+  /// where it lies. Vertex and edge points always hold their exact location.
+  bool face_points_deferred = false;
 };
 
 }  // namespace seam::internal

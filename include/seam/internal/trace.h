@@ -42,9 +42,20 @@ struct TraceReport {
 /// always use at least 1e-9.
 /// `known`: nodes found there are taken as located there (distance 0), without a search; the
 /// search tree is built only if some node is not.
+/// `defer_projections` (exact constructions, nodes off the surface, no `known`): face points
+/// keep their input node instead of its projection (TracedCurve::face_points_deferred). Under
+/// Epeck a projection is a lazy expression of about 100 bytes, and most face points are dropped
+/// by coarsening: a curve of 10 million nodes needed 1 GB for them.
 template <class K>
 std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<Polyline<K>>& curves,
                                          double max_distance, TraceReport& report, bool nodes_on_surface = false,
-                                         double feature_tol = 0, const KnownSites<K>* known = nullptr);
+                                         double feature_tol = 0, const KnownSites<K>* known = nullptr,
+                                         bool defer_projections = false);
+
+/// Point i of a traced curve where it lies on the mesh: with `face_points_deferred`, a face point
+/// holds its input node, and its location (the node's exact projection onto the face, the same
+/// value locating it computed) is constructed here.
+template <class K>
+SurfacePoint<K> traced_location(const Mesh<K>& mesh, const TracedCurve<K>& tc, std::size_t i);
 
 }  // namespace seam::internal
