@@ -25,7 +25,11 @@
 //                           file MB, growth of the peak resident memory (MB) while reading and
 //                           converting.
 //   hostile/embed_ring_1m_memory/K  (class 8) the whole million_nodes run from doubles in memory:
-//                           to_kernel + seam::embed; counter: growth of the peak resident memory.
+//                           to_kernel + seam::embed; counters: growth of the peak resident memory,
+//                           in MB and in bytes per curve node.
+//   hostile/spiral_1e6_turns/K  (class 8) seam::embed of an open curve of 4,000,000 nodes
+//                           spiralling 1,000,000 times inside one face of the unit square (default
+//                           options: the nodes between the two ends are dropped); counters as above.
 // K: exact (Epeck) or filtered (Epick). One iteration each (manual time = wall clock of the
 // call); counters give the sizes.
 //
@@ -238,7 +242,40 @@ template <class K> void embed_ring_memory(benchmark::State& state) {
     const auto r = seam::embed<K>(mesh, curves, {});
     state.SetIterationTime(seconds_since(t));
     state.counters["peak_growth_MB"] = status_mb("VmHWM") - before;
+    state.counters["bytes_per_node"] = (status_mb("VmHWM") - before) * 1024 * 1024 / double(curve.size());
     state.counters["nodes_in"] = double(r.stats.curve_nodes_in);
+  }
+}
+
+/// The unit square as two triangles sharing the diagonal (1,0)-(0,1).
+seam::TriangleSoup square_other_diagonal() { return {{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}, {{0, 1, 2}, {1, 3, 2}}}; }
+
+/// An open spiral of `nodes` nodes turning `turns` times around (0.3, 0.3, 0), radius 0.2 down
+/// to 0.05: inside the triangle (0,0,0), (1,0,0), (0,1,0) of square_other_diagonal().
+std::vector<seam::Point3d> spiral(int nodes, int turns) {
+  std::vector<seam::Point3d> c;
+  for (int i = 0; i < nodes; ++i) {
+    const double t = double(i) / (nodes - 1), a = 2 * M_PI * turns * t, r = 0.2 - 0.15 * t;
+    c.push_back({0.3 + r * std::cos(a), 0.3 + r * std::sin(a), 0});
+  }
+  return c;
+}
+
+template <class K> void spiral_memory(benchmark::State& state) {
+  const auto soup = square_other_diagonal();
+  const auto curve = spiral(4000000, 1000000);
+  for (auto _ : state) {
+    auto mesh = seam::mesh_from_soup<K>(soup, "mesh");
+    reset_peak();
+    const double before = status_mb("VmHWM");
+    const auto t = Clock::now();
+    const auto curves = seam::to_kernel<K>({curve});
+    const auto r = seam::embed<K>(mesh, curves, {});
+    state.SetIterationTime(seconds_since(t));
+    state.counters["peak_growth_MB"] = status_mb("VmHWM") - before;
+    state.counters["bytes_per_node"] = (status_mb("VmHWM") - before) * 1024 * 1024 / double(curve.size());
+    state.counters["nodes_in"] = double(r.stats.curve_nodes_in);
+    state.counters["nodes_out"] = double(r.stats.curve_nodes_out);
   }
 }
 
@@ -254,6 +291,8 @@ BENCHMARK_TEMPLATE(max_area, seam::Filtered)->Name("hostile/max_area/filtered")-
 BENCHMARK(read_curve)->Name("hostile/read_curve_2m")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(embed_ring_memory, seam::Exact)->Name("hostile/embed_ring_1m_memory/exact")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(embed_ring_memory, seam::Filtered)->Name("hostile/embed_ring_1m_memory/filtered")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(spiral_memory, seam::Exact)->Name("hostile/spiral_1e6_turns/exact")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(spiral_memory, seam::Filtered)->Name("hostile/spiral_1e6_turns/filtered")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(zigzag, seam::Exact)->Name("hostile/zigzag_100k/exact")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(zigzag, seam::Filtered)->Name("hostile/zigzag_100k/filtered")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(million_nodes, seam::Exact)->Name("hostile/million_nodes_10_faces/exact")->UseManualTime()->Iterations(1)->Unit(benchmark::kMillisecond);
