@@ -99,22 +99,30 @@ bool make_fan(const ImproveState<K>& s, std::size_t m, const std::vector<typenam
   return !part.added.empty();
 }
 
-namespace {
-
-/// The links along the curve after a new point x splits segment (a, b).
-template <class K> void link_split(ImproveState<K>& s, int a, int b, int x) {
-  const int start = s.segment_start(a, b);
-  if (start < 0) throw InternalError("improve: a split of a segment that is not a curve segment");
-  const int end = s.nodes[std::size_t(start)].next, p = s.nodes[std::size_t(start)].point, q = s.nodes[std::size_t(end)].point;
-  const int node = int(s.nodes.size());
-  s.nodes.push_back({x, start, end, s.nodes[std::size_t(start)].curve});
-  s.points[std::size_t(x)].nodes.push_back(node);
-  s.nodes[std::size_t(start)].next = node;
-  s.nodes[std::size_t(end)].prev = node;
+template <class K> void split_curve_links(ImproveState<K>& s, int a, int b, int x) {
+  std::vector<int> starts;  // nodes whose segment to the next node is (a, b)
+  for (const int n : s.points[std::size_t(a)].nodes) {
+    const auto& node = s.nodes[std::size_t(n)];
+    if (node.next >= 0 && s.nodes[std::size_t(node.next)].point == b) starts.push_back(n);
+    if (node.prev >= 0 && s.nodes[std::size_t(node.prev)].point == b) starts.push_back(node.prev);
+  }
+  std::sort(starts.begin(), starts.end());
+  starts.erase(std::unique(starts.begin(), starts.end()), starts.end());
+  if (starts.empty()) throw InternalError("improve: a split of a segment that is not a curve segment");
   s.segment_node.erase({std::min(a, b), std::max(a, b)});
-  s.segment_node[{std::min(p, x), std::max(p, x)}] = start;
-  s.segment_node[{std::min(x, q), std::max(x, q)}] = node;
+  for (const int start : starts) {
+    const int end = s.nodes[std::size_t(start)].next, p = s.nodes[std::size_t(start)].point, q = s.nodes[std::size_t(end)].point;
+    const int node = int(s.nodes.size());
+    s.nodes.push_back({x, start, end, s.nodes[std::size_t(start)].curve});
+    s.points[std::size_t(x)].nodes.push_back(node);
+    s.nodes[std::size_t(start)].next = node;
+    s.nodes[std::size_t(end)].prev = node;
+    s.segment_node[{std::min(p, x), std::max(p, x)}] = start;
+    s.segment_node[{std::min(x, q), std::max(x, q)}] = node;
+  }
 }
+
+namespace {
 
 /// The links along the curves after point u merges into point w: a position of u next to one of
 /// w goes (the segment (u, w) with it); any other becomes w's (the curves pass through w there).
@@ -201,7 +209,7 @@ template <class K> Applied<K> apply_edit(ImproveState<K>& s, const Edit<K>& edit
     }
     made.fresh.push_back(fresh);
   }
-  if (fresh_id >= 0 && edit.split_a >= 0) link_split(s, edit.split_a, edit.split_b, fresh_id);
+  if (fresh_id >= 0 && edit.split_a >= 0) split_curve_links(s, edit.split_a, edit.split_b, fresh_id);
   if (edit.merged_point >= 0) {
     link_merge(s, edit.merged_point, edit.merged_into);
     for (auto& v : s.points[std::size_t(edit.merged_point)].vertex) v = M::null_vertex();
@@ -212,7 +220,8 @@ template <class K> Applied<K> apply_edit(ImproveState<K>& s, const Edit<K>& edit
 #define SEAM_INSTANTIATE(K)                                                                                         \
   template bool make_fan<K>(const ImproveState<K>&, std::size_t, const std::vector<Mesh<K>::Face_index>&,          \
                             const EditCorner<K>&, EditPart<K>&, std::pair<Mesh<K>::Vertex_index, Mesh<K>::Vertex_index>);                                                    \
-  template Applied<K> apply_edit<K>(ImproveState<K>&, const Edit<K>&);
+  template Applied<K> apply_edit<K>(ImproveState<K>&, const Edit<K>&);                                            \
+  template void split_curve_links<K>(ImproveState<K>&, int, int, int);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)
 SEAM_INSTANTIATE(Float)

@@ -300,6 +300,12 @@ template <class K> struct Applied {
   std::vector<typename Mesh<K>::Vertex_index> fresh;
 };
 
+/// The links along the curves after a new point x splits segment (a, b) (point ids): in every
+/// curve that runs along it, since two curves share a segment where a merge closed a lens between
+/// them (before, only the curve that `segment_node` names got x, and the other kept a segment
+/// that was no longer an edge).
+template <class K> void split_curve_links(ImproveState<K>& s, int a, int b, int x);
+
 /// Makes the edit: removes the faces, adds the fans (a fresh vertex in each mesh of a part),
 /// updates curve points and links, marks new faces (band as their origin, new, source of their
 /// origin) and puts them in the grid.
