@@ -191,13 +191,15 @@ FaceConstraintsByElement<K> constraints_by_element(const Mesh<K>& mesh, const Co
 template <class K>
 std::map<typename MeshTypes<K>::F, FacePatch<K>>
 retriangulate_crossed_faces(const Mesh<K>& mesh, const FaceConstraintsByElement<K>& g, const CoarsenOutput<K>& coarse,
-                            const EmbedOptions& options, EmbedStats& st, std::vector<double>& source_min_angle) {
+                            const EmbedOptions& options, EmbedStats& st, std::vector<double>& source_min_angle,
+                            KeepAway* keep_away) {
   using F = typename MeshTypes<K>::F;
   const auto& cps = coarse.points.points;
   RetriangulateOptions ropt;
   ropt.min_angle_deg = options.min_angle_deg;
   ropt.max_area = options.max_area;
   ropt.max_steiner = options.max_steiner_per_face;
+  ropt.keep_away = keep_away;
   std::map<F, FacePatch<K>> patches;
   st.min_angle_deg_input = 180;
   for (F f : g.crossed) {
@@ -328,7 +330,8 @@ namespace internal {
 
 template <class K>
 EmbedResult<K> embed_with_known_sites(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves,
-                                      const EmbedOptions& options, const KnownSites<K>* known) {
+                                      const EmbedOptions& options, const KnownSites<K>* known,
+                                      KeepAway* keep_away) {
   EmbedResult<K> result;
   EmbedStats& st = result.stats;
   st.kernel = kernel_name(kernel_traits<K>::kind);
@@ -359,7 +362,7 @@ EmbedResult<K> embed_with_known_sites(Mesh<K>& mesh, const std::vector<Polyline<
   t = Clock::now();
   const auto constraints = constraints_by_element<K>(mesh, coarse, st);
   std::vector<double> source_min_angle(st.input_faces, 180.0);
-  auto patches = retriangulate_crossed_faces<K>(mesh, constraints, coarse, options, st, source_min_angle);
+  auto patches = retriangulate_crossed_faces<K>(mesh, constraints, coarse, options, st, source_min_angle, keep_away);
   st.stage_seconds["retriangulate"] = seconds_since(t);
   const auto input_edge_between = input_edges_along_curves<K>(mesh, coarse);
 
@@ -394,7 +397,8 @@ EmbedResult<K> embed(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, cons
 #define SEAM_INSTANTIATE(K)                                                                                \
   template EmbedResult<K> embed<K>(Mesh<K>&, const std::vector<Polyline<K>>&, const EmbedOptions&);       \
   template EmbedResult<K> internal::embed_with_known_sites<K>(Mesh<K>&, const std::vector<Polyline<K>>&,   \
-                                                             const EmbedOptions&, const internal::KnownSites<K>*); \
+                                                             const EmbedOptions&, const internal::KnownSites<K>*, \
+                                                             internal::KeepAway*);                     \
   template double mean_edge_length<K>(const Mesh<K>&);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)

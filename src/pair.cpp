@@ -109,17 +109,45 @@ PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
   eo.curve_tol = 0;
   eo.max_distance = std::numeric_limits<double>::max();  // the points lie on both surfaces
   double seconds_a = 0, seconds_b = 0;
-  tbb::parallel_invoke(
-      [&] {
-        const auto ta = Clock::now();
-        result.a = internal::embed_with_known_sites<K>(a, curves, eo, &sites_a);
-        seconds_a = seconds_since(ta);
-      },
-      [&] {
-        const auto tb = Clock::now();
-        result.b = internal::embed_with_known_sites<K>(b, curves, eo, &sites_b);
-        seconds_b = seconds_since(tb);
-      });
+  if (eo.max_area > 0 && !curves.empty()) {
+    // An area bound keeps every Steiner point the re-triangulation inserts; where it cascades
+    // into a tiny spot (a grazing crossing) points came 2e-7 apart, and near a curve the two
+    // surfaces are close too: closer than the vertex separation, a volume mesher takes two
+    // points for one. So one mesh after the other, each Steiner point kept that far from every
+    // vertex of both meshes, the curve points and the Steiner points before it.
+    const double keep = min_vertex_separation * diagonal_of<K>(a, b);
+    auto rounded = [](const typename K::Point_3& p) {
+      const auto q = to_filtered(p);
+      return std::array<double, 3>{q.x(), q.y(), q.z()};
+    };
+    internal::KeepAway away(keep);
+    for (const Mesh<K>* m : {&a, &b})
+      for (auto v : m->vertices()) away.add(rounded(m->point(v)));
+    for (const auto& c : curves)
+      for (const auto& p : c) away.add(rounded(p));
+    // ... and from the other surface (see KeepAway::set_surfaces).
+    const auto surface_a = internal::input_surface<K>(a), surface_b = internal::input_surface<K>(b);
+    auto ta = Clock::now();
+    away.set_surfaces({surface_b.get()});
+    result.a = internal::embed_with_known_sites<K>(a, curves, eo, &sites_a, &away);
+    seconds_a = seconds_since(ta);
+    ta = Clock::now();
+    away.set_surfaces({surface_a.get()});
+    result.b = internal::embed_with_known_sites<K>(b, curves, eo, &sites_b, &away);
+    seconds_b = seconds_since(ta);
+  } else {
+    tbb::parallel_invoke(
+        [&] {
+          const auto ta = Clock::now();
+          result.a = internal::embed_with_known_sites<K>(a, curves, eo, &sites_a);
+          seconds_a = seconds_since(ta);
+        },
+        [&] {
+          const auto tb = Clock::now();
+          result.b = internal::embed_with_known_sites<K>(b, curves, eo, &sites_b);
+          seconds_b = seconds_since(tb);
+        });
+  }
   st.stage_seconds["embed_a"] = seconds_a;
   st.stage_seconds["embed_b"] = seconds_b;
   if (result.a.curves != result.b.curves) throw InternalError("pair: the two meshes received different curves");

@@ -1,6 +1,7 @@
 // seam, pipeline step 5: re-triangulation of one face. See seam/internal/retriangulate.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/internal/retriangulate.h>
+#include <seam/internal/improve_state.h>
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
@@ -151,8 +152,9 @@ template <class CDT> bool encroaches_constraint(const CDT& cdt, const typename C
 /// inserted only when it falls strictly inside a triangle of the domain, so never on a
 /// constraint. Angles forced by two constraints meeting at a vertex are left alone. The point's
 /// coordinates are rounded to double (the lift to 3D is exact, see the header).
-template <class CDT>
-void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, std::size_t max_steiner) {
+template <class CDT, class Allowed>
+void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, std::size_t max_steiner,
+                              const Allowed& allowed) {
   using Point2 = typename CDT::Point;
   using FT = typename CDT::Geom_traits::FT;
   using FH = typename CDT::Face_handle;
@@ -268,6 +270,7 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
       }
     }
     if (!found) continue;  // give this one up
+    if (!allowed(P)) continue;  // too near a point to keep away from
     // A point inserted for the area bound alone must not encroach on a constrained edge (lie in
     // its diametral disk, seeing it at 90 degrees or more): that edge cannot be split here, and
     // such points are what made slivers of 1e-14 degrees against the curve under --max-area.
@@ -435,7 +438,29 @@ template <class K> class FaceRetriangulation {
     const double max_area_2d = options_.max_area > 0 ? options_.max_area * CGAL::to_double(uu_) * L_d_ * L_d_ : 0.0;
     const double bound = std::min(options_.min_angle_deg, 60.0);
     const DomainQuality before = domain_quality(refined, bound);
-    refine_without_splitting(refined, bound, max_area_2d, options_.max_steiner);
+    // A point near one the options keep away from is skipped, judged on its lift in doubles.
+    std::array<double, 3> a{}, u{}, v{};
+    double uu = 0, vv = 0;
+    if (options_.keep_away) {
+      for (int i = 0; i < 3; ++i) {
+        a[i] = CGAL::to_double(a_[i]);
+        u[i] = CGAL::to_double(u_[i]);
+        v[i] = CGAL::to_double(v_[i]);
+      }
+      uu = CGAL::to_double(uu_);
+      vv = CGAL::to_double(vv_);
+    }
+    // An accepted point joins the set, so Steiner points keep that far from each other too.
+    const auto allowed = [&](const Point2& q) {
+      if (!options_.keep_away) return true;
+      const double x = CGAL::to_double(q.x()) / (L_d_ * uu), y = CGAL::to_double(q.y()) / vv;
+      const std::array<double, 3> lifted{a[0] + u[0] * x + v[0] * y, a[1] + u[1] * x + v[1] * y,
+                                         a[2] + u[2] * x + v[2] * y};
+      if (options_.keep_away->near(lifted)) return false;
+      options_.keep_away->add(lifted);
+      return true;
+    };
+    refine_without_splitting(refined, bound, max_area_2d, options_.max_steiner, allowed);
     const DomainQuality after = domain_quality(refined, bound);
     // Keep the refinement when it made neither the worst angle worse nor the bad triangles more
     // numerous (or an area bound asks for it).
@@ -492,6 +517,43 @@ template <class K> class FaceRetriangulation {
 };
 
 }  // namespace
+
+KeepAway::KeepAway(double distance) : distance_(distance) {
+  if (!(distance > 0) || !std::isfinite(distance)) throw InternalError("keep-away distance must be positive");
+}
+
+KeepAway::Cell KeepAway::cell_of(const std::array<double, 3>& p) const {
+  return {(long long)std::floor(p[0] / distance_), (long long)std::floor(p[1] / distance_),
+          (long long)std::floor(p[2] / distance_)};
+}
+
+std::size_t KeepAway::CellHash::operator()(const Cell& c) const {
+  std::size_t h = 1469598103934665603ull;
+  for (const long long x : c) h = (h ^ std::size_t(x)) * 1099511628211ull;
+  return h;
+}
+
+void KeepAway::add(const std::array<double, 3>& p) { cells_[cell_of(p)].push_back(p); }
+
+bool KeepAway::near(const std::array<double, 3>& p) const {
+  const Cell c = cell_of(p);
+  for (long long dx = -1; dx <= 1; ++dx)
+    for (long long dy = -1; dy <= 1; ++dy)
+      for (long long dz = -1; dz <= 1; ++dz) {
+        const auto it = cells_.find({c[0] + dx, c[1] + dy, c[2] + dz});
+        if (it == cells_.end()) continue;
+        for (const auto& q : it->second) {
+          const double d2 = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
+          if (d2 < distance_ * distance_) return true;
+        }
+      }
+  const Filtered::Point_3 q(p[0], p[1], p[2]);
+  for (const InputSurface* surface : surfaces_) {
+    const auto [closest, normal] = surface->closest(q);
+    if (normal != CGAL::NULL_VECTOR && CGAL::squared_distance(q, closest) < distance_ * distance_) return true;
+  }
+  return false;
+}
 
 template <class K>
 FacePatch<K> retriangulate_face(const FaceConstraints<K>& face, const RetriangulateOptions& options) {

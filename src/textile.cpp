@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/check.h>
 #include <seam/io.h>
+#include <seam/internal/embed_known_sites.h>
 #include <seam/internal/provenance.h>
 #include <seam/internal/improve_state.h>
 #include <seam/internal/snap.h>
@@ -743,12 +744,41 @@ template <class K> class TextileRun {
     eo.max_distance = std::numeric_limits<double>::max();
     result_.tows.resize(meshes_.size());
     std::size_t tows_done = 0;
+    if (eo.max_area > 0) {
+      // Under an area bound every Steiner point is kept: one tow after the other, each point kept
+      // at least the vertex separation (of the whole cell: at least each pair's) from every vertex
+      // of every tow, every curve point and the Steiner points before it (see seam::pair).
+      CGAL::Bbox_3 cell;
+      for (const auto& m : meshes_) cell += CGAL::Polygon_mesh_processing::bbox(m);
+      internal::KeepAway away(min_vertex_separation * diagonal(cell));
+      auto rounded = [](const typename K::Point_3& p) {
+        const auto q = to_filtered(p);
+        return std::array<double, 3>{q.x(), q.y(), q.z()};
+      };
+      for (const auto& m : meshes_)
+        for (auto v : m.vertices()) away.add(rounded(m.point(v)));
+      for (std::size_t p = 0; p < work_.size(); ++p)
+        for (const std::size_t tow : {work_[p].a, work_[p].b})
+          for (const auto& c : curves_for(p, tow))
+            for (const auto& q : c) away.add(rounded(q));
+      // ... and from the surfaces of the tows it meets (see KeepAway::set_surfaces).
+      std::vector<std::unique_ptr<internal::InputSurface>> surfaces;
+      for (const auto& m : meshes_) surfaces.push_back(internal::input_surface<K>(m));
+      for (std::size_t tow = 0; tow < meshes_.size(); ++tow) {
+        std::vector<const internal::InputSurface*> partners;
+        for (const std::size_t p : pairs_of_[tow]) partners.push_back(surfaces[other(p, tow)].get());
+        away.set_surfaces(partners);
+        embed_tow(tow, eo, &away);
+        report("tows", ++tows_done, meshes_.size());
+      }
+      return;
+    }
     for_each_index(
-        arena_, meshes_.size(), [&](std::size_t tow) { embed_tow(tow, eo); },
+        arena_, meshes_.size(), [&](std::size_t tow) { embed_tow(tow, eo, nullptr); },
         [&](std::size_t) { report("tows", ++tows_done, meshes_.size()); });
   }
 
-  void embed_tow(std::size_t tow, const EmbedOptions& eo) {
+  void embed_tow(std::size_t tow, const EmbedOptions& eo, internal::KeepAway* keep_away) {
     std::vector<Polyline<K>> curves;
     std::vector<std::size_t> first_curve;  // per pair of this tow, index of its first curve
     for (std::size_t p : pairs_of_[tow]) {
@@ -760,7 +790,7 @@ template <class K> class TextileRun {
     Mesh<K>& mesh = meshes_[tow];
     EmbedResult<K> r;
     try {
-      r = embed<K>(mesh, curves, eo);
+      r = keep_away ? internal::embed_with_known_sites<K>(mesh, curves, eo, nullptr, keep_away) : embed<K>(mesh, curves, eo);
     } catch (const InvalidInput& e) {
       throw InvalidInput("tow " + quoted(names_[tow]) + ": " + e.what());
     } catch (const InternalError& e) {

@@ -127,10 +127,11 @@ TriangleSoup box(Point3d c, Point3d h, double turn) {
 
 }  // namespace
 
-TEST_CASE("hostile pair: --max-area bounds the new faces without slivers against the curve, in bounded work",
-          "[hostile][max-area]") {
-  // Two boxes crossing: before, max_area 0.01 ran the remeshing for 10 s (20 s with its redo) and
-  // left new faces of 1e-14 degrees (points inserted for the area next to unsplittable edges).
+TEST_CASE("hostile pair: --max-area gives verified outputs in bounded work", "[hostile][max-area]") {
+  // Two boxes crossing: before, max_area 0.01 ran the remeshing for 10 s (20 s with its redo);
+  // then it was refused (exit 3): Steiner points of the area refinement came closer than the
+  // vertex separation to each other (refinement cascading into a tiny spot) and to points of the
+  // other mesh near the curve. Now every Steiner point keeps that far from every vertex of both.
   const TriangleSoup sa = box({0, 0, 0}, {1, 1, 1}, 0), sb = box({0.7, 0.3, 0.2}, {0.6, 0.5, 0.4}, 0.3);
   for (const bool remesh : {true, false}) {
     INFO("remeshing " << (remesh ? "asked for" : "off"));
@@ -138,25 +139,15 @@ TEST_CASE("hostile pair: --max-area bounds the new faces without slivers against
     seam::PairOptions options;
     options.embed.max_area = 0.01;
     options.improve = remesh;
-    seam::PairResult<seam::Exact> r;
-    try {
-      r = seam::pair<seam::Exact>(a, b, options);
-    } catch (const seam::InternalError& e) {
-      // Still possible: area points of A within 2e-8 of the diagonal of points of B near the
-      // curve (issue 22, class 3, left open). Refused quickly, never written.
-      WARN("refused: " << e.what());
-      continue;
-    }
-    REQUIRE(r.stats.verified);
+    const auto r = seam::pair<seam::Exact>(a, b, options);
+    REQUIRE(r.stats.verified);  // as written: separation, no crossing, curves present
     CHECK_FALSE(r.stats.improved);  // the quality stage works to angles: not under --max-area
+    CHECK(r.stats.curves > 0);
     for (const auto* part : {&r.a, &r.b}) {
-      const auto& m = part == &r.a ? a : b;
       // Work bounded by the area: no more new faces than a few per max_area of crossed surface.
       const double crossed_area = part == &r.a ? 4.0 * 2 : 2 * (1.2 * 1.0 + 1.2 * 0.8 + 1.0 * 0.8);
+      CHECK(part->stats.steiner_points > 0);
       CHECK(double(part->stats.faces_added) <= 8 * crossed_area / options.embed.max_area);
-      // No sliver against the curve: the smallest new angle stays that of the constraints.
-      CHECK(part->stats.min_angle_deg_new > 1.0);
-      (void)m;
     }
   }
 }

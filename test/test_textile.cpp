@@ -170,6 +170,31 @@ TEST_CASE("textile: a 2x2 plain weave conforms at every crossing", "[textile]") 
   for (const auto& m : out) CHECK(CGAL::is_closed(m));
 }
 
+TEST_CASE("textile: an area bound gives verified outputs with every new face's points apart", "[textile][max-area]") {
+  // Before, a 2x2 weave under --max-area was refused (exit 3): Steiner points of the area
+  // refinement came closer than the vertex separation to each other and to the other tow, and,
+  // rounded, put new faces through the other tow where two tows touch over an area.
+  const Cell cell = weave(small_weave(2, 2));
+  const auto inputs = cell.meshes<K>();
+  auto meshes = inputs;
+  seam::TextileOptions options;
+  options.embed.max_area = 0.01;
+  const auto r = seam::textile<K>(meshes, cell.names, options);
+  CHECK(r.stats.verified);
+  CHECK_FALSE(r.stats.improved);  // the quality stage works to angles: not under an area bound
+  CHECK(r.stats.intersecting_pairs == 4);
+  std::size_t steiner = 0;
+  for (const auto& t : r.tows) steiner += t.steiner_points;
+  CHECK(steiner > 0);
+  for (const auto& p : r.pairs) {
+    INFO(cell.names[p.stats.a] << " x " << cell.names[p.stats.b]);
+    const auto report = seam::check_pair<K>(inputs[p.stats.a], inputs[p.stats.b], meshes[p.stats.a], meshes[p.stats.b],
+                                            p.curves, std::max(1e-9, r.stats.verify_tolerance));
+    for (const auto& problem : report.problems) UNSCOPED_INFO(problem);
+    CHECK(report.ok());
+  }
+}
+
 TEST_CASE("textile: the quality stage refines along every curve of every tow at once, within its tolerance",
           "[textile][improve]") {
   // Without it a third of the faces along the curves are below 10 degrees; with it, every face

@@ -50,6 +50,19 @@ InputSurface::InputSurface(std::vector<Filtered::Triangle_3> triangles) : tree_(
 
 InputSurface::~InputSurface() = default;
 
+template <class K> std::unique_ptr<InputSurface> input_surface(const Mesh<K>& mesh) {
+  std::vector<Filtered::Triangle_3> triangles;
+  for (auto f : mesh.faces()) {
+    const auto h = mesh.halfedge(f);
+    triangles.emplace_back(to_filtered(mesh.point(mesh.source(h))), to_filtered(mesh.point(mesh.target(h))),
+                           to_filtered(mesh.point(mesh.target(mesh.next(h)))));
+  }
+  return std::make_unique<InputSurface>(std::move(triangles));
+}
+template std::unique_ptr<InputSurface> input_surface<Exact>(const Mesh<Exact>&);
+template std::unique_ptr<InputSurface> input_surface<Filtered>(const Mesh<Filtered>&);
+template std::unique_ptr<InputSurface> input_surface<Float>(const Mesh<Float>&);
+
 std::pair<Filtered::Point_3, Filtered::Vector_3> InputSurface::closest(const Filtered::Point_3& p) const {
   if (tree_->triangles.empty()) return {p, Filtered::Vector_3(0, 0, 0)};
   const auto [q, it] = tree_->tree.closest_point_and_primitive(p);
@@ -201,14 +214,7 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
   for (std::size_t m = 0; m < meshes.size(); ++m) {
     auto& ms = s.meshes[m];
     ms.mesh = meshes[m].mesh;
-    std::vector<Filtered::Triangle_3> triangles;
-    const Mesh<K>& input = meshes[m].input ? *meshes[m].input : *meshes[m].mesh;
-    for (auto f : input.faces()) {
-      const auto h = input.halfedge(f);
-      triangles.emplace_back(to_filtered(input.point(input.source(h))), to_filtered(input.point(input.target(h))),
-                             to_filtered(input.point(input.target(input.next(h)))));
-    }
-    ms.input = std::make_unique<InputSurface>(std::move(triangles));
+    ms.input = input_surface<K>(meshes[m].input ? *meshes[m].input : *meshes[m].mesh);
     ms.source_min_angle = meshes[m].source_min_angle;
     add_properties<K>(ms);
   }

@@ -72,6 +72,9 @@ class InputSurface {
   std::unique_ptr<Tree> tree_;
 };
 
+/// The surface of a mesh as an InputSurface (its faces rounded to doubles).
+template <class K> std::unique_ptr<InputSurface> input_surface(const Mesh<K>& mesh);
+
 /// See ImproveState::MeshState::crease_memo.
 struct CreaseMemo {
   std::uint32_t version = 0, opposite_version = 0;

@@ -26,6 +26,8 @@
 #include <seam/internal/surface_point.h>
 
 #include <array>
+#include <unordered_map>
+#include <vector>
 
 namespace seam::internal {
 
@@ -47,10 +49,42 @@ template <class K> struct FacePatch {
   bool refinement_undone = false;
 };
 
+/// Points that new Steiner points must keep away from, by at least `distance` (doubles: a hash
+/// grid of cells `distance` wide); each Steiner point inserted joins them. `seam pair` under an
+/// area bound gives each mesh's refinement the vertices of both meshes and the curve points, so
+/// that no Steiner point lies closer than the vertex separation to another vertex of either (a
+/// volume mesher would take the two for one point): refinement that cascades into a tiny spot
+/// (a grazing crossing) stops there instead. Judged in doubles: a bound on what is written.
+class InputSurface;  // seam/internal/improve_state.h
+
+class KeepAway {
+ public:
+  explicit KeepAway(double distance);
+  void add(const std::array<double, 3>& p);
+  /// Surfaces to keep away from too (not owned; may be empty): `seam pair` gives each mesh the
+  /// other's, since a Steiner point that close to it, rounded to doubles, can put the new faces
+  /// through it where the two touch (a contact of two tows over an area).
+  void set_surfaces(std::vector<const InputSurface*> surfaces) { surfaces_ = std::move(surfaces); }
+  /// True when some point added, or a surface, lies closer than `distance` to p.
+  bool near(const std::array<double, 3>& p) const;
+  double distance() const { return distance_; }
+
+ private:
+  using Cell = std::array<long long, 3>;
+  struct CellHash {
+    std::size_t operator()(const Cell& c) const;
+  };
+  Cell cell_of(const std::array<double, 3>& p) const;
+  double distance_;
+  std::unordered_map<Cell, std::vector<std::array<double, 3>>, CellHash> cells_;
+  std::vector<const InputSurface*> surfaces_;
+};
+
 struct RetriangulateOptions {
   double min_angle_deg = 20.0;
   double max_area = 0.0;
   std::size_t max_steiner = 256;
+  KeepAway* keep_away = nullptr;  ///< a candidate Steiner point near these is skipped
 };
 
 /// Throws InvalidInput when curve segments cross each other inside the face, InternalError when
