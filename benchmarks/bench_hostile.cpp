@@ -19,7 +19,7 @@
 //                           size 1e7 from the origin. Counter `verified` must be 1.
 //   hostile/max_area/K      (issue 22, class 3) seam::pair of the same crossover with
 //                           --max-area 0.01, and 0.001 (it ran for minutes with the default
-//                           remeshing). Counter `internal_error` 1: refused (exit 3).
+//                           remeshing). Counter `verified` 1, or `internal_error` 1: refused.
 //   hostile/read_curve_2m   (issue 22, class 8) read_polylines + to_kernel<Exact> of a file of one
 //                           curve of 2,000,000 points (17 significant digits, 122 MB); counters:
 //                           file MB, growth of the peak resident memory (MB) while reading and
