@@ -19,6 +19,8 @@
 #include <CGAL/box_intersection_d.h>
 #include <CGAL/boost/graph/helpers.h>
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -775,9 +777,14 @@ PairCheckReport check_pair_unguarded(const Mesh<K>& a, const Mesh<K>& b, const M
   report.faces_b2 = b2.number_of_faces();
 
   // ------------------------------------------------------------ 1. valid meshes
+  // The two meshes' checks are independent: run side by side, their problems listed A2's first.
   MeshView<K> va(a2, "A2"), vb(b2, "B2");
-  check_mesh(va, CGAL::is_closed(a), problems, report.conflict_faces_a, focus_a);
-  check_mesh(vb, CGAL::is_closed(b), problems, report.conflict_faces_b, focus_b);
+  {
+    std::vector<std::string> problems_b;
+    tbb::parallel_invoke([&] { check_mesh(va, CGAL::is_closed(a), problems, report.conflict_faces_a, focus_a); },
+                         [&] { check_mesh(vb, CGAL::is_closed(b), problems_b, report.conflict_faces_b, focus_b); });
+    problems.insert(problems.end(), problems_b.begin(), problems_b.end());
+  }
 
   // ------------------------------------------------------------ 2. curves present in both
   std::set<std::pair<std::uint32_t, std::uint32_t>> curve_edges_a;
@@ -796,26 +803,40 @@ PairCheckReport check_pair_unguarded(const Mesh<K>& a, const Mesh<K>& b, const M
 
   if (focus) return report;  // checks 4-6 and the figures are the caller's
 
-  // ------------------------------------------------------------ 5. vertices apart, 6. coverage
-  if (va.structure_ok && vb.structure_ok) {
-    if (separation) check_vertex_separation(a, b, va, vb, report);
-    std::vector<Filtered::Triangle_3> shared_triangles;
-    for (auto f : a2.faces())
-      if (shared_faces_a[std::size_t(f)]) {
-        const auto c = va.corners(f);
-        shared_triangles.emplace_back(to_filtered(a2.point(c[0])), to_filtered(a2.point(c[1])),
-                                      to_filtered(a2.point(c[2])));
-      }
-    check_coverage<K>(a, b, curves, shared_triangles, tol, report);
-  }
-
-  // ------------------------------------------------------------ 4. within tol of the inputs + quality
-  if (va.structure_ok)
-    check_against_input(a, va, tol, report.max_distance_a, report.min_angle_deg_a, report.below_10_a,
-                        report.below_20_a, report.new_faces_a, problems);
-  if (vb.structure_ok)
-    check_against_input(b, vb, tol, report.max_distance_b, report.min_angle_deg_b, report.below_10_b,
-                        report.below_20_b, report.new_faces_b, problems);
+  // Checks 5 and 4 beside check 6 (independent; each writes its own fields), their problems
+  // listed in the order 5, 6, 4.
+  PairCheckReport coverage;  // check 6's fields and problems
+  std::size_t after_separation = 0;
+  tbb::parallel_invoke(
+      [&] {
+        // ---------------------------------------------------------- 5. vertices apart
+        if (va.structure_ok && vb.structure_ok && separation) check_vertex_separation(a, b, va, vb, report);
+        after_separation = problems.size();
+        // ---------------------------------------------------------- 4. within tol of the inputs + quality
+        if (va.structure_ok)
+          check_against_input(a, va, tol, report.max_distance_a, report.min_angle_deg_a, report.below_10_a,
+                              report.below_20_a, report.new_faces_a, problems);
+        if (vb.structure_ok)
+          check_against_input(b, vb, tol, report.max_distance_b, report.min_angle_deg_b, report.below_10_b,
+                              report.below_20_b, report.new_faces_b, problems);
+      },
+      [&] {
+        // ---------------------------------------------------------- 6. coverage
+        if (!(va.structure_ok && vb.structure_ok)) return;
+        std::vector<Filtered::Triangle_3> shared_triangles;
+        for (auto f : a2.faces())
+          if (shared_faces_a[std::size_t(f)]) {
+            const auto c = va.corners(f);
+            shared_triangles.emplace_back(to_filtered(a2.point(c[0])), to_filtered(a2.point(c[1])),
+                                          to_filtered(a2.point(c[2])));
+          }
+        check_coverage<K>(a, b, curves, shared_triangles, tol, coverage);
+      });
+  report.intersection_samples = coverage.intersection_samples;
+  report.uncovered_samples = coverage.uncovered_samples;
+  report.max_uncovered_distance = coverage.max_uncovered_distance;
+  problems.insert(problems.begin() + std::ptrdiff_t(after_separation), coverage.problems.begin(),
+                  coverage.problems.end());
   return report;
 }
 

@@ -6,6 +6,8 @@
 
 #include <CGAL/Polygon_mesh_processing/bbox.h>
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -54,9 +56,19 @@ PairCheckReport check_as_written(const Mesh<K>& a, const Mesh<K>& b, Mesh<K>& a2
           return check_pair<K>(a, b, a2, b2, curves, tol, nullptr, false);
       }
   }
-  for (Mesh<K>* m : {&a2, &b2})
-    for (auto v : m->vertices()) make_exact(m->point(v));
-  const Mesh<Exact> ra = rounded<K>(a), rb = rounded<K>(b), ra2 = rounded<K>(a2), rb2 = rounded<K>(b2);
+  // A's and B's sides side by side (independent meshes).
+  Mesh<Exact> ra, rb, ra2, rb2;
+  tbb::parallel_invoke(
+      [&] {
+        for (auto v : a2.vertices()) make_exact(a2.point(v));
+        ra = rounded<K>(a);
+        ra2 = rounded<K>(a2);
+      },
+      [&] {
+        for (auto v : b2.vertices()) make_exact(b2.point(v));
+        rb = rounded<K>(b);
+        rb2 = rounded<K>(b2);
+      });
   std::vector<Polyline<Exact>> rc;
   for (auto& c : curves) {
     rc.emplace_back();
