@@ -270,7 +270,7 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
       }
     }
     if (!found) continue;  // give this one up
-    if (!allowed(P)) continue;  // too near a point to keep away from
+    if (!allowed(P, false)) continue;  // too near a point to keep away from
     // A point inserted for the area bound alone must not encroach on a constrained edge (lie in
     // its diametral disk, seeing it at 90 degrees or more): that edge cannot be split here, and
     // such points are what made slivers of 1e-14 degrees against the curve under --max-area.
@@ -278,6 +278,7 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
     // such point stays at least half an edge's length from every constraint it sees.
     if (!angle_bad && encroaches_constraint(cdt, P, fh)) continue;
     const VH vh = cdt.insert(P, fh);
+    allowed(P, true);  // now a point to keep away from
     ++inserted;
     auto fc = cdt.incident_faces(vh), done = fc;
     do consider(fc); while (++fc != done);
@@ -450,15 +451,15 @@ template <class K> class FaceRetriangulation {
       uu = CGAL::to_double(uu_);
       vv = CGAL::to_double(vv_);
     }
-    // An accepted point joins the set, so Steiner points keep that far from each other too.
-    const auto allowed = [&](const Point2& q) {
+    // Whether q may be inserted; `inserted`: it was, and joins the set, so that Steiner points
+    // keep that far from each other too.
+    const auto allowed = [&](const Point2& q, bool inserted) {
       if (!options_.keep_away) return true;
       const double x = CGAL::to_double(q.x()) / (L_d_ * uu), y = CGAL::to_double(q.y()) / vv;
       const std::array<double, 3> lifted{a[0] + u[0] * x + v[0] * y, a[1] + u[1] * x + v[1] * y,
                                          a[2] + u[2] * x + v[2] * y};
-      if (options_.keep_away->near(lifted)) return false;
-      options_.keep_away->add(lifted);
-      return true;
+      if (inserted) options_.keep_away->add(lifted);
+      return inserted || !options_.keep_away->near(lifted);
     };
     refine_without_splitting(refined, bound, max_area_2d, options_.max_steiner, allowed);
     const DomainQuality after = domain_quality(refined, bound);

@@ -463,7 +463,7 @@ std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<
         if (!tracer.connect(tc.points.back(), first, tc.points, tc.step_face, report.retries)) {
           std::ostringstream msg;
           msg << "could not close curve " << c << " on the surface";
-          throw InternalError(msg.str());
+          fail(c, n - 1, msg.str());
         }
         tc.input_node.resize(tc.points.size(), -1);
         tc.input_node.back() = 0;

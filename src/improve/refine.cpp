@@ -444,12 +444,23 @@ template <class K> Outcome Refiner<K>::split_constraint(std::size_t m, H h) {
     return true;
   };
   if (curve) {
-    const int px = s_.meshes[m].point[x], py = s_.meshes[m].point[y], c = s_.curve_of_segment(px, py);
+    const int px = s_.meshes[m].point[x], py = s_.meshes[m].point[y];
     edit.fresh_curve_point = true;
     edit.split_a = px;
     edit.split_b = py;
+    // Every mesh holding a curve that runs along the segment (two curves can share it, and in a
+    // textile their meshes can differ): split_curve_links gives the point to all of them.
+    auto holds_segment = [&](std::size_t k) {
+      for (const int n : s_.points[std::size_t(px)].nodes) {
+        const auto& node = s_.nodes[std::size_t(n)];
+        const bool along = (node.next >= 0 && s_.nodes[std::size_t(node.next)].point == py) ||
+                           (node.prev >= 0 && s_.nodes[std::size_t(node.prev)].point == py);
+        if (along && s_.holds_curve(k, node.curve)) return true;
+      }
+      return false;
+    };
     for (std::size_t k = 0; k < s_.meshes.size(); ++k) {
-      if (!s_.holds_curve(k, c)) continue;
+      if (!holds_segment(k)) continue;
       std::vector<F> region;
       if (!faces_of(k, s_.points[std::size_t(px)].vertex[k], s_.points[std::size_t(py)].vertex[k], region))
         return {false, ShortfallCause::constraint_angle};
