@@ -230,9 +230,10 @@ void read_curve(benchmark::State& state) {
   std::filesystem::remove(path);
 }
 
-template <class K> void embed_ring_memory(benchmark::State& state) {
-  const auto soup = bipyramid();
-  const auto curve = ring(1000000);
+/// to_kernel + seam::embed of `curve` on `soup`, timed; counters: growth of the peak resident
+/// memory, in MB and in bytes per curve node.
+template <class K>
+void run_embed_memory(benchmark::State& state, const seam::TriangleSoup& soup, const std::vector<seam::Point3d>& curve) {
   for (auto _ : state) {
     auto mesh = seam::mesh_from_soup<K>(soup, "mesh");
     reset_peak();
@@ -244,8 +245,11 @@ template <class K> void embed_ring_memory(benchmark::State& state) {
     state.counters["peak_growth_MB"] = status_mb("VmHWM") - before;
     state.counters["bytes_per_node"] = (status_mb("VmHWM") - before) * 1024 * 1024 / double(curve.size());
     state.counters["nodes_in"] = double(r.stats.curve_nodes_in);
+    state.counters["nodes_out"] = double(r.stats.curve_nodes_out);
   }
 }
+
+template <class K> void embed_ring_memory(benchmark::State& state) { run_embed_memory<K>(state, bipyramid(), ring(1000000)); }
 
 /// The unit square as two triangles sharing the diagonal (1,0)-(0,1).
 seam::TriangleSoup square_other_diagonal() { return {{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}, {{0, 1, 2}, {1, 3, 2}}}; }
@@ -262,21 +266,7 @@ std::vector<seam::Point3d> spiral(int nodes, int turns) {
 }
 
 template <class K> void spiral_memory(benchmark::State& state) {
-  const auto soup = square_other_diagonal();
-  const auto curve = spiral(4000000, 1000000);
-  for (auto _ : state) {
-    auto mesh = seam::mesh_from_soup<K>(soup, "mesh");
-    reset_peak();
-    const double before = status_mb("VmHWM");
-    const auto t = Clock::now();
-    const auto curves = seam::to_kernel<K>({curve});
-    const auto r = seam::embed<K>(mesh, curves, {});
-    state.SetIterationTime(seconds_since(t));
-    state.counters["peak_growth_MB"] = status_mb("VmHWM") - before;
-    state.counters["bytes_per_node"] = (status_mb("VmHWM") - before) * 1024 * 1024 / double(curve.size());
-    state.counters["nodes_in"] = double(r.stats.curve_nodes_in);
-    state.counters["nodes_out"] = double(r.stats.curve_nodes_out);
-  }
+  run_embed_memory<K>(state, square_other_diagonal(), spiral(4000000, 1000000));
 }
 
 }  // namespace

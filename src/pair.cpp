@@ -115,16 +115,10 @@ PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     // surfaces are close too: closer than the vertex separation, a volume mesher takes two
     // points for one. So one mesh after the other, each Steiner point kept that far from every
     // vertex of both meshes, the curve points and the Steiner points before it.
-    const double keep = min_vertex_separation * diagonal_of<K>(a, b);
-    auto rounded = [](const typename K::Point_3& p) {
-      const auto q = to_filtered(p);
-      return std::array<double, 3>{q.x(), q.y(), q.z()};
-    };
-    internal::KeepAway away(keep);
-    for (const Mesh<K>* m : {&a, &b})
-      for (auto v : m->vertices()) away.add(rounded(m->point(v)));
-    for (const auto& c : curves)
-      for (const auto& p : c) away.add(rounded(p));
+    internal::KeepAway away(min_vertex_separation * diagonal_of<K>(a, b));
+    away.add_vertices<K>(a);
+    away.add_vertices<K>(b);
+    away.add_points<K>(curves);
     // ... and from the other surface (see KeepAway::set_surfaces).
     const auto surface_a = internal::input_surface<K>(a), surface_b = internal::input_surface<K>(b);
     auto ta = Clock::now();

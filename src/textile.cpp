@@ -751,16 +751,9 @@ template <class K> class TextileRun {
       CGAL::Bbox_3 cell;
       for (const auto& m : meshes_) cell += CGAL::Polygon_mesh_processing::bbox(m);
       internal::KeepAway away(min_vertex_separation * diagonal(cell));
-      auto rounded = [](const typename K::Point_3& p) {
-        const auto q = to_filtered(p);
-        return std::array<double, 3>{q.x(), q.y(), q.z()};
-      };
-      for (const auto& m : meshes_)
-        for (auto v : m.vertices()) away.add(rounded(m.point(v)));
+      for (const auto& m : meshes_) away.add_vertices<K>(m);
       for (std::size_t p = 0; p < work_.size(); ++p)
-        for (const std::size_t tow : {work_[p].a, work_[p].b})
-          for (const auto& c : curves_for(p, tow))
-            for (const auto& q : c) away.add(rounded(q));
+        for (const std::size_t tow : {work_[p].a, work_[p].b}) away.add_points<K>(curves_for(p, tow));
       // ... and from the surfaces of the tows it meets (see KeepAway::set_surfaces).
       std::vector<std::unique_ptr<internal::InputSurface>> surfaces;
       for (const auto& m : meshes_) surfaces.push_back(internal::input_surface<K>(m));

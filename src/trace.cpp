@@ -159,11 +159,7 @@ template <class K> class Tracer {
   /// about 200 bytes per node (a million nodes in one face: 200 MB).
   const typename K::Triangle_3& triangle(F g) const {
     auto [it, inserted] = triangles_.try_emplace(std::size_t(g));
-    if (inserted) {
-      const auto hg = m_.halfedge(g);
-      it->second = typename K::Triangle_3(m_.point(m_.source(hg)), m_.point(m_.target(hg)),
-                                          m_.point(m_.target(m_.next(hg))));
-    }
+    if (inserted) it->second = face_triangle<K>(m_, g);
     return it->second;
   }
 
@@ -357,12 +353,8 @@ template <class P> std::string describe_point(const P& p) {
 template <class K>
 SurfacePoint<K> traced_location(const Mesh<K>& mesh, const TracedCurve<K>& tc, std::size_t i) {
   SurfacePoint<K> sp = tc.points[i];
-  if (tc.face_points_deferred && sp.where == Where::face) {
-    const auto h = mesh.halfedge(sp.f);
-    sp.p = typename K::Construct_projected_point_3()(
-        typename K::Triangle_3(mesh.point(mesh.source(h)), mesh.point(mesh.target(h)), mesh.point(mesh.target(mesh.next(h)))),
-        sp.p);
-  }
+  if (tc.face_points_deferred && sp.where == Where::face)
+    sp.p = typename K::Construct_projected_point_3()(face_triangle<K>(mesh, sp.f), sp.p);
   return sp;
 }
 

@@ -281,17 +281,6 @@ TEST_CASE("embed: the exact kernel preserves the total area exactly", "[embed][e
 
 }
 
-namespace {
-/// A field of /proc/self/status in kB ("VmHWM": the peak resident memory); -1 if missing.
-long status_kb(const std::string& field) {
-  std::ifstream in("/proc/self/status");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind(field + ":", 0) == 0) return std::stol(line.substr(field.size() + 1));
-  return -1;
-}
-}  // namespace
-
 TEST_CASE("embed: peak memory per curve node is bounded (exact kernel)", "[embed][memory]") {
   // Issue 22, class 8: each located node kept its projection, a lazy Epeck expression over a
   // triangle built for that node (about 370 bytes per node beside the node's own 136), so a
@@ -312,12 +301,12 @@ TEST_CASE("embed: peak memory per curve node is bounded (exact kernel)", "[embed
     auto mesh = flat_grid<K>(4);
     const seam::Mesh<K> input = mesh;
     std::ofstream("/proc/self/clear_refs") << "5";  // a fresh peak for this child
-    const long before = status_kb("VmHWM");
+    const long before = seam_test::status_kb("VmHWM");
     int code = 3;
     try {
       const auto curves = seam::to_kernel<K>({ring});
       const auto result = seam::embed<K>(mesh, curves, no_snap());
-      const long peak = status_kb("VmHWM");
+      const long peak = seam_test::status_kb("VmHWM");
       const double bytes_per_node = (peak - before) * 1024.0 / double(n);
       std::printf("embed of a ring of %zu nodes: peak grew by %.0f bytes per node\n", n, bytes_per_node);
       std::fflush(stdout);

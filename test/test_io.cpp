@@ -1082,16 +1082,6 @@ TEST_CASE("write_file_atomically: an output name of 250 characters is written") 
 
 // ======================================================================== memory
 
-namespace {
-/// A field of /proc/self/status in kB ("VmRSS", "VmHWM"); -1 if missing.
-long status_kb(const std::string& field) {
-  std::ifstream in("/proc/self/status");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind(field + ":", 0) == 0) return std::stol(line.substr(field.size() + 1));
-  return -1;
-}
-}  // namespace
 
 TEST_CASE("read_polylines: the peak memory of reading a long curve is the file plus its points") {
   // Issue 22, class 8: the tokens of a line were stored before parsing (16 bytes per coordinate,
@@ -1111,9 +1101,9 @@ TEST_CASE("read_polylines: the peak memory of reading a long curve is the file p
   if (pid == 0) {
     // A fresh peak for this child: /proc/self/clear_refs "5" resets VmHWM to VmRSS.
     std::ofstream("/proc/self/clear_refs") << "5";
-    const long before = status_kb("VmHWM");
+    const long before = seam_test::status_kb("VmHWM");
     const auto polylines = seam::read_polylines(path);
-    const long peak = status_kb("VmHWM");
+    const long peak = seam_test::status_kb("VmHWM");
     const double grown_mb = (peak - before) / 1e3;
     const bool ok = polylines.size() == 1 && polylines[0].size() == n && grown_mb <= 1.15 * (file_mb + points_mb) + 2;
     std::printf("read_polylines: %.1f MB file, %.1f MB of points, peak grew by %.1f MB\n", file_mb, points_mb, grown_mb);

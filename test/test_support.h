@@ -34,6 +34,15 @@ inline constexpr bool sanitized_build = false;
 
 namespace fs = std::filesystem;
 
+/// A field of /proc/self/status in kB ("VmRSS", "VmHWM": the peak resident memory); -1 if missing.
+inline long status_kb(const std::string& field) {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind(field + ":", 0) == 0) return std::stol(line.substr(field.size() + 1));
+  return -1;
+}
+
 inline std::string read_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::ostringstream s;

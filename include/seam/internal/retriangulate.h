@@ -61,13 +61,24 @@ class KeepAway {
  public:
   explicit KeepAway(double distance);
   void add(const std::array<double, 3>& p);
+  /// Adds a kernel point (rounded to doubles), a mesh's vertices, polylines' points.
+  template <class P> void add_point(const P& p) {
+    const auto q = to_filtered(p);
+    add({q.x(), q.y(), q.z()});
+  }
+  template <class K> void add_vertices(const Mesh<K>& mesh) {
+    for (auto v : mesh.vertices()) add_point(mesh.point(v));
+  }
+  template <class K> void add_points(const std::vector<Polyline<K>>& polylines) {
+    for (const auto& c : polylines)
+      for (const auto& p : c) add_point(p);
+  }
   /// Surfaces to keep away from too (not owned; may be empty): `seam pair` gives each mesh the
   /// other's, since a Steiner point that close to it, rounded to doubles, can put the new faces
   /// through it where the two touch (a contact of two tows over an area).
   void set_surfaces(std::vector<const InputSurface*> surfaces) { surfaces_ = std::move(surfaces); }
   /// True when some point added, or a surface, lies closer than `distance` to p.
   bool near(const std::array<double, 3>& p) const;
-  double distance() const { return distance_; }
 
  private:
   using Cell = std::array<long long, 3>;

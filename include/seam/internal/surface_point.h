@@ -63,6 +63,12 @@ template <class K> struct KnownSites {
   }
 };
 
+/// Face f as a kernel triangle, in the face's orientation.
+template <class K> typename K::Triangle_3 face_triangle(const Mesh<K>& mesh, typename MeshTypes<K>::F f) {
+  const auto h = mesh.halfedge(f);
+  return {mesh.point(mesh.source(h)), mesh.point(mesh.target(h)), mesh.point(mesh.target(mesh.next(h)))};
+}
+
 /// The faces whose closure contains the point (one for a face point, one or two for an edge
 /// point, the fan for a vertex).
 template <class K>
