@@ -106,10 +106,15 @@ void run(const char* set, const std::vector<Case>& cases, double snap_factor) {
       faces += nf, b10 += n10, b20 += n20;
       verified += is_verified, remeshed += r.stats.improved;
       worst = std::min({worst, report.min_angle_deg_a, report.min_angle_deg_b});
-      std::printf("{\"set\": \"%s\", \"case\": \"%s\", \"ok\": %s, \"verified\": %s, \"improved\": %s, \"shortfalls\": %zu, \"new_faces\": %zu, "
+      // The faces left below 10 degrees, with the cause the quality stage gives for each.
+      std::string below_10_causes;
+      for (const auto& sf : r.stats.improve.shortfalls)
+        if (sf.min_angle_deg < 10)
+          below_10_causes += std::string(below_10_causes.empty() ? "" : ", ") + "\"" + seam::shortfall_cause_name(sf.cause) + "\"";
+      std::printf("{\"set\": \"%s\", \"case\": \"%s\", \"ok\": %s, \"verified\": %s, \"improved\": %s, \"shortfalls\": %zu, \"below_10_causes\": [%s], \"new_faces\": %zu, "
                   "\"below_10\": %zu, \"below_20\": %zu, \"curves\": %zu, \"closed\": %zu, \"seconds\": %.2f, \"note\": %s}\n",
                   set, c.name.c_str(), report.ok() ? "true" : "false", is_verified ? "true" : "false",
-                  r.stats.improved ? "true" : "false", r.stats.improve.shortfalls.size(), nf, n10, n20, r.stats.curves, r.stats.closed_curves, seconds,
+                  r.stats.improved ? "true" : "false", r.stats.improve.shortfalls.size(), below_10_causes.c_str(), nf, n10, n20, r.stats.curves, r.stats.closed_curves, seconds,
                   quoted(r.stats.note).c_str());
     } catch (const std::exception& e) {
       ++failed;

@@ -13,14 +13,18 @@
 //
 // The algorithm: Ruppert's Delaunay refinement, on the surface.
 //   0. Curve points closer than `min_separation` merge (the curves may then pass twice through a
-//      point); flips (max-min angle: Lawson's flips in the plane) over the band's edges.
+//      point); where no edge joins them, the edge between is flipped first, or, where that flip is
+//      refused (a lens between two curves), flipped and merged in one edit. Then flips (max-min
+//      angle: Lawson's flips in the plane) over the band's edges.
 //   1. Constraints encroached by a vertex of the band (it sees them at more than 90 degrees) are
 //      split at their middle: a curve segment in every mesh holding it (its middle lies on all of
 //      their surfaces), a border edge by letting the face beyond join the band.
 //   2. Each face below `min_angle_deg`, worst first:
 //      a. an edge of it shorter than `feature_size` goes (never at a vertex the stage made): a free vertex merges into the other end
 //         (onto a curve point: the report's snapping of nodes near the curve), or two curve points
-//         merge along their segment, in every mesh holding the curve;
+//         merge along their segment, in every mesh holding the curve. An edge shorter than
+//         `min_separation` whose ends do not merge (the fan would be flat) loses a free end: its
+//         star is fanned from another neighbour (still a merge, of an input vertex);
 //      b. otherwise Üngör's off-center of the face (on the bisector of its shortest edge, at most
 //         as far from it as the apex of a triangle with the bound's angle there; the circumcenter
 //         where that is nearer) is found by walking over the surface from the face, each face
@@ -32,7 +36,8 @@
 //   and pass the acceptance predicate first.
 //
 // The acceptance predicate (one, for every edit that changes the surface): the new faces are
-// not degenerate (exact), turn less than 80 degrees from their input surface (doubles), lie
+// not degenerate (exact), turn less than 80 degrees from their input surface (doubles; not asked
+// of a face thinner than `min_separation`, whose normal the rounding decides), lie
 // within `tolerance` of it (corners, edge middles and centroid, doubles), and meet no face of any
 // mesh except where seam check allows it (exact under the exact and filtered kernels): a common
 // vertex or edge of the same mesh, or a curve point or curve segment of another mesh; a new

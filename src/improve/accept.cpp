@@ -151,14 +151,19 @@ Tri<K, PK> new_tri(const ImproveState<K>& s, const Edit<K>& edit, const EditPart
 }
 
 /// The new face turns less than 80 degrees from the input surface there and lies within the
-/// tolerance of it (doubles).
+/// tolerance of it (doubles). A face thinner than the vertex separation (its height on its
+/// longest edge) has no normal worth the name: rounding decides it. It is held to the distance
+/// (and, by the caller, to the crossing tests) only.
 template <class K> Verdict near_input(const ImproveState<K>& s, std::size_t m, const Tri<K, K>& t) {
   const Filtered::Point_3 p = to_filtered(t.p[0]), q = to_filtered(t.p[1]), r = to_filtered(t.p[2]);
   const Filtered::Vector_3 n = CGAL::cross_product(q - p, r - p);
   const double len = std::sqrt(n.squared_length());
   if (!(len > 0)) return Verdict::shape;
+  const double longest = std::sqrt(std::max({CGAL::squared_distance(p, q), CGAL::squared_distance(q, r),
+                                             CGAL::squared_distance(r, p)}));
+  const bool thinner_than_separation = len / longest < s.options.min_separation;
   const auto [closest, normal] = s.meshes[m].input->closest(CGAL::centroid(p, q, r));
-  if (n * normal < std::cos(80 * M_PI / 180) * len) return Verdict::shape;
+  if (!thinner_than_separation && n * normal < std::cos(80 * M_PI / 180) * len) return Verdict::shape;
   const double slack = 1e-9 * s.mean_edge;
   if (s.meshes[m].input->sampled_distance(p, q, r) > s.tolerance + slack) return Verdict::tolerance;
   return Verdict::accepted;

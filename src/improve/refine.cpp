@@ -57,6 +57,7 @@ template <class K> class Refiner {
   void refine();
   void close_curve_points();
   bool flip_to_join(std::size_t m, V u, V w);
+  F face_beyond(std::size_t m, V u, V w) const;
 
  private:
   S& s_;
@@ -233,11 +234,27 @@ template <class K> void Refiner<K>::close_curve_points() {
         const V uk = pu.vertex[k], wk = pw.vertex[k];
         if ((uk == M::null_vertex()) != (wk == M::null_vertex())) possible = false;
         if (uk == M::null_vertex() || !possible) continue;
-        possible = !s_.mesh(k).is_border(uk) &&
-                   (s_.mesh(k).halfedge(uk, wk) != M::null_halfedge() || flip_to_join(k, uk, wk));
-        if (!possible) break;
+        if (s_.mesh(k).is_border(uk)) {
+          possible = false;
+          break;
+        }
+        std::vector<F> region;
+        if (s_.mesh(k).halfedge(uk, wk) != M::null_halfedge() || flip_to_join(k, uk, wk)) {
+          region = star(k, uk);
+        } else {
+          // The flip alone refused (it would make the faces between two curves the same
+          // triangles in both meshes, say): the flip and the merge in one edit, which takes the
+          // face beyond the edge between u and w with u's star.
+          const F beyond = face_beyond(k, uk, wk);
+          if (beyond == M::null_face()) {
+            possible = false;
+            break;
+          }
+          region = star(k, uk);
+          region.push_back(beyond);
+        }
         edit.parts.emplace_back();
-        possible = make_fan<K>(s_, k, star(k, uk), corner(k, wk), edit.parts.back());
+        possible = make_fan<K>(s_, k, region, corner(k, wk), edit.parts.back());
       }
       if (!possible || edit.parts.empty()) continue;
       edit.merged_point = u;
@@ -245,6 +262,20 @@ template <class K> void Refiner<K>::close_curve_points() {
       if (!attempt(edit)) ++s_.stats.merges;
     }
   s_.tolerance = tolerance;
+}
+
+/// The face of w across the edge of a face of u opposite u (one edge between them, not a curve
+/// segment), or null.
+template <class K> typename Refiner<K>::F Refiner<K>::face_beyond(std::size_t m, V u, V w) const {
+  const M& g = s_.mesh(m);
+  for (H in : CGAL::halfedges_around_target(g.halfedge(u), g)) {
+    if (g.is_border(in)) continue;
+    const H between = g.next(g.next(in));
+    if (g.is_border(g.opposite(between)) || g.target(g.next(g.opposite(between))) != w) continue;
+    if (s_.is_curve_edge(m, g.source(between), g.target(between))) return M::null_face();
+    return g.face(g.opposite(between));
+  }
+  return M::null_face();
 }
 
 /// Joins u and w by an edge where one edge lies between them (a face (u, x, y) and across (x, y) a
@@ -398,6 +429,23 @@ template <class K> std::optional<Outcome> Refiner<K>::merge_short_edge(std::size
     for (const auto& part : edit.parts)
       for (const auto& a : part.added) worst = std::min(worst, min_angle_deg(a[0].p, a[1].p, a[2].p));
     if (worst > best) best = worst, chosen = edit;
+  }
+  if (best < 0 && std::sqrt(CGAL::squared_distance(s_.fpoint(m, x), s_.fpoint(m, y))) < s_.options.min_separation) {
+    // Closer than the separation (a volume mesher takes them for one point) and neither merges
+    // into the other (the fan would be flat: the other lies on a line of u's neighbours, say):
+    // a free end is removed, its star fanned from another neighbour.
+    for (const V u : {x, y}) {
+      if (!s_.is_free(m, u) || s_.meshes[m].made[u]) continue;
+      for (const V a : CGAL::vertices_around_target(s_.mesh(m).halfedge(u), s_.mesh(m))) {
+        if (a == x || a == y) continue;
+        Edit<K> edit;
+        if (!merge_plan(m, u, a, edit) || accept_edit<K>(s_, edit) != Verdict::accepted) continue;
+        double worst = 180;
+        for (const auto& part : edit.parts)
+          for (const auto& t : part.added) worst = std::min(worst, min_angle_deg(t[0].p, t[1].p, t[2].p));
+        if (worst > best) best = worst, chosen = edit;
+      }
+    }
   }
   if (best < 0) return result;
   push_made(apply_edit<K>(s_, chosen));
