@@ -83,8 +83,9 @@ PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
   auto t = Clock::now();
   auto found = internal::compute_intersection_curves<K>(a, b);
   if (!found.curves.empty() && separation > 0) {
-    const auto sa = internal::snap_vertices_to_segments<K>(a, found.curves, separation, false, true);
-    const auto sb = internal::snap_vertices_to_segments<K>(b, found.curves, separation, false, true);
+    // (not a vertex of a flat contact: see snap_vertices_to_segments)
+    const auto sa = internal::snap_vertices_to_segments<K>(a, found.curves, separation, false, true, &b);
+    const auto sb = internal::snap_vertices_to_segments<K>(b, found.curves, separation, false, true, &a);
     st.vertices_closed = sa.snapped + sb.snapped;
     st.max_close_move = std::max(sa.max_move, sb.max_move);
     if (st.vertices_closed > 0) found = internal::compute_intersection_curves<K>(a, b);

@@ -6,6 +6,7 @@
 #include <set>
 
 #include <CGAL/AABB_segment_primitive.h>
+#include <CGAL/intersections.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/Kd_tree.h>
@@ -108,9 +109,33 @@ SnapReport<K> snap_vertices(Mesh<K>& mesh, const std::vector<Polyline<K>>& curve
 }
 
 
+namespace {
+/// Whether a face around v lies in one plane with a face of `other` and meets it (exact; a box
+/// test first, over every face of `other`: called for the few vertices near a curve).
+template <class K> bool in_flat_contact(const Mesh<K>& mesh, typename MeshTypes<K>::V v, const Mesh<K>& other) {
+  for (auto f : CGAL::faces_around_target(mesh.halfedge(v), mesh)) {
+    if (f == MeshTypes<K>::M::null_face()) continue;
+    const auto h = mesh.halfedge(f);
+    const typename K::Triangle_3 t(mesh.point(mesh.source(h)), mesh.point(mesh.target(h)),
+                                   mesh.point(mesh.target(mesh.next(h))));
+    const CGAL::Bbox_3 box = t.bbox();
+    for (auto g : other.faces()) {
+      const auto k = other.halfedge(g);
+      const auto &a = other.point(other.source(k)), &b = other.point(other.target(k)),
+                 &c = other.point(other.target(other.next(k)));
+      if (!CGAL::do_overlap(box, a.bbox() + b.bbox() + c.bbox())) continue;
+      if (CGAL::coplanar(t[0], t[1], t[2], a) && CGAL::coplanar(t[0], t[1], t[2], b) &&
+          CGAL::coplanar(t[0], t[1], t[2], c) && CGAL::do_intersect(t, typename K::Triangle_3(a, b, c)))
+        return true;
+    }
+  }
+  return false;
+}
+}  // namespace
+
 template <class K>
 SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, double tolerance,
-                                        bool round_to_doubles, bool skip_on_curves) {
+                                        bool round_to_doubles, bool skip_on_curves, const Mesh<K>* other) {
   SnapReport<K> report;
   if (!(tolerance > 0)) return report;
   using Point = typename K::Point_3;
@@ -145,6 +170,7 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
     // (whose parameter is a long rational): every later intersection is computed from them.
     const Point &p = *ends[si].first, &q = *ends[si].second;
     if (skip_on_curves && typename K::Segment_3(p, q).has_on(mesh.point(v))) continue;  // (exact test)
+    if (other && in_flat_contact<K>(mesh, v, *other)) continue;
     const auto pq = q - p;
     const double closest = CGAL::to_double(((mesh.point(v) - p) * pq) / pq.squared_length());
     double t = std::clamp(std::round(closest * 65536.0) / 65536.0, 0.0, 1.0);
@@ -262,15 +288,15 @@ EdgeSnapReport<K> snap_edges_to_points(Mesh<K>& mesh, const std::vector<Polyline
 }
 
 template SnapReport<Exact> snap_vertices<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double);
-template SnapReport<Exact> snap_vertices_to_segments<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double, bool, bool);
+template SnapReport<Exact> snap_vertices_to_segments<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double, bool, bool, const Mesh<Exact>*);
 template EdgeSnapReport<Exact> snap_edges_to_points<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double);
 template bool move_keeps_faces<Exact>(const Mesh<Exact>&, typename MeshTypes<Exact>::V, const Exact::Point_3&);
 template SnapReport<Filtered> snap_vertices<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double);
-template SnapReport<Filtered> snap_vertices_to_segments<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double, bool, bool);
+template SnapReport<Filtered> snap_vertices_to_segments<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double, bool, bool, const Mesh<Filtered>*);
 template EdgeSnapReport<Filtered> snap_edges_to_points<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double);
 template bool move_keeps_faces<Filtered>(const Mesh<Filtered>&, typename MeshTypes<Filtered>::V, const Filtered::Point_3&);
 template SnapReport<Float> snap_vertices<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double);
-template SnapReport<Float> snap_vertices_to_segments<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double, bool, bool);
+template SnapReport<Float> snap_vertices_to_segments<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double, bool, bool, const Mesh<Float>*);
 template EdgeSnapReport<Float> snap_edges_to_points<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double);
 template bool move_keeps_faces<Float>(const Mesh<Float>&, typename MeshTypes<Float>::V, const Float::Point_3&);
 

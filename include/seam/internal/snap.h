@@ -25,9 +25,13 @@ SnapReport<K> snap_vertices(Mesh<K>& mesh, const std::vector<Polyline<K>>& curve
 /// Snaps mesh vertices onto the closest point of the curves' segments (not only their nodes):
 /// for curves that lie on the surface, such as intersection curves, whose nodes are sparse.
 /// `skip_on_curves`: vertices already on their closest segment stay (exact test).
+/// `other`: vertices of a face that lies in one plane with a face of `other` and meets it (a
+/// flat contact) stay (exact tests): moving one would tilt the face out of the contact, and the
+/// part of the contact it held would be lost.
 template <class K>
 SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, double tolerance,
-                                        bool round_to_doubles = false, bool skip_on_curves = false);
+                                        bool round_to_doubles = false, bool skip_on_curves = false,
+                                        const Mesh<K>* other = nullptr);
 
 /// Would moving v to `target` keep every incident face non-degenerate, with its orientation?
 /// Exact under the exact kernel.
