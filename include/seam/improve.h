@@ -14,8 +14,9 @@
 // The algorithm: Ruppert's Delaunay refinement, on the surface.
 //   0. Curve points closer than `min_separation` merge (the curves may then pass twice through a
 //      point); where no edge joins them, the edge between is flipped first, or, where that flip is
-//      refused (a lens between two curves), flipped and merged in one edit. Then flips (max-min
-//      angle: Lawson's flips in the plane) over the band's edges.
+//      refused (a lens between two curves), flipped and merged in one edit; a free vertex as
+//      close that sits between them goes in the same edit. Then flips (max-min angle: Lawson's
+//      flips in the plane) over the band's edges.
 //   1. Constraints encroached by a vertex of the band (it sees them at more than 90 degrees) are
 //      split at their middle: a curve segment in every mesh holding it (its middle lies on all of
 //      their surfaces), a border edge by letting the face beyond join the band.

@@ -255,6 +255,21 @@ template <class K> void Refiner<K>::close_curve_points() {
         }
         edit.parts.emplace_back();
         possible = make_fan<K>(s_, k, region, corner(k, wk), edit.parts.back());
+        if (!possible) {
+          // A free vertex as close to u or w (it sits between them, say, so that the fan would
+          // make an edge that is there already): it goes in the same edit, its star with u's.
+          for (const V x : CGAL::vertices_around_target(s_.mesh(k).halfedge(uk), s_.mesh(k))) {
+            if (!s_.is_free(k, x) || s_.meshes[k].made[x]) continue;
+            const FP px = s_.fpoint(k, x);
+            if (CGAL::squared_distance(px, s_.fpoint(k, uk)) >= separation * separation &&
+                CGAL::squared_distance(px, s_.fpoint(k, wk)) >= separation * separation)
+              continue;
+            for (const F f : star(k, x))
+              if (std::find(region.begin(), region.end(), f) == region.end()) region.push_back(f);
+          }
+          edit.parts.back() = EditPart<K>();
+          possible = make_fan<K>(s_, k, region, corner(k, wk), edit.parts.back());
+        }
       }
       if (!possible || edit.parts.empty()) continue;
       edit.merged_point = u;
