@@ -115,17 +115,15 @@ namespace {
 template <class K> bool in_flat_contact(const Mesh<K>& mesh, typename MeshTypes<K>::V v, const Mesh<K>& other) {
   for (auto f : CGAL::faces_around_target(mesh.halfedge(v), mesh)) {
     if (f == MeshTypes<K>::M::null_face()) continue;
-    const auto h = mesh.halfedge(f);
-    const typename K::Triangle_3 t(mesh.point(mesh.source(h)), mesh.point(mesh.target(h)),
-                                   mesh.point(mesh.target(mesh.next(h))));
+    const auto t = face_triangle<K>(mesh, f);
     const CGAL::Bbox_3 box = t.bbox();
     for (auto g : other.faces()) {
-      const auto k = other.halfedge(g);
+      const auto k = other.halfedge(g);  // (the box test first: no triangle made for most faces)
       const auto &a = other.point(other.source(k)), &b = other.point(other.target(k)),
                  &c = other.point(other.target(other.next(k)));
       if (!CGAL::do_overlap(box, a.bbox() + b.bbox() + c.bbox())) continue;
       if (CGAL::coplanar(t[0], t[1], t[2], a) && CGAL::coplanar(t[0], t[1], t[2], b) &&
-          CGAL::coplanar(t[0], t[1], t[2], c) && CGAL::do_intersect(t, typename K::Triangle_3(a, b, c)))
+          CGAL::coplanar(t[0], t[1], t[2], c) && CGAL::do_intersect(t, face_triangle<K>(other, g)))
         return true;
     }
   }

@@ -432,34 +432,29 @@ template <class K> std::optional<Outcome> Refiner<K>::merge_short_edge(std::size
   std::optional<Outcome> result;
   double best = -1;
   Edit<K> chosen;
-  for (auto [u, w] : {std::make_pair(x, y), std::make_pair(y, x)}) {
+  // Plans the merge of u into w and judges it; keeps it when its new faces' smallest angle is the
+  // best so far. Returns the refusal, if the predicate refused it.
+  auto consider = [&](V u, V w) -> std::optional<Verdict> {
     Edit<K> edit;
-    if (!merge_plan(m, u, w, edit)) continue;
+    if (!merge_plan(m, u, w, edit)) return std::nullopt;
     const Verdict v = accept_edit<K>(s_, edit);
-    if (v != Verdict::accepted) {
-      if (!result) result = Outcome{false, cause_of(v)};
-      continue;
-    }
+    if (v != Verdict::accepted) return v;
     double worst = 180;
     for (const auto& part : edit.parts)
       for (const auto& a : part.added) worst = std::min(worst, min_angle_deg(a[0].p, a[1].p, a[2].p));
-    if (worst > best) best = worst, chosen = edit;
-  }
+    if (worst > best) best = worst, chosen = std::move(edit);
+    return std::nullopt;
+  };
+  for (auto [u, w] : {std::make_pair(x, y), std::make_pair(y, x)})
+    if (const auto refused = consider(u, w); refused && !result) result = Outcome{false, cause_of(*refused)};
   if (best < 0 && std::sqrt(CGAL::squared_distance(s_.fpoint(m, x), s_.fpoint(m, y))) < s_.options.min_separation) {
     // Closer than the separation (a volume mesher takes them for one point) and neither merges
     // into the other (the fan would be flat: the other lies on a line of u's neighbours, say):
     // a free end is removed, its star fanned from another neighbour.
     for (const V u : {x, y}) {
-      if (!s_.is_free(m, u) || s_.meshes[m].made[u]) continue;
-      for (const V a : CGAL::vertices_around_target(s_.mesh(m).halfedge(u), s_.mesh(m))) {
-        if (a == x || a == y) continue;
-        Edit<K> edit;
-        if (!merge_plan(m, u, a, edit) || accept_edit<K>(s_, edit) != Verdict::accepted) continue;
-        double worst = 180;
-        for (const auto& part : edit.parts)
-          for (const auto& t : part.added) worst = std::min(worst, min_angle_deg(t[0].p, t[1].p, t[2].p));
-        if (worst > best) best = worst, chosen = edit;
-      }
+      if (!s_.is_free(m, u)) continue;  // (merge_plan refuses a vertex the stage made)
+      for (const V a : CGAL::vertices_around_target(s_.mesh(m).halfedge(u), s_.mesh(m)))
+        if (a != x && a != y) consider(u, a);
     }
   }
   if (best < 0) return result;
