@@ -106,7 +106,95 @@ int run_check(CheckArgs a) {
   });
 }
 
+struct CheckEmbedArgs {
+  std::string mesh, out, curves, given, report, kernel = "exact";
+  NumberText tol_text;
+};
+
+int run_check_embed(CheckEmbedArgs a) {
+  double tol = number_option("--tol", a.tol_text, NumberRange::non_negative_or_auto(), -1.0);
+  refuse_overwrite({a.mesh, a.out, a.curves, a.given}, {a.report});
+  seam::OutputFiles files;
+  const auto out = add_outputs(files, {a.report});
+  const seam::TriangleSoup input = seam::read_triangle_mesh(a.mesh), output = seam::read_triangle_mesh(a.out);
+  std::vector<std::vector<seam::Point3d>> polylines, given;
+  try {
+    polylines = seam::read_polylines(a.curves);
+  } catch (const seam::InvalidInput&) {
+    if (!has_no_polyline(a.curves)) throw;
+  }
+  if (!a.given.empty()) given = seam::read_polylines(a.given);
+  if (tol < 0) tol = default_check_tolerance(input, input);
+
+  return seam::with_kernel(parse_kernel(a.kernel), [&](auto kernel) {
+    using K = decltype(kernel);
+    const auto min = seam::mesh_from_soup<K>(input, a.mesh), mout = seam::mesh_from_soup<K>(output, a.out);
+    const auto curves = seam::to_kernel<K>(polylines), given_curves = seam::to_kernel<K>(given);
+    const seam::EmbedCheckReport r =
+        seam::check_embedding<K>(min, mout, curves, tol, a.given.empty() ? nullptr : &given_curves);
+    for (const auto& p : r.problems) std::cout << "FAIL: " << p << "\n";
+    std::cout << "seam check-embed: " << (r.ok() ? "OK" : "FAILED") << " (" << r.problems.size() << " problem"
+              << (r.problems.size() == 1 ? "" : "s") << ", kernel " << a.kernel << ")\n"
+              << "  curves:    " << r.curves << " (" << r.curve_vertices << " vertices, " << r.curve_segments
+              << " segments)\n"
+              << "  tolerance: " << r.tolerance << " (largest distance from the input: " << r.max_distance << "); "
+              << r.close_vertex_pairs << " vertex pairs closer than " << r.min_separation << "\n"
+              << "  output:    " << r.vertices << " vertices, " << r.faces << " faces (" << r.new_faces
+              << " not in the input); min angle " << r.min_angle_deg << " deg; new faces below 10 deg: " << r.below_10
+              << ", below 20 deg: " << r.below_20 << "\n";
+    if (!a.given.empty())
+      std::cout << "  given:     largest distance from a given curve point to the curves " << r.given_to_embedded
+                << ", from a curve point to the given curves " << r.embedded_to_given << "\n";
+    std::cout.flush();
+    if (!a.report.empty()) {
+      nlohmann::json j;
+      j["ok"] = r.ok();
+      j["kernel"] = a.kernel;
+      j["problems"] = r.problems;
+      j["curves"] = {{"curves", r.curves}, {"vertices", r.curve_vertices}, {"segments", r.curve_segments}};
+      j["tolerance"] = r.tolerance;
+      j["max_distance"] = r.max_distance;
+      j["separation"] = {{"min_separation", r.min_separation},
+                         {"close_vertex_pairs", r.close_vertex_pairs},
+                         {"close_vertex_pairs_in_input", r.close_vertex_pairs_in_input}};
+      j["output"] = {{"vertices", r.vertices}, {"faces", r.faces}, {"new_faces", r.new_faces}};
+      j["quality"] = {{"min_angle_deg", r.min_angle_deg}, {"below_10", r.below_10}, {"below_20", r.below_20}};
+      j["given"] = {{"given_to_embedded", r.given_to_embedded}, {"embedded_to_given", r.embedded_to_given}};
+      j["files"] = {{"mesh", a.mesh}, {"out", a.out}, {"curves", a.curves}, {"given", a.given}};
+      files.write(out[0], [&](std::ostream& os) { write_json(j, os); });
+      files.commit();
+    }
+    return r.ok() ? 0 : 1;
+  });
+}
+
 }  // namespace
+
+Command add_check_embed_command(CLI::App& app) {
+  auto args = std::make_shared<CheckEmbedArgs>();
+  CheckEmbedArgs& ca = *args;
+  auto* cmd = app.add_subcommand(
+      "check-embed",
+      "Verify one mesh with embedded curves (the output of seam embed), independently of the code that produced it: "
+      "OUT is a valid triangle mesh (no degenerate face, no two vertices at one point, no self-intersection, closed "
+      "when MESH is), every curve point is a vertex with identical coordinates and every curve segment an edge, "
+      "every vertex lies within --tol of MESH's surface, and distinct vertices are at least 2e-8 of the diagonal "
+      "apart. Exit 0 when all hold, 1 when a check fails ('FAIL: ...' lines), 2 on bad input, 3 on an internal "
+      "error.");
+  cmd->add_option("MESH", ca.mesh, "The input mesh (.off, .obj, .ply, .stl)")->required();
+  cmd->add_option("OUT", ca.out, "The output mesh (seam embed -o)")->required();
+  cmd->add_option("CURVES", ca.curves, "The embedded curves (seam embed --curves-out)")->required();
+  cmd->add_option("--given", ca.given,
+                  "The curves as given to seam embed: prints the largest distances between them and CURVES");
+  add_number_option(cmd, "--tol", ca.tol_text,
+                    "Largest allowed distance of a vertex of OUT from the surface of MESH (default: auto, 1e-9 x the "
+                    "bounding-box diagonal of MESH; with snapping use at least the snap tolerance: seam embed prints "
+                    "the value)");
+  cmd->add_option("--kernel", ca.kernel, "exact (default: the reference), filtered or float")
+      ->check(CLI::IsMember({"exact", "filtered", "float"}));
+  cmd->add_option("--report", ca.report, "Write a JSON report (problems and figures) here");
+  return {cmd, [args] { return run_check_embed(*args); }};
+}
 
 Command add_check_command(CLI::App& app) {
   auto args = std::make_shared<CheckArgs>();

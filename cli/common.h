@@ -32,6 +32,7 @@ struct Command {
 Command add_embed_command(CLI::App& app);
 Command add_pair_command(CLI::App& app);
 Command add_check_command(CLI::App& app);
+Command add_check_embed_command(CLI::App& app);
 Command add_textile_command(CLI::App& app);
 Command add_mesh_command(CLI::App& app);
 Command add_resolve_command(CLI::App& app);

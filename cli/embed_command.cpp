@@ -12,18 +12,18 @@ namespace {
 struct EmbedArgs {
   std::string mesh, curves, out, curves_out, report, kernel = "exact";
   NumberText snap_tol, min_angle, max_area, max_distance, curve_tol;
-  seam::EmbedOptions options;
+  seam::EmbedRunOptions run;
 };
 
 int run_embed(EmbedArgs& a) {
   // Every option before any work.
-  seam::EmbedOptions& o = a.options;
+  seam::EmbedOptions& o = a.run.embed;
   o.snap_tol = number_option("--snap-tol", a.snap_tol, NumberRange::non_negative_or_auto(), o.snap_tol);
   o.min_angle_deg = number_option("--min-angle", a.min_angle, NumberRange::between(0, 60, "degrees"), o.min_angle_deg);
   o.max_area = number_option("--max-area", a.max_area, NumberRange::non_negative(), o.max_area);
   o.max_distance = number_option("--max-distance", a.max_distance, NumberRange::non_negative_or_auto(), o.max_distance);
   o.curve_tol = number_option("--curve-tol", a.curve_tol, NumberRange::non_negative(), o.curve_tol);
-  seam::validate_options(a.options);
+  seam::validate_options(o);
   // Every output path before any work: its format, no input overwritten, and its temporary file
   // created (a missing folder, a directory, a FIFO are found now).
   refuse_overwrite({a.mesh, a.curves}, {a.out, a.curves_out, a.report});
@@ -44,9 +44,9 @@ int run_embed(EmbedArgs& a) {
     // The doubles are not needed any more: a curve of 10 million points holds 240 MB of them.
     std::vector<std::vector<seam::Point3d>>().swap(polylines);
     seam::TriangleSoup().points.swap(soup.points);
-    seam::EmbedResult<K> result;
+    seam::EmbedRunResult<K> result;
     try {
-      result = seam::embed<K>(mesh, curves, a.options);
+      result = seam::embed_checked<K>(mesh, curves, a.run);
     } catch (const seam::InvalidInput& e) {
       throw seam::InvalidInput(a.curves + ": " + e.what());
     }
@@ -60,6 +60,14 @@ int run_embed(EmbedArgs& a) {
     stats.stage_seconds["write"] = std::chrono::duration<double>(Clock::now() - t1).count();
     if (out[2] != no_output) {
       nlohmann::json j = stats_json(stats);
+      j["improve"] = improve_json(result.improve, result.improved, {"mesh"});
+      j["verify"] = {{"verified", result.verified},
+                     {"tolerance", result.verify_tolerance},
+                     {"max_distance", result.check.max_distance},
+                     {"given_to_embedded", result.check.given_to_embedded},
+                     {"embedded_to_given", result.check.embedded_to_given},
+                     {"close_vertex_pairs_in_input", result.check.close_vertex_pairs_in_input}};
+      j["note"] = result.note;
       j["files"] = {{"mesh", a.mesh}, {"curves", a.curves}, {"out", a.out}};
       files.write(out[2], [&](std::ostream& os) { write_json(j, os); });
     }
@@ -69,7 +77,14 @@ int run_embed(EmbedArgs& a) {
               << " embedded vertices (" << s.crossing_points << " crossing points); " << s.vertices_snapped
               << " vertices snapped (" << s.snaps_refused << " refused); " << s.faces_crossed << " faces -> "
               << s.faces_added << " new faces, min angle " << s.min_angle_deg_new << " deg (" << s.new_faces_below_20
-              << " below 20); wrote " << a.out << "\n";
+              << " below 20, " << s.new_faces_below_10 << " below 10)";
+    if (result.improved)
+      std::cout << "; quality stage (tolerance " << s.snap_tol << "): " << result.improve.below_bound_after
+                << " of the band's faces below " << a.run.embed.min_angle_deg << " degrees";
+    if (result.verified)
+      std::cout << "; verified (seam check-embed --tol " << tolerance_text(result.verify_tolerance) << ")";
+    if (!result.note.empty()) std::cout << "; " << result.note;
+    std::cout << "; wrote " << a.out << "\n";
     return 0;
   });
 }
@@ -82,7 +97,9 @@ Command add_embed_command(CLI::App& app) {
   auto* embed = app.add_subcommand(
       "embed",
       "Embed polylines into one triangle mesh: snap nearby vertices onto the curve, follow the curve across the "
-      "faces, keep its crossing points, and re-triangulate every crossed face with the curve as a constraint.");
+      "faces, keep its crossing points, re-triangulate every crossed face with the curve as a constraint, improve "
+      "the faces around the curve (the quality stage), and check the output as written (as seam check-embed). "
+      "Exit 0 only with a verified output; 3 (nothing written) when the check fails.");
   embed->add_option("MESH", ea.mesh, "Input triangle mesh (.off, .obj, .ply, .stl)")->required();
   embed->add_option("--curves", ea.curves,
                     "Curves file, one polyline per line: 'n x1 y1 z1 ... xn yn zn'; closed when the last point "
@@ -95,11 +112,12 @@ Command add_embed_command(CLI::App& app) {
   embed->add_option("--kernel", ea.kernel, "exact (Epeck, default), filtered (Epick) or float (double)")
       ->check(CLI::IsMember({"exact", "filtered", "float"}));
   add_number_option(embed, "--snap-tol", ea.snap_tol,
-                    "Move mesh vertices within this distance of a curve node onto it; 0 disables snapping "
-                    "(default: auto, 0.1 x mean edge length)");
+                    "Move mesh vertices within this distance of a curve node onto it, and let the quality stage "
+                    "change faces within it of the input surface; 0 disables snapping (default: auto, 0.1 x mean "
+                    "edge length)");
   add_number_option(embed, "--min-angle", ea.min_angle,
-                    "Minimum angle (degrees, 0..60) Delaunay refinement aims for in re-triangulated faces; 0 "
-                    "disables refinement (default: 20)");
+                    "The angle bound (degrees, 0..60): Delaunay refinement of the re-triangulated faces and the "
+                    "quality stage aim for it (default: 20)");
   add_number_option(embed, "--max-area", ea.max_area, "Largest area of a new triangle; 0: no bound (default: 0)");
   add_number_option(embed, "--max-distance", ea.max_distance,
                     "A curve node farther than this from the surface is an error (default: auto, 1.0 x mean edge "
@@ -108,6 +126,9 @@ Command add_embed_command(CLI::App& app) {
                     "Keep a curve node between two crossings when dropping it would move the curve by more than "
                     "this; 0 drops them all, as the report does (default: 0)");
 
+  embed->add_flag_callback(
+      "--no-improve", [&ea] { ea.run.improve = false; },
+      "Keep the faces as the re-triangulation made them, without the quality stage");
   return {embed, [args] { return run_embed(*args); }};
 }
 

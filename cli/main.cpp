@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   app.set_help_all_flag("--help-all", "Print help for every subcommand");
   const std::vector<seam_cli::Command> commands = {seam_cli::add_embed_command(app), seam_cli::add_pair_command(app),
                                                     seam_cli::add_check_command(app),
+                                                    seam_cli::add_check_embed_command(app),
                                                     seam_cli::add_textile_command(app),
                                                     seam_cli::add_mesh_command(app),
                                                     seam_cli::add_resolve_command(app)};

@@ -387,7 +387,7 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
 /// points for one: its -T tolerance, 1e-8 of that diagonal by default).
 template <class K>
 void check_vertex_separation(const Mesh<K>& a, const Mesh<K>& b, const MeshView<K>& va, const MeshView<K>& vb,
-                             PairCheckReport& report) {
+                             PairCheckReport& report, const char* subject = "A2 and B2") {
   // Pairs of vertices of the inputs themselves are not the outputs' doing: counted apart.
   std::set<std::array<double, 3>> inputs;
   for (const Mesh<K>* m : {&a, &b})
@@ -430,7 +430,7 @@ void check_vertex_separation(const Mesh<K>& a, const Mesh<K>& b, const MeshView<
   });
   report.close_vertex_pairs = count;
   if (count)
-    report.problems.push_back(say(count, " pairs of distinct vertices of A2 and B2 are closer than ", r,
+    report.problems.push_back(say(count, " pairs of distinct vertices of ", subject, " are closer than ", r,
                                   " (", min_vertex_separation,
                                   " of the diagonal: a volume mesher such as TetGen takes them for one point; first: ",
                                   first, ")"));
@@ -598,11 +598,11 @@ void mark_shared_faces(MeshView<K>& va, MeshView<K>& vb, const std::vector<std::
 }
 
 /// Check 2: every curve point is a vertex, and every curve segment an edge, of both outputs (with
-/// identical coordinates). Returns the curve points; `curve_edges_a` gets the curve segments as
+/// identical coordinates; of `va` only when `vb` is null). Returns the curve points; `curve_edges_a` gets the curve segments as
 /// pairs of A2 vertex indices (both ends present in A2), smaller index first.
 template <class K>
 std::set<typename K::Point_3, PointLess> check_curves_present(const std::vector<Polyline<K>>& curves, MeshView<K>& va,
-                                                              MeshView<K>& vb,
+                                                              MeshView<K>* vb,
                                                               std::set<std::pair<std::uint32_t, std::uint32_t>>& curve_edges_a,
                                                               PairCheckReport& report) {
   using M = Mesh<K>;
@@ -620,8 +620,8 @@ std::set<typename K::Point_3, PointLess> check_curves_present(const std::vector<
       if (pts[i] == pts[i + 1]) problems.push_back(say("curve ", c, " segment ", i, " has zero length at ", point_text(pts[i])));
     curve_points.insert(pts.begin(), pts.end());
   }
-  for (MeshView<K>* view : {&va, &vb}) {
-    if (!view->structure_ok) continue;
+  for (MeshView<K>* view : {&va, vb}) {
+    if (!view || !view->structure_ok) continue;
     std::size_t missing_points = 0, missing_edges = 0;
     std::string first_point, first_edge;
     for (std::size_t c = 0; c < curves.size(); ++c) {
@@ -788,7 +788,7 @@ PairCheckReport check_pair_unguarded(const Mesh<K>& a, const Mesh<K>& b, const M
 
   // ------------------------------------------------------------ 2. curves present in both
   std::set<std::pair<std::uint32_t, std::uint32_t>> curve_edges_a;
-  const auto curve_points = check_curves_present<K>(curves, va, vb, curve_edges_a, report);
+  const auto curve_points = check_curves_present<K>(curves, va, &vb, curve_edges_a, report);
 
   // ------------------------------------------------------------ 3. no intersection off the curves
   std::vector<char> shared_faces_a;  // per A2 face index: a shared face (kept for check 6)
@@ -856,7 +856,88 @@ PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2
   }
 }
 
+namespace {
+
+/// The largest distance from a point of `from` to the segments of `to` (doubles; 0 when either is
+/// empty): points against an AABB tree of segments, so n log n.
+template <class K> double largest_distance(const std::vector<Polyline<K>>& from, const std::vector<Polyline<K>>& to) {
+  using FS = Filtered::Segment_3;
+  using Primitive = CGAL::AABB_segment_primitive<Filtered, typename std::vector<FS>::const_iterator>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Filtered, Primitive>>;
+  std::vector<FS> segments;
+  for (const auto& c : to)
+    for (std::size_t i = 0; i + 1 < c.size(); ++i) {
+      const auto p = to_filtered(c[i]), q = to_filtered(c[i + 1]);
+      if (p != q) segments.emplace_back(p, q);
+    }
+  if (segments.empty()) return 0;
+  Tree tree(segments.begin(), segments.end());
+  tree.accelerate_distance_queries();
+  double largest = 0;
+  for (const auto& c : from)
+    for (const auto& p : c) largest = std::max(largest, std::sqrt(tree.squared_distance(to_filtered(p))));
+  return largest;
+}
+
+template <class K>
+EmbedCheckReport check_embedding_unguarded(const Mesh<K>& input, const Mesh<K>& output,
+                                           const std::vector<Polyline<K>>& curves, double tol,
+                                           const std::vector<Polyline<K>>* given) {
+  // The pair checks' fields, filled for one mesh, then copied over.
+  PairCheckReport pr;
+  pr.tolerance = tol;
+  MeshView<K> view(output, "the output");
+  check_mesh(view, CGAL::is_closed(input), pr.problems, pr.conflict_faces_a, nullptr);
+  std::set<std::pair<std::uint32_t, std::uint32_t>> curve_edges;
+  check_curves_present<K>(curves, view, nullptr, curve_edges, pr);
+  double max_distance = 0, min_angle = 0;
+  std::size_t below_10 = 0, below_20 = 0, new_faces = 0;
+  if (view.structure_ok) {
+    check_vertex_separation(input, input, view, view, pr, "the output");
+    check_against_input(input, view, tol, max_distance, min_angle, below_10, below_20, new_faces, pr.problems);
+  }
+  EmbedCheckReport r;
+  r.problems = std::move(pr.problems);
+  r.curves = pr.curves;
+  r.curve_vertices = pr.curve_vertices;
+  r.curve_segments = pr.curve_segments;
+  r.tolerance = tol;
+  r.max_distance = max_distance;
+  r.min_angle_deg = min_angle;
+  r.new_faces = new_faces;
+  r.below_10 = below_10;
+  r.below_20 = below_20;
+  r.vertices = output.number_of_vertices();
+  r.faces = output.number_of_faces();
+  r.min_separation = pr.min_separation;
+  r.close_vertex_pairs = pr.close_vertex_pairs;
+  r.close_vertex_pairs_in_input = pr.close_vertex_pairs_in_inputs;
+  std::sort(pr.conflict_faces_a.begin(), pr.conflict_faces_a.end());
+  pr.conflict_faces_a.erase(std::unique(pr.conflict_faces_a.begin(), pr.conflict_faces_a.end()),
+                            pr.conflict_faces_a.end());
+  r.conflict_faces = std::move(pr.conflict_faces_a);
+  if (given) {
+    r.given_to_embedded = largest_distance<K>(*given, curves);
+    r.embedded_to_given = largest_distance<K>(curves, *given);
+  }
+  return r;
+}
+
+}  // namespace
+
+template <class K>
+EmbedCheckReport check_embedding(const Mesh<K>& input, const Mesh<K>& output, const std::vector<Polyline<K>>& curves,
+                                 double tol, const std::vector<Polyline<K>>* given) {
+  try {
+    return check_embedding_unguarded<K>(input, output, curves, tol, given);
+  } catch (const CGAL::Failure_exception& e) {
+    throw InternalError(std::string("check: a CGAL assertion failed (") + e.expression() + ")");
+  }
+}
+
 #define SEAM_INSTANTIATE(K)                                                                                  \
+  template EmbedCheckReport check_embedding<K>(const Mesh<K>&, const Mesh<K>&, const std::vector<Polyline<K>>&, \
+                                               double, const std::vector<Polyline<K>>*);                      \
   template PairCheckReport check_pair<K>(const Mesh<K>&, const Mesh<K>&, const Mesh<K>&, const Mesh<K>&, \
                                          const std::vector<Polyline<K>>&, double, const CheckFocus*, bool);
 SEAM_INSTANTIATE(Exact)

@@ -80,6 +80,33 @@ PairCheckReport check_as_written(const Mesh<K>& a, const Mesh<K>& b, Mesh<K>& a2
   return check_pair<Exact>(ra, rb, ra2, rb2, rc, tol);
 }
 
+template <class K>
+EmbedCheckReport check_embedding_as_written(const Mesh<K>& input, Mesh<K>& output, std::vector<Polyline<K>>& curves,
+                                            double tol, const std::vector<Polyline<K>>* given) {
+  for (auto v : output.vertices()) make_exact(output.point(v));
+  for (auto& c : curves)
+    for (auto& p : c) make_exact(p);
+  if constexpr (kernel_traits<K>::exact_constructions) {
+    for (auto v : input.vertices()) {
+      const auto& p = input.point(v);
+      if (!(typename K::Point_3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())) == p))
+        return check_embedding<K>(input, output, curves, tol, given);
+    }
+  }
+  auto doubles = [](const std::vector<Polyline<K>>& from) {
+    std::vector<Polyline<Exact>> to;
+    for (const auto& c : from) {
+      to.emplace_back();
+      for (const auto& p : c) to.back().emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+    }
+    return to;
+  };
+  const std::vector<Polyline<Exact>> rc = doubles(curves);
+  std::vector<Polyline<Exact>> rg;
+  if (given) rg = doubles(*given);
+  return check_embedding<Exact>(rounded<K>(input), rounded<K>(output), rc, tol, given ? &rg : nullptr);
+}
+
 /// The tolerance seam::pair's outputs are verified at: the quality stage's tolerance, plus the
 /// given curves' largest move and stage 1's largest move (features thinner than the vertex
 /// separation closed); at least 1e-9 of the pair's size.
@@ -115,7 +142,9 @@ template PairCheckReport check_as_written<Filtered>(const Mesh<Filtered>&, const
 template PairCheckReport check_as_written<Float>(const Mesh<Float>&, const Mesh<Float>&, Mesh<Float>&, Mesh<Float>&,
                                                  std::vector<Polyline<Float>>&, double);
 #define SEAM_INSTANTIATE(K)                                                                                    \
-  template bool verify_outputs<K>(const Mesh<K>&, const Mesh<K>&, Mesh<K>&, Mesh<K>&, PairResult<K>&, std::string&);
+  template bool verify_outputs<K>(const Mesh<K>&, const Mesh<K>&, Mesh<K>&, Mesh<K>&, PairResult<K>&, std::string&); \
+  template EmbedCheckReport check_embedding_as_written<K>(const Mesh<K>&, Mesh<K>&, std::vector<Polyline<K>>&, double, \
+                                                          const std::vector<Polyline<K>>*);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)
 SEAM_INSTANTIATE(Float)

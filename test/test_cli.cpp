@@ -162,6 +162,38 @@ seam::TriangleSoup check_output_mesh(const std::string& path) {
 
 // ================================================================== success
 
+TEST_CASE("cli: seam check-embed accepts seam embed's output and rejects it once a vertex is moved", "[cli]") {
+  TempDir dir;
+  const Run r = run_seam(dir, embed_args(dir, example_mesh, example_curves));
+  INFO("stderr: " << r.err);
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.out, Contains("verified (seam check-embed --tol "));
+  // The tolerance embed states, as printed.
+  const auto at = r.out.find("--tol ") + 6;
+  const std::string tol = r.out.substr(at, r.out.find(')', at) - at);
+  const Run ok = run_seam(dir, {"check-embed", example_mesh, dir.out("out.off"), dir.out("curves.txt"), "--given",
+                                example_curves, "--tol", tol});
+  INFO("check-embed: " << ok.out << ok.err);
+  CHECK(ok.code == 0);
+  CHECK_THAT(ok.out, StartsWith("seam check-embed: OK"));
+
+  // One vertex of the output moved 0.5 along z: off the input surface, and its faces cross others.
+  seam::TriangleSoup soup = seam::read_triangle_mesh(dir.out("out.off"));
+  soup.points[soup.triangles[0][0]][2] += 0.5;
+  std::ostringstream moved;
+  seam::write_triangle_mesh(soup, moved, ".off");
+  const std::string bad = dir.input("moved.off", moved.str());
+  const Run fail = run_seam(dir, {"check-embed", example_mesh, bad, dir.out("curves.txt"), "--tol", tol});
+  CHECK(fail.code == 1);
+  CHECK_THAT(fail.out, StartsWith("FAIL: "));
+  CHECK_THAT(fail.out, Contains("farther than the tolerance"));
+
+  // A curves file whose point is not a vertex of the output.
+  const Run missing = run_seam(dir, {"check-embed", example_mesh, dir.out("out.off"), example_curves, "--tol", tol});
+  CHECK(missing.code == 1);
+  CHECK_THAT(missing.out, Contains("curve points are not vertices"));
+}
+
 TEST_CASE("cli: embed on the bundled example succeeds and writes valid outputs", "[cli]") {
   TempDir dir;
   const std::string mesh_before = read_bytes(example_mesh), curves_before = read_bytes(example_curves);

@@ -181,10 +181,11 @@ bool faces_intersect(const seam::TriangleSoup& soup, std::size_t f, std::size_t 
 
 // ================================================================== bad meshes, every subcommand
 
-TEST_CASE("contract: a bad mesh in any input position of embed, pair or check gives exit 2 naming it", "[cli][contract]") {
+TEST_CASE("contract: a bad mesh in any input position of embed, pair, check or check-embed gives exit 2 naming it",
+          "[cli][contract]") {
   for (const BadMesh& c : bad_meshes()) {
-    for (int position = 0; position < 7; ++position) {
-      // 0: embed MESH; 1, 2: pair A, B; 3..6: check A, B, A2, B2
+    for (int position = 0; position < 9; ++position) {
+      // 0: embed MESH; 1, 2: pair A, B; 3..6: check A, B, A2, B2; 7, 8: check-embed MESH, OUT
       INFO("case: " << c.label << ", position " << position);
       Dir dir;
       const std::string bad = make_bad(dir, c);
@@ -197,6 +198,8 @@ TEST_CASE("contract: a bad mesh in any input position of embed, pair or check gi
       } else if (position <= 2) {
         args = {"pair", position == 1 ? bad : a, position == 2 ? bad : b, "--out-a", dir.out("a2.off"), "--out-b",
                 dir.out("b2.off"), "--curves-out", dir.out("c.txt"), "--report", dir.out("r.json")};
+      } else if (position >= 7) {
+        args = {"check-embed", position == 7 ? bad : a, position == 8 ? bad : a, curves, "--report", dir.out("r.json")};
       } else {
         std::vector<std::string> files = {a, b, a, b};
         files[position - 3] = bad;
@@ -436,6 +439,7 @@ std::vector<std::string> command_args(const Dir& dir, const std::string& command
   if (command == "embed") return {"embed", a, "--curves", curves, "-o", dir.out("o.off"), "--report", dir.out("r.json")};
   if (command == "pair") return {"pair", a, b, "--out-a", dir.out("a2.off"), "--out-b", dir.out("b2.off")};
   if (command == "check") return {"check", a, b, a, b, curves, "--report", dir.out("r.json")};
+  if (command == "check-embed") return {"check-embed", a, a, curves, "--report", dir.out("r.json")};
   return {"textile", a, b, "--out-dir", dir.out("cell"), "--quiet"};
 }
 
@@ -448,6 +452,7 @@ TEST_CASE("contract: every numeric option refuses NaN, infinity, negative and ou
       {"embed", {"--snap-tol", "--min-angle", "--max-area", "--max-distance", "--curve-tol"}},
       {"pair", {"--snap-tol", "--min-angle", "--max-area"}},
       {"check", {"--tol"}},
+      {"check-embed", {"--tol"}},
       {"textile", {"--snap-tol", "--min-angle", "--max-area", "--threads"}},
   };
   for (const auto& [command, names] : options)

@@ -137,4 +137,39 @@ PairCheckReport check_pair(const Mesh<K>& a, const Mesh<K>& b, const Mesh<K>& a2
                            const std::vector<Polyline<K>>& curves, double tol, const CheckFocus* focus = nullptr,
                            bool separation = true);
 
+/// The check of one mesh with embedded curves (`seam check-embed`, and seam embed's output as
+/// written): checks 1, 2, 4 and 5 above for the output alone, against its input.
+///   1. the output is a valid triangle mesh: no degenerate face, no two vertices at one point, no
+///      self-intersection, closed when the input is;
+///   2. every curve point is a vertex with identical coordinates, every curve segment an edge;
+///   4. every output vertex lies within `tol` of the input surface;
+///   5. distinct output vertices, in doubles, are min_vertex_separation x the diagonal apart
+///      (pairs that close in the input counted apart, not a problem).
+/// With `given` (the curves as the user gave them, which need not lie on the surface), the
+/// largest distances between them and the embedded curves, both ways (figures: coarsening drops
+/// the given points between two crossings).
+struct EmbedCheckReport {
+  std::vector<std::string> problems;
+  std::size_t curves = 0, curve_vertices = 0, curve_segments = 0;
+  double tolerance = 0;
+  double max_distance = 0;  ///< largest distance of an output vertex from the input surface
+  double min_angle_deg = 0;  ///< smallest angle over all output faces
+  /// Faces that are not input faces (by their three corners' coordinates), and those of them
+  /// below 10 and 20 degrees.
+  std::size_t new_faces = 0, below_10 = 0, below_20 = 0;
+  std::size_t vertices = 0, faces = 0;
+  double min_separation = 0;
+  std::size_t close_vertex_pairs = 0, close_vertex_pairs_in_input = 0;
+  double given_to_embedded = 0, embedded_to_given = 0;
+  /// Output faces that are degenerate or in a self-intersection, by index.
+  std::vector<std::size_t> conflict_faces;
+  bool ok() const { return problems.empty(); }
+};
+
+/// Runs the checks of EmbedCheckReport on `output`, the `curves` embedded in it (closed ones
+/// repeat their first point) and its `input`. Never throws for a failed check.
+template <class K>
+EmbedCheckReport check_embedding(const Mesh<K>& input, const Mesh<K>& output, const std::vector<Polyline<K>>& curves,
+                                 double tol, const std::vector<Polyline<K>>* given = nullptr);
+
 }  // namespace seam

@@ -27,7 +27,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <seam/check.h>
 #include <seam/errors.h>
+#include <seam/improve.h>
 #include <seam/kernels.h>
 #include <seam/types.h>
 
@@ -110,6 +112,45 @@ template <class K> struct EmbedResult {
 template <class K>
 EmbedResult<K> embed(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves,
                      const EmbedOptions& options = {});
+
+/// Options of `seam embed` as a whole (seam::embed_checked).
+struct EmbedRunOptions {
+  /// The embedding's options; snap_tol is also the quality stage's tolerance (how far a changed
+  /// face may lie from the input surface) and min_angle_deg its bound.
+  EmbedOptions embed;
+  /// Run the quality stage (seam/improve.h) on the faces around the curves. Not run when
+  /// EmbedOptions::max_area is set (it works to angles and would not keep the area bound), nor
+  /// when snap_tol is 0: keeping the surface exactly it cannot flip across the creases of a
+  /// faceted curved surface, and made more thin faces than the re-triangulation leaves.
+  bool improve = true;
+  /// The quality stage's other options (its tolerance and bound come from `embed`).
+  ImproveOptions quality;
+  /// Check the output as it will be written (seam::check_embedding on the coordinates rounded to
+  /// doubles, at verify_tolerance). Off only for measurements.
+  bool verify_output = true;
+};
+
+template <class K> struct EmbedRunResult : EmbedResult<K> {
+  bool improved = false;  ///< the quality stage's edits are in the output
+  ImproveStats improve;   ///< what the quality stage did (also when its edits were not kept)
+  bool verified = false;  ///< the output as written passed seam::check_embedding
+  /// The tolerance of that check: snap_tol (snapped vertices and the quality stage's faces stay
+  /// within it of the input surface) plus 1e-9 of the mesh's diagonal (rounding).
+  double verify_tolerance = 0;
+  EmbedCheckReport check;  ///< the check's figures
+  std::string note;        ///< what was tried before the output given, if anything
+};
+
+/// `seam embed` as a whole: seam::embed, then the quality stage on the band around the curves
+/// (the input surface is its reference; curve segments may be split at their middle, and curve
+/// points closer than feature_size merged along them), then the output checked as it will be
+/// written. If the improved output fails the check, the embedded one without the quality stage is
+/// checked instead (the note says so). If that fails too, `mesh` is restored and InternalError
+/// says what failed: a result is only ever given verified (with verify_output).
+/// Throws InvalidInput as seam::embed.
+template <class K>
+EmbedRunResult<K> embed_checked(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves,
+                                const EmbedRunOptions& options = {});
 
 /// Throws InvalidInput naming the first option out of range (lengths finite, curve_tol and
 /// max_area >= 0, min_angle_deg in [0, 60]). embed() calls it; a CLI can call it before reading.

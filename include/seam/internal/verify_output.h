@@ -20,6 +20,13 @@ template <class K>
 PairCheckReport check_as_written(const Mesh<K>& a, const Mesh<K>& b, Mesh<K>& a2, Mesh<K>& b2,
                                  std::vector<Polyline<K>>& curves, double tol);
 
+/// The same for one mesh with embedded curves (seam embed): seam::check_embedding under the exact
+/// kernel on the output and curves rounded to doubles, the input as doubles (as it is when its
+/// coordinates are not all doubles). The points of `output` and `curves` are made exact.
+template <class K>
+EmbedCheckReport check_embedding_as_written(const Mesh<K>& input, Mesh<K>& output, std::vector<Polyline<K>>& curves,
+                                            double tol, const std::vector<Polyline<K>>* given = nullptr);
+
 /// The tolerance seam::pair's outputs are verified at: the snapping tolerance (vertices moved by
 /// up to it), the given curves' largest move, and at least 1e-9 of the pair's size.
 template <class K> double verification_tolerance(const Mesh<K>& a, const Mesh<K>& b, const PairStats& st);

@@ -1,0 +1,130 @@
+// seam::embed_checked: `seam embed` as a whole (embed, improve, verify as written). See seam/embed.h.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/embed.h>
+#include <seam/internal/improve_state.h>
+#include <seam/internal/verify_output.h>
+#include <seam/quality.h>
+
+#include <CGAL/Polygon_mesh_processing/bbox.h>
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace seam {
+
+namespace {
+
+template <class K> double diagonal_of(const Mesh<K>& mesh) {
+  const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(mesh);
+  return std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                   CGAL::square(box.zmax() - box.zmin()));
+}
+
+/// The figures of the new faces after the quality stage (rounded measurements).
+template <class K> void measure(const Mesh<K>& mesh, const std::vector<double>& input_angles, EmbedStats& st) {
+  const auto q = new_face_quality<K>(mesh, &input_angles);
+  st.output_vertices = mesh.number_of_vertices();
+  st.output_faces = mesh.number_of_faces();
+  st.faces_added = q.new_faces;
+  st.min_angle_deg_new = q.min_angle_deg;
+  st.new_faces_below_10 = q.below_10;
+  st.new_faces_below_20 = q.below_20;
+  st.new_faces_below_10_unforced = q.below_10_unforced;
+}
+
+}  // namespace
+
+template <class K>
+EmbedRunResult<K> embed_checked(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, const EmbedRunOptions& options) {
+  // The input as embed sees it (garbage collected: embed keeps input face i as source face i).
+  Mesh<K> input = mesh;
+  if (input.has_garbage()) input.collect_garbage();
+  EmbedRunResult<K> result;
+  static_cast<EmbedResult<K>&>(result) = embed<K>(mesh, curves, options.embed);
+  EmbedStats& st = result.stats;
+  const std::vector<double> input_angles = internal::face_min_angles<K>(input);
+  const double diagonal = diagonal_of<K>(input);
+  result.verify_tolerance = st.snap_tol + 1e-9 * diagonal;
+
+  // At tolerance 0 the stage may only keep the surface: on a faceted curved surface it cannot flip
+  // across a crease, and its splits there make more thin faces than the re-triangulation left
+  // (bundled example, --snap-tol 0: 341 new faces below 20 degrees against 44). The
+  // re-triangulation, Delaunay-refined in each face's plane, is then the output.
+  const bool improve =
+      options.improve && st.snap_tol > 0 && !(options.embed.max_area > 0) && !result.curves.empty();
+  std::optional<std::pair<Mesh<K>, EmbedResult<K>>> embedded;  // the fallback: as embedded
+  if (improve) {
+    if (options.verify_output) embedded.emplace(mesh, static_cast<const EmbedResult<K>&>(result));
+    std::vector<internal::ImproveMesh<K>> meshes{{&mesh, &input, &input_angles}};
+    internal::SharedCurves<K> shared{result.curves, {result.curve_vertices}};
+    ImproveOptions io = options.quality;
+    io.tolerance = st.snap_tol;
+    io.min_angle_deg = options.embed.min_angle_deg;
+    io.min_separation = min_vertex_separation * diagonal;
+    const auto t = std::chrono::steady_clock::now();
+    try {
+      result.improve = internal::improve<K>(meshes, shared, io);
+      result.improved = true;
+      result.curves = shared.curves;
+      result.curve_vertices = shared.vertices[0];
+    } catch (const InternalError& e) {  // an edit it could not make: the embedded mesh, if kept
+      if (!embedded) throw;
+      result.note = std::string("the quality stage stopped (") + e.what() + ")";
+    }
+    st.stage_seconds["improve"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    if (!result.improved) {
+      mesh = std::move(embedded->first);
+      static_cast<EmbedResult<K>&>(result) = std::move(embedded->second);
+      embedded.reset();
+    }
+  }
+  measure<K>(mesh, input_angles, st);
+  st.curve_nodes_out = 0;
+  for (const auto& c : result.curves) st.curve_nodes_out += c.size() - (is_closed(c) && c.size() > 1 ? 1 : 0);
+  if (!options.verify_output) return result;
+
+  const auto t = std::chrono::steady_clock::now();
+  auto passes = [&]() {
+    try {
+      result.check = internal::check_embedding_as_written<K>(input, mesh, result.curves, result.verify_tolerance, &curves);
+    } catch (const InternalError& e) {
+      result.check = EmbedCheckReport();
+      result.check.problems.push_back(e.what());
+    }
+    return result.check.ok();
+  };
+  bool ok = passes();
+  std::string problems;
+  if (!ok && embedded) {
+    problems = "improved: " + result.check.problems.front();
+    const ImproveStats improve_stats = result.improve;
+    mesh = std::move(embedded->first);
+    static_cast<EmbedResult<K>&>(result) = std::move(embedded->second);
+    result.improve = improve_stats;
+    result.improved = false;
+    measure<K>(mesh, input_angles, st);
+    ok = passes();
+    if (ok) result.note += (result.note.empty() ? "" : "; ") + std::string("the improved output failed the check (") +
+                           problems + "): this is the embedded mesh without the quality stage";
+  }
+  st.stage_seconds["verify_output"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  if (!ok) {
+    problems += (problems.empty() ? "" : "; as embedded: ") + result.check.problems.front();
+    mesh = std::move(input);
+    throw InternalError("embed: the output fails the check of an embedding, so none is given (" + problems + ")");
+  }
+  result.verified = true;
+  return result;
+}
+
+#define SEAM_INSTANTIATE(K) \
+  template EmbedRunResult<K> embed_checked<K>(Mesh<K>&, const std::vector<Polyline<K>>&, const EmbedRunOptions&);
+SEAM_INSTANTIATE(Exact)
+SEAM_INSTANTIATE(Filtered)
+SEAM_INSTANTIATE(Float)
+#undef SEAM_INSTANTIATE
+
+}  // namespace seam
