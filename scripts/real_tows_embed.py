@@ -100,18 +100,21 @@ def mean_edge(points, faces):
     return total / n
 
 
-# name, tow, transform, planes as (normal, fraction of the extent along it)
-ACROSS = ((1, 0, 0), 0.3), ((1, 0, 0), 0.5), ((1, 0, 0), 0.7)
+# name, tow, transform, planes: None (three across the tow's long axis, at 0.3, 0.5 and 0.7 of
+# its extent), 'tilted' (one across, turned 30 degrees), 'along' (one along it, through the middle)
 CONFIGS = [
-    ('weft, 3 planes across', 'weft', [], ACROSS),
-    ('weft, plane across tilted 25 deg', 'weft', [], [((math.cos(0.436), 0, math.sin(0.436)), 0.5)]),
-    ('weft, plane along it (long curve over the voxel steps)', 'weft', [], [((0, 0.2, 1), 0.5)]),
-    ('weft turned 5 deg about z, 3 planes across', 'weft', [('turn', 'z', 5)], ACROSS),
-    ('weft tilted 3 deg about y, plane across', 'weft', [('turn', 'y', 3)], [((1, 0, 0), 0.45)]),
+    ('weft, 3 planes across', 'weft', [], None),
+    ('weft, plane across tilted 30 deg', 'weft', [], 'tilted'),
+    ('weft, plane along it (long curve over the voxel steps)', 'weft', [], 'along'),
+    ('weft turned 5 deg about z, 3 planes across', 'weft', [('turn', 'z', 5)], None),
+    ('weft tilted 3 deg about y, plane along it', 'weft', [('turn', 'y', 3)], 'along'),
+    ('weft turned 2 deg about x, plane across tilted 30 deg', 'weft', [('turn', 'x', 2)], 'tilted'),
     ('binder, 3 planes across', 'binder', [], None),
     ('binder, plane across tilted 30 deg', 'binder', [], 'tilted'),
     ('binder, plane along it', 'binder', [], 'along'),
     ('binder turned 2 deg about x, 3 planes across', 'binder', [('turn', 'x', 2)], None),
+    ('binder turned 7 deg about z, plane along it', 'binder', [('turn', 'z', 7)], 'along'),
+    ('binder scaled by 1.02, plane across tilted 30 deg', 'binder', [('scale', 1.02)], 'tilted'),
 ]
 
 

@@ -297,13 +297,16 @@ template <class K> class Tracer {
     const Vector np = normal_at(P), nq = normal_at(Q);
     const Vector normals[3] = {np, nq, np + nq};
     for (int i = 0; i < 3; ++i) {
-      const std::size_t n0 = points.size();
+      // A failed walk is undone: both lists back to their own sizes (faces holds one entry fewer
+      // than points, a step between two points; restoring it to the points' size left the failed
+      // walk's first face in place, and every later step one face off).
+      const std::size_t n0 = points.size(), f0 = faces.size();
       if (walk(P, Q, normals[i], points, faces)) {
         if (i > 0) ++retries;
         return true;
       }
       points.resize(n0);
-      faces.resize(n0);
+      faces.resize(f0);
     }
     return false;
   }
