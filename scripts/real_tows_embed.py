@@ -101,7 +101,10 @@ def mean_edge(points, faces):
 
 
 # name, tow, transform, planes: None (three across the tow's long axis, at 0.3, 0.5 and 0.7 of
-# its extent), 'tilted' (one across, turned 30 degrees), 'along' (one along it, through the middle)
+# its extent), 'four' (four across, at 0.2, 0.4, 0.6, 0.8), 'tilted' (one across, turned 30
+# degrees), 'along' (one along it, through the middle). The planes are placed by the tow's own
+# extent, so a turned copy differs from the tow by its facets' rounding and degeneracies (a turn
+# about the long axis, or a scaling, with the same planes gave the same figures as the tow).
 CONFIGS = [
     ('weft, 3 planes across', 'weft', [], None),
     ('weft, plane across tilted 30 deg', 'weft', [], 'tilted'),
@@ -112,9 +115,9 @@ CONFIGS = [
     ('binder, 3 planes across', 'binder', [], None),
     ('binder, plane across tilted 30 deg', 'binder', [], 'tilted'),
     ('binder, plane along it', 'binder', [], 'along'),
-    ('binder turned 2 deg about x, 3 planes across', 'binder', [('turn', 'x', 2)], None),
+    ('binder turned 2 deg about y, 3 planes across', 'binder', [('turn', 'y', 2)], None),
     ('binder turned 7 deg about z, plane along it', 'binder', [('turn', 'z', 7)], 'along'),
-    ('binder scaled by 1.02, plane across tilted 30 deg', 'binder', [('scale', 1.02)], 'tilted'),
+    ('binder scaled by 1.02, 4 planes across', 'binder', [('scale', 1.02)], 'four'),
 ]
 
 
@@ -127,6 +130,8 @@ def planes_for(points, spec):
     along[long_axis] = 1.0
     if spec is None:
         spec = [(tuple(along), f) for f in (0.3, 0.5, 0.7)]
+    elif spec == 'four':
+        spec = [(tuple(along), f) for f in (0.2, 0.4, 0.6, 0.8)]
     elif spec == 'tilted':
         other = (long_axis + 2) % 3
         n = [0.0, 0.0, 0.0]
