@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "test_support.h"
+#include "tow_fixtures.h"
 
 namespace {
 
@@ -145,4 +146,44 @@ TEST_CASE("check_embedding: fails on a missing curve point, a moved vertex and a
     CHECK_FALSE(report.ok());
     CHECK_FALSE(report.conflict_faces.empty());
   }
+}
+
+TEST_CASE("check_embedding and tetgen -d agree on whether an output intersects itself", "[check][embed][tetgen]") {
+  // Outputs of embed, as written (doubles), and the same with one vertex moved: a little outward
+  // (still a valid surface), or through the tow (its faces cross others). The check's verdict on
+  // self-intersection (faces in conflict) must be TetGen's on the written surface.
+  using K = seam::Exact;
+  int cases = 0, intersecting = 0;
+  for (auto section : {seam::Section::elliptical, seam::Section::lenticular}) {
+    const auto given = tow_and_rings(section);
+    const auto input = seam::mesh_from_soup<K>(given.tow, "tow");
+    auto mesh = input;
+    const auto r = seam::embed_checked<K>(mesh, seam::to_kernel<K>(given.rings));
+    const seam::TriangleSoup written = seam::soup_from_mesh<K>(mesh);
+    double zmin = HUGE_VAL;
+    for (const auto& p : written.points) zmin = std::min(zmin, p[2]);
+    for (int variant = 0; variant < 4; ++variant) {
+      INFO("variant " << variant);
+      seam::TriangleSoup soup = written;
+      // The vertex of largest z (a top vertex) moves: 0 not at all, 1 up by 1e-3, 2 down to just
+      // below the bottom, 3 down to the middle of the tow (its faces then cross the rest).
+      std::size_t top = 0;
+      for (std::size_t i = 0; i < soup.points.size(); ++i)
+        if (soup.points[i][2] > soup.points[top][2]) top = i;
+      const double z = soup.points[top][2];
+      if (variant == 1) soup.points[top][2] = z + 1e-3;
+      if (variant == 2) soup.points[top][2] = zmin - 0.05;
+      if (variant == 3) soup.points[top][2] = (z + zmin) / 2;
+      const auto out = seam::mesh_from_soup<K>(soup, "out");
+      const auto report = seam::check_embedding<K>(input, out, seam::to_kernel<K>(seam::to_doubles<K>(r.curves)), 1.0);
+      seam_test::TempDir dir("seam_test_check_embed");
+      const long pairs = seam_test::tetgen_intersecting_pairs({soup}, dir);
+      INFO("tetgen: " << pairs << " pairs; check: " << report.conflict_faces.size() << " faces in conflict");
+      CHECK((pairs > 0) == !report.conflict_faces.empty());
+      ++cases;
+      intersecting += pairs > 0 ? 1 : 0;
+    }
+  }
+  CHECK(cases == 8);
+  CHECK(intersecting >= 2);  // both verdicts are reached
 }
