@@ -53,7 +53,8 @@ EmbedRunResult<K> embed_checked(Mesh<K>& mesh, const std::vector<Polyline<K>>& c
   // across a crease, and its splits there make more thin faces than the re-triangulation left
   // (bundled example, --snap-tol 0: 341 new faces below 20 degrees against 44). The
   // re-triangulation, Delaunay-refined in each face's plane, is then the output.
-  const bool improve = options.improve && st.snap_tol > 0 && !result.curves.empty();
+  const bool improve =
+      options.improve && st.snap_tol > 0 && !(options.embed.max_area > 0) && !result.curves.empty();
   std::optional<std::pair<Mesh<K>, EmbedResult<K>>> embedded;  // the fallback: as embedded
   if (improve) {
     if (options.verify_output) embedded.emplace(mesh, static_cast<const EmbedResult<K>&>(result));
@@ -63,7 +64,6 @@ EmbedRunResult<K> embed_checked(Mesh<K>& mesh, const std::vector<Polyline<K>>& c
     io.tolerance = st.snap_tol;
     io.min_angle_deg = options.embed.min_angle_deg;
     io.min_separation = min_vertex_separation * diagonal;
-    io.max_area = options.embed.max_area;
     const auto t = std::chrono::steady_clock::now();
     try {
       result.improve = internal::improve<K>(meshes, shared, io);

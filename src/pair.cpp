@@ -213,7 +213,6 @@ void improve_pair(Mesh<K>& a, Mesh<K>& b, PairResult<K>& result, const PairOptio
   io.tolerance = result.stats.snap_tol;
   io.min_angle_deg = options.embed.min_angle_deg;
   io.min_separation = min_vertex_separation * diagonal_of<K>(a, b);
-  io.max_area = options.embed.max_area;
   result.stats.improve = internal::improve<K>(meshes, shared, io);
   result.stats.improved = true;
   result.curves = result.a.curves = result.b.curves = shared.curves;
@@ -231,7 +230,9 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   const double diagonal = diagonal_of<K>(a, b), separation = min_vertex_separation * diagonal;
   const double la = mean_edge_length<K>(a), lb = mean_edge_length<K>(b);
   const double snap_tol = options.embed.snap_tol < 0 ? 0.1 * std::min(la, lb) : options.embed.snap_tol;
-  const bool improve = options.improve;
+  // The quality stage works to angles, not to an area: with --max-area the faces are left as the
+  // re-triangulation bounded them.
+  const bool improve = options.improve && !(options.embed.max_area > 0);
   // Stages 1-3 on the inputs (closing features thinner than the separation, or not).
   auto embedded = [&](bool close_thin_features) {
     a = a0;

@@ -35,9 +35,6 @@
 //         refuses that, exactly in the face), then Lawson's flips around it.
 //   Splits and exact insertions keep the surface; flips, merges and rounded insertions change it
 //   and pass the acceptance predicate first.
-//   With an area bound (`max_area`, from --max-area), a new face of the band larger than it is
-//   mended as in 2b (its circumcenter: an off-center is the circumcenter for a face that is not
-//   thin), even where its angles meet the bound.
 //
 // The acceptance predicate (one, for every edit that changes the surface): the new faces are
 // not degenerate (exact), turn less than 80 degrees from their input surface (doubles; not asked
@@ -46,24 +43,19 @@
 // mesh except where seam check allows it (exact under the exact and filtered kernels): a common
 // vertex or edge of the same mesh, or a curve point or curve segment of another mesh; a new
 // point lies at least `min_separation` from every vertex of every mesh (as
-// rounded to doubles); with an area bound, no new face is larger than it unless a face the edit
-// removes is at least as large (doubles). An edit that fails it is not made.
+// rounded to doubles). An edit that fails it is not made.
 //
 // Termination. A vertex the stage made (an insertion or a split) is never merged away, so a
 // merge removes a vertex of the input or of the embedding: at most as many merges as those
 // vertices, and no insertion is undone. Insertions and splits each use one of
-// `max_insertions_per_face` x (band faces at the start), plus twice the band's area over
-// `max_area` with an area bound, and between two changes of the vertices
+// `max_insertions_per_face` x (band faces at the start), and between two changes of the vertices
 // flips strictly raise the sorted vector of angles, of which there are finitely many: the stage
 // ends. A face left when that budget runs out is reported as `budget`. Why the budget is rarely
 // reached: every inserted point lies at least `feature_size` from the vertices around the face it
 // goes into (tested where it is finally placed: rounded onto the input surface, or exactly in the
 // face), and only curve segments at least twice that long are split, so the points packed into
 // the band are bounded by its area over about feature_size^2 (a local test: not a proof of
-// spacing from every vertex, which Lawson's flips may join to the new point). An area bound
-// inserts circumcenters of faces larger than it: each at least its circumradius, sqrt(4 max_area /
-// (3 sqrt 3)) or more, from the face's corners, so the same packing argument holds with that
-// spacing.
+// spacing from every vertex, which Lawson's flips may join to the new point).
 //
 // The bound. In the plane, Ruppert's algorithm with diametral balls ends with every angle at
 // least arcsin(1/(2 sqrt 2)) = 20.7 degrees where the input's angles between constraints are at
@@ -122,10 +114,6 @@ struct ImproveOptions {
   /// Curve points closer than this (and joined by an edge in every mesh holding them) merge first,
   /// whatever the tolerance: a volume mesher takes them for one point. 0: none.
   double min_separation = 0;
-  /// The area bound: new faces of the band larger than this are refined too (as a face below the
-  /// angle bound, without the merges), and no edit makes a face larger than it unless it removes
-  /// one at least as large. 0: none.
-  double max_area = 0;
 };
 
 /// Why a face of the band is still below the bound (see the header comment).
@@ -146,16 +134,12 @@ struct ImproveStats {
   /// a mesh's border split, merges (short edges removed).
   std::size_t flips = 0, insertions = 0, curve_splits = 0, edge_splits = 0, merges = 0;
   /// Edits the acceptance predicate refused, by reason.
-  std::size_t refused_tolerance = 0, refused_crossing = 0, refused_shape = 0, refused_separation = 0,
-              refused_area = 0;
+  std::size_t refused_tolerance = 0, refused_crossing = 0, refused_shape = 0, refused_separation = 0;
   std::size_t faces_absorbed = 0;  ///< faces that joined the band
   /// Faces of the band below the bound at the start and at the end.
   std::size_t below_bound_before = 0, below_bound_after = 0;
   double min_angle_deg_before = 0, min_angle_deg_after = 0;  ///< smallest angle in the band
   std::vector<Shortfall> shortfalls;  ///< the faces below the bound at the end, with causes
-  /// With max_area: new faces of the band larger than it at the end (the budget ran out, or a
-  /// point would have come closer than feature_size to another).
-  std::size_t above_area_after = 0;
   double seconds = 0;
 };
 

@@ -233,25 +233,6 @@ template <class K> bool too_near_a_vertex(const ImproveState<K>& s, const Edit<K
   return false;
 }
 
-/// With an area bound: a new face larger than it, where no removed face is as large (doubles).
-template <class K> bool grows_past_area_bound(const ImproveState<K>& s, const Edit<K>& edit) {
-  const double bound = s.options.max_area;
-  if (!(bound > 0)) return false;
-  auto area = [](const Filtered::Point_3& a, const Filtered::Point_3& b, const Filtered::Point_3& c) {
-    return 0.5 * std::sqrt(CGAL::cross_product(b - a, c - a).squared_length());
-  };
-  double removed = 0, added = 0;
-  for (const auto& part : edit.parts) {
-    for (const auto f : part.removed) {
-      const auto c = s.corners(part.mesh, f);
-      removed = std::max(removed, area(s.fpoint(part.mesh, c[0]), s.fpoint(part.mesh, c[1]), s.fpoint(part.mesh, c[2])));
-    }
-    for (const auto& a : part.added)
-      added = std::max(added, area(to_filtered(a[0].p), to_filtered(a[1].p), to_filtered(a[2].p)));
-  }
-  return added > bound * (1 + 1e-9) && added > removed * (1 + 1e-9);
-}
-
 template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) {
   for (const auto& part : edit.parts)
     for (const auto& a : part.added) {
@@ -259,7 +240,6 @@ template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) 
       if constexpr (kernel_traits<K>::exact_constructions)  // once written
         if (CGAL::collinear(to_filtered(a[0].p), to_filtered(a[1].p), to_filtered(a[2].p))) return Verdict::shape;
     }
-  if (grows_past_area_bound<K>(s, edit)) return Verdict::area;
   if (edit.has_fresh && s.options.min_separation > 0 && too_near_a_vertex<K>(s, edit)) return Verdict::separation;
   if (!edit.keeps_surface && !(s.tolerance > 0)) return Verdict::tolerance;  // no tolerance: the surfaces stay
   if (edit.keeps_surface) {  // the new point lies on the current surface: within the tolerance of the input too?
@@ -299,7 +279,6 @@ template <class K> Verdict accept_edit(ImproveState<K>& s, const Edit<K>& edit) 
   if (v == Verdict::crossing) ++s.stats.refused_crossing;
   if (v == Verdict::shape) ++s.stats.refused_shape;
   if (v == Verdict::separation) ++s.stats.refused_separation;
-  if (v == Verdict::area) ++s.stats.refused_area;
   return v;
 }
 

@@ -30,7 +30,6 @@ ShortfallCause cause_of(Verdict v) {
     case Verdict::tolerance: return ShortfallCause::tolerance;
     case Verdict::crossing: return ShortfallCause::crossing;
     case Verdict::separation: return ShortfallCause::feature_size;
-    case Verdict::area: return ShortfallCause::shape;
     default: return ShortfallCause::shape;
   }
 }
@@ -75,13 +74,6 @@ template <class K> class Refiner {
   void push_encroached(std::size_t m, F f);
 
   double angle(std::size_t m, F f) const { return face_min_angle<K>(s_, m, f); }
-  /// A new face of the band larger than the area bound (doubles).
-  bool too_large(std::size_t m, F f) const {
-    if (!(s_.options.max_area > 0) || !s_.meshes[m].is_new[f]) return false;
-    const auto c = s_.corners(m, f);
-    const FP a = s_.fpoint(m, c[0]), b = s_.fpoint(m, c[1]), d = s_.fpoint(m, c[2]);
-    return 0.5 * std::sqrt(CGAL::cross_product(b - a, d - a).squared_length()) > s_.options.max_area;
-  }
   void push_if_bad(std::size_t m, F f);
   void push_made(const Applied<K>& made) {
     for (const auto& [m, f] : made.faces) push_if_bad(m, f), push_encroached(m, f);
@@ -115,7 +107,7 @@ template <class K> void Refiner<K>::push_if_bad(std::size_t m, F f) {
   // angle bounds the faces made from it, which are held to that instead (refining towards the
   // bound there only cascades into smaller faces).
   const double bound = s_.tolerance > 0 ? s_.options.min_angle_deg : s_.target_angle(m, f);
-  if (a < bound || too_large(m, f)) queue_.push({a, m, f, ms.version[f]});
+  if (a < bound) queue_.push({a, m, f, ms.version[f]});
 }
 
 template <class K> std::optional<Verdict> Refiner<K>::attempt(const Edit<K>& edit, Applied<K>* made) {
@@ -363,9 +355,6 @@ template <class K> Outcome Refiner<K>::mend(std::size_t m, F f) {
   const M& g = s_.mesh(m);
   const auto c = s_.corners(m, f);
   const std::array<FP, 3> p = {s_.fpoint(m, c[0]), s_.fpoint(m, c[1]), s_.fpoint(m, c[2])};
-  // Only larger than the area bound (its angles meet the angle bound): its circumcenter.
-  if (!(angle(m, f) < (s_.tolerance > 0 ? s_.options.min_angle_deg : s_.target_angle(m, f))))
-    return insert_circumcenter(m, f);
   // a. Edges shorter than the feature size, shortest first: their ends merge.
   std::array<std::size_t, 3> order = {0, 1, 2};  // edge i joins corners i and i + 1
   auto length = [&](std::size_t i) { return std::sqrt(CGAL::squared_distance(p[i], p[(i + 1) % 3])); };
@@ -717,12 +706,6 @@ template <class K> void classify(ImproveState<K>& s) {
       const double a = face_min_angle<K>(s, m, f);
       any = true;
       s.stats.min_angle_deg_after = std::min(s.stats.min_angle_deg_after, a);
-      if (s.options.max_area > 0 && ms.is_new[f]) {
-        const auto c = s.corners(m, f);
-        const auto p = s.fpoint(m, c[0]), q = s.fpoint(m, c[1]), r = s.fpoint(m, c[2]);
-        if (0.5 * std::sqrt(CGAL::cross_product(q - p, r - p).squared_length()) > s.options.max_area)
-          ++s.stats.above_area_after;
-      }
       if (a >= s.options.min_angle_deg) continue;
       ++s.stats.below_bound_after;
       if (!ms.is_new[f]) continue;  // a face of the input, as it was

@@ -251,17 +251,6 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
         s.grid.insert({std::uint32_t(m), std::uint32_t(std::size_t(f)), s.meshes[m].version[f]}, box);
     }
   s.insertions_left = options.max_insertions_per_face * std::max<std::size_t>(s.stats.band_faces, 1);
-  if (options.max_area > 0) {  // (see the termination argument of seam/improve.h)
-    double band_area = 0;
-    for (std::size_t m = 0; m < s.meshes.size(); ++m)
-      for (auto f : s.meshes[m].mesh->faces())
-        if (s.meshes[m].band[f]) {
-          const auto c = s.corners(m, f);
-          const auto p = s.fpoint(m, c[0]), q = s.fpoint(m, c[1]), r = s.fpoint(m, c[2]);
-          band_area += 0.5 * std::sqrt(CGAL::cross_product(q - p, r - p).squared_length());
-        }
-    s.insertions_left += std::size_t(std::min(2 * band_area / options.max_area, 1e9));
-  }
 }
 
 template <class K> void finish_state(ImproveState<K>& s, SharedCurves<K>& out) {

@@ -318,8 +318,7 @@ template <class K> Applied<K> apply_edit(ImproveState<K>& s, const Edit<K>& edit
 
 /// separation: a fresh point closer than options.min_separation to a vertex of any mesh
 /// (a volume mesher takes the two for one point).
-/// area: a new face larger than options.max_area where no face the edit removes is as large.
-enum class Verdict { accepted, tolerance, crossing, shape, separation, area };
+enum class Verdict { accepted, tolerance, crossing, shape, separation };
 
 /// The acceptance predicate (seam/improve.h). Counts refusals in s.stats.
 template <class K> Verdict accept_edit(ImproveState<K>& s, const Edit<K>& edit);
