@@ -78,6 +78,9 @@ int run_embed(EmbedArgs& a) {
               << " vertices snapped (" << s.snaps_refused << " refused); " << s.faces_crossed << " faces -> "
               << s.faces_added << " new faces, min angle " << s.min_angle_deg_new << " deg (" << s.new_faces_below_20
               << " below 20, " << s.new_faces_below_10 << " below 10)";
+    if (a.run.embed.max_area > 0)
+      std::cout << "; largest new face " << s.largest_new_area << " (" << s.new_faces_above_max_area
+                << " above --max-area)";
     if (result.improved)
       std::cout << "; quality stage (tolerance " << s.snap_tol << "): " << result.improve.below_bound_after
                 << " of the band's faces below " << a.run.embed.min_angle_deg << " degrees";

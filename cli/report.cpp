@@ -71,7 +71,9 @@ nlohmann::json stats_json(const seam::EmbedStats& s) {
                   {"input_min_angle_deg", s.min_angle_deg_input},
                   {"below_10", s.new_faces_below_10},
                   {"below_20", s.new_faces_below_20},
-                  {"below_10_unforced", s.new_faces_below_10_unforced}};
+                  {"below_10_unforced", s.new_faces_below_10_unforced},
+                  {"largest_area", s.largest_new_area},
+                  {"above_max_area", s.new_faces_above_max_area}};
   j["seconds"] = s.stage_seconds;
   return j;
 }

@@ -376,7 +376,9 @@ EmbedResult<K> embed_with_known_sites(Mesh<K>& mesh, const std::vector<Polyline<
   record_embedded_curves<K>(mesh, coarse, constraints, input_edge_between, result);
 
   // ---- quality of the new faces and distance to the input curves (rounded measurements)
-  const auto quality = new_face_quality<K>(mesh, &source_min_angle);
+  const auto quality = new_face_quality<K>(mesh, &source_min_angle, options.max_area);
+  st.largest_new_area = quality.largest_area;
+  st.new_faces_above_max_area = quality.above_max_area;
   st.min_angle_deg_new = quality.min_angle_deg;
   st.new_faces_below_10 = quality.below_10;
   st.new_faces_below_20 = quality.below_20;

@@ -24,8 +24,11 @@ template <class K> double diagonal_of(const Mesh<K>& mesh) {
 }
 
 /// The figures of the new faces after the quality stage (rounded measurements).
-template <class K> void measure(const Mesh<K>& mesh, const std::vector<double>& input_angles, EmbedStats& st) {
-  const auto q = new_face_quality<K>(mesh, &input_angles);
+template <class K>
+void measure(const Mesh<K>& mesh, const std::vector<double>& input_angles, double max_area, EmbedStats& st) {
+  const auto q = new_face_quality<K>(mesh, &input_angles, max_area);
+  st.largest_new_area = q.largest_area;
+  st.new_faces_above_max_area = q.above_max_area;
   st.output_vertices = mesh.number_of_vertices();
   st.output_faces = mesh.number_of_faces();
   st.faces_added = q.new_faces;
@@ -81,7 +84,7 @@ EmbedRunResult<K> embed_checked(Mesh<K>& mesh, const std::vector<Polyline<K>>& c
       embedded.reset();
     }
   }
-  measure<K>(mesh, input_angles, st);
+  measure<K>(mesh, input_angles, options.embed.max_area, st);
   st.curve_nodes_out = 0;
   for (const auto& c : result.curves) st.curve_nodes_out += c.size() - (is_closed(c) && c.size() > 1 ? 1 : 0);
   if (!options.verify_output) return result;
@@ -105,7 +108,7 @@ EmbedRunResult<K> embed_checked(Mesh<K>& mesh, const std::vector<Polyline<K>>& c
     static_cast<EmbedResult<K>&>(result) = std::move(embedded->second);
     result.improve = improve_stats;
     result.improved = false;
-    measure<K>(mesh, input_angles, st);
+    measure<K>(mesh, input_angles, options.embed.max_area, st);
     ok = passes();
     if (ok) result.note += (result.note.empty() ? "" : "; ") + std::string("the improved output failed the check (") +
                            problems + "): this is the embedded mesh without the quality stage";

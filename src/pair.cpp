@@ -56,10 +56,12 @@ template <class K> void count_curves(PairResult<K>& result) {
 }
 
 /// The per-mesh figures (sizes, new faces and their angles) from the meshes as they are.
-template <class K> void measure_meshes(const Mesh<K>& a, const Mesh<K>& b, PairResult<K>& result) {
+template <class K> void measure_meshes(const Mesh<K>& a, const Mesh<K>& b, PairResult<K>& result, double max_area) {
   for (auto* r : {&result.a, &result.b}) {
     const Mesh<K>& m = r == &result.a ? a : b;
-    const auto q = new_face_quality<K>(m);
+    const auto q = new_face_quality<K>(m, nullptr, max_area);
+    r->stats.largest_new_area = q.largest_area;
+    r->stats.new_faces_above_max_area = q.above_max_area;
     r->curves = result.curves;
     r->stats.output_vertices = m.number_of_vertices();
     r->stats.output_faces = m.number_of_faces();
@@ -245,7 +247,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   // Stage 5 and the figures.
   auto finish = [&](PairResult<K>& r) {
     collapse_tiny_edges<K>(a, b, r, separation);
-    measure_meshes<K>(a, b, r);
+    measure_meshes<K>(a, b, r, options.embed.max_area);
   };
   // Stage 6. Outputs that fail once written in doubles: the embedded meshes without the quality
   // stage; then the same two with features thinner than the separation closed (a vertex a few

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "test_support.h"
+
 namespace {
 
 using seam::Point3d;
@@ -148,6 +150,11 @@ TEST_CASE("hostile pair: --max-area gives verified outputs in bounded work", "[h
       const double crossed_area = part == &r.a ? 4.0 * 2 : 2 * (1.2 * 1.0 + 1.2 * 0.8 + 1.0 * 0.8);
       CHECK(part->stats.steiner_points > 0);
       CHECK(double(part->stats.faces_added) <= 8 * crossed_area / options.embed.max_area);
+      // Faces left larger than the bound (a crossed face of 2 reaches its 256 Steiner points) are
+      // counted, as a count made here finds them.
+      const auto& mesh = part == &r.a ? a : b;
+      CHECK(part->stats.new_faces_above_max_area == seam_test::new_faces_larger_than<seam::Exact>(mesh, options.embed.max_area));
+      CHECK(part->stats.largest_new_area > 0);
     }
   }
 }

@@ -2,6 +2,10 @@
 #pragma once
 
 #include <catch2/catch.hpp>
+#include <seam/kernels.h>
+#include <seam/types.h>
+
+#include <cmath>
 
 #include <unistd.h>
 
@@ -66,6 +70,22 @@ inline std::vector<std::string> entries(const fs::path& dir) {
 }
 
 /// A fresh directory under the system's temporary directory, removed with its content.
+/// Faces marked new (seam::new_face_property) whose area (doubles) is larger than `area`.
+template <class K> std::size_t new_faces_larger_than(const seam::Mesh<K>& m, double area) {
+  using F = typename seam::Mesh<K>::Face_index;
+  const auto found = m.template property_map<F, bool>(seam::new_face_property);
+  if (!found.second) return 0;
+  std::size_t count = 0;
+  for (auto f : m.faces()) {
+    if (!found.first[f]) continue;
+    const auto h = m.halfedge(f);
+    const auto p = seam::to_filtered(m.point(m.source(h))), q = seam::to_filtered(m.point(m.target(h))),
+               r = seam::to_filtered(m.point(m.target(m.next(h))));
+    if (0.5 * std::sqrt(CGAL::cross_product(q - p, r - p).squared_length()) > area * (1 + 1e-9)) ++count;
+  }
+  return count;
+}
+
 class TempDir {
  public:
   explicit TempDir(const std::string& prefix) {

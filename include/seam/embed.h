@@ -88,6 +88,11 @@ struct EmbedStats {
   std::size_t new_faces_below_10 = 0, new_faces_below_20 = 0;
   /// new faces below 10 degrees whose source face's own smallest angle is larger (not forced)
   std::size_t new_faces_below_10_unforced = 0;
+  /// The largest area of a new face, and with max_area the new faces larger than it: a crossed
+  /// face that reached max_steiner_per_face, or whose points would have come closer than the
+  /// vertex separation to others (seam pair, seam textile), keeps larger triangles.
+  double largest_new_area = 0;
+  std::size_t new_faces_above_max_area = 0;
   double max_curve_deviation = 0;     ///< largest distance from an input curve node to the embedded curve
   std::map<std::string, double> stage_seconds;  ///< snap, locate, cross, coarsen, retriangulate, splice
 };

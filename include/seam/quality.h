@@ -44,12 +44,17 @@ struct NewFaceQuality {
   std::size_t below_10_unforced = 0;
   /// Below 20 degrees although the input face it came from has no angle that small.
   std::size_t below_20_unforced = 0;
+  double largest_area = 0;  ///< the largest area of a new face (doubles)
+  /// New faces larger than the `max_area` given (0: none counted).
+  std::size_t above_max_area = 0;
 };
 
 /// Quality of the faces marked new (new_face_property). `source_min_angle[i]`, when given, is
-/// the smallest angle of input face i (for the "unforced" counts).
+/// the smallest angle of input face i (for the "unforced" counts); `max_area`, when given, the
+/// area bound faces are counted against.
 template <class K>
-NewFaceQuality new_face_quality(const Mesh<K>& mesh, const std::vector<double>* source_min_angle = nullptr) {
+NewFaceQuality new_face_quality(const Mesh<K>& mesh, const std::vector<double>* source_min_angle = nullptr,
+                                double max_area = 0) {
   NewFaceQuality q;
   // CGAL 5.5: property_map() returns (map, found).
   const auto [is_new, has_new] = mesh.template property_map<typename Mesh<K>::Face_index, bool>(new_face_property);
@@ -64,6 +69,11 @@ NewFaceQuality new_face_quality(const Mesh<K>& mesh, const std::vector<double>* 
                                          mesh.point(mesh.target(mesh.next(h))));
     ++q.new_faces;
     worst = std::min(worst, a);
+    const auto p = to_filtered(mesh.point(mesh.source(h))), r = to_filtered(mesh.point(mesh.target(h))),
+               t = to_filtered(mesh.point(mesh.target(mesh.next(h))));
+    const double area = 0.5 * std::sqrt(CGAL::cross_product(r - p, t - p).squared_length());
+    q.largest_area = std::max(q.largest_area, area);
+    if (max_area > 0 && area > max_area * (1 + 1e-9)) ++q.above_max_area;
     double forced = 180;
     if (source_min_angle && has_source && source[f] < source_min_angle->size()) forced = (*source_min_angle)[source[f]];
     if (a < 10) {
