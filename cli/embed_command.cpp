@@ -64,8 +64,6 @@ int run_embed(EmbedArgs& a) {
       j["verify"] = {{"verified", result.verified},
                      {"tolerance", result.verify_tolerance},
                      {"max_distance", result.check.max_distance},
-                     {"given_to_embedded", result.check.given_to_embedded},
-                     {"embedded_to_given", result.check.embedded_to_given},
                      {"close_vertex_pairs_in_input", result.check.close_vertex_pairs_in_input}};
       j["note"] = result.note;
       j["files"] = {{"mesh", a.mesh}, {"curves", a.curves}, {"out", a.out}};
