@@ -224,7 +224,9 @@ retriangulate_crossed_faces(const Mesh<K>& mesh, const FaceConstraintsByElement<
       patches.emplace(f, retriangulate_face<K>(fc, ropt));
     } catch (const InvalidInput& e) {
       std::ostringstream msg;
-      msg << e.what() << " (input face " << std::size_t(f) << ")";
+      msg << e.what() << " (input face " << std::size_t(f)
+          << "): the curves, projected onto the surface, cross there; curves that do not cross may "
+             "still, where they lie farther from the surface than its features are apart (a sharp rim)";
       throw InvalidInput(msg.str());
     }
     source_min_angle[std::size_t(f)] = min_angle_deg(fc.corners[0], fc.corners[1], fc.corners[2]);
