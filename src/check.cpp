@@ -27,6 +27,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstdint>
+#include <initializer_list>
 #include <limits>
 #include <map>
 #include <optional>
@@ -382,22 +383,24 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
   if (m.number_of_faces() == 0) min_angle = 0;
 }
 
-/// Check 5: distinct vertices of A2 and B2, in doubles as written, are at least
-/// min_vertex_separation x the diagonal of their common bounding box apart (TetGen takes closer
-/// points for one: its -T tolerance, 1e-8 of that diagonal by default).
+/// Check 5: distinct vertices of the outputs (A2 and B2; or one mesh), in doubles as written, are
+/// at least min_vertex_separation x the diagonal of their common bounding box apart (TetGen takes
+/// closer points for one: its -T tolerance, 1e-8 of that diagonal by default). Pairs that close in
+/// the inputs are counted apart; `subject` names the outputs in the problem.
 template <class K>
-void check_vertex_separation(const Mesh<K>& a, const Mesh<K>& b, const MeshView<K>& va, const MeshView<K>& vb,
-                             PairCheckReport& report, const char* subject = "A2 and B2") {
+void check_vertex_separation(std::initializer_list<const Mesh<K>*> input_meshes,
+                             std::initializer_list<const MeshView<K>*> outputs, PairCheckReport& report,
+                             const char* subject) {
   // Pairs of vertices of the inputs themselves are not the outputs' doing: counted apart.
   std::set<std::array<double, 3>> inputs;
-  for (const Mesh<K>* m : {&a, &b})
+  for (const Mesh<K>* m : input_meshes)
     for (auto v : m->vertices()) {
       const auto q = to_filtered(m->point(v));
       inputs.insert({q.x(), q.y(), q.z()});
     }
   std::vector<std::array<double, 3>> points;
   CGAL::Bbox_3 box;
-  for (const MeshView<K>* view : {&va, &vb})
+  for (const MeshView<K>* view : outputs)
     for (auto v : view->mesh.vertices()) {
       const auto q = to_filtered(view->mesh.point(v));
       points.push_back({q.x(), q.y(), q.z()});
@@ -810,7 +813,7 @@ PairCheckReport check_pair_unguarded(const Mesh<K>& a, const Mesh<K>& b, const M
   tbb::parallel_invoke(
       [&] {
         // ---------------------------------------------------------- 5. vertices apart
-        if (va.structure_ok && vb.structure_ok && separation) check_vertex_separation(a, b, va, vb, report);
+        if (va.structure_ok && vb.structure_ok && separation) check_vertex_separation<K>({&a, &b}, {&va, &vb}, report, "A2 and B2");
         after_separation = problems.size();
         // ---------------------------------------------------------- 4. within tol of the inputs + quality
         if (va.structure_ok)
@@ -893,7 +896,7 @@ EmbedCheckReport check_embedding_unguarded(const Mesh<K>& input, const Mesh<K>& 
   double max_distance = 0, min_angle = 0;
   std::size_t below_10 = 0, below_20 = 0, new_faces = 0;
   if (view.structure_ok) {
-    check_vertex_separation(input, input, view, view, pr, "the output");
+    check_vertex_separation<K>({&input}, {&view}, pr, "the output");
     check_against_input(input, view, tol, max_distance, min_angle, below_10, below_20, new_faces, pr.problems);
   }
   EmbedCheckReport r;

@@ -59,6 +59,15 @@ EmbedRunResult<K> embed_checked(Mesh<K>& mesh, const std::vector<Polyline<K>>& c
   const bool improve =
       options.improve && st.snap_tol > 0 && !(options.embed.max_area > 0) && !result.curves.empty();
   std::optional<std::pair<Mesh<K>, EmbedResult<K>>> embedded;  // the fallback: as embedded
+  // Back to the embedded mesh and its curves; what the quality stage did and the stage times stay.
+  auto back_to_embedded = [&] {
+    const auto seconds = st.stage_seconds;
+    mesh = std::move(embedded->first);
+    static_cast<EmbedResult<K>&>(result) = std::move(embedded->second);
+    st.stage_seconds = seconds;
+    result.improved = false;
+    embedded.reset();
+  };
   if (improve) {
     if (options.verify_output) embedded.emplace(mesh, static_cast<const EmbedResult<K>&>(result));
     std::vector<internal::ImproveMesh<K>> meshes{{&mesh, &input, &input_angles}};
@@ -78,11 +87,7 @@ EmbedRunResult<K> embed_checked(Mesh<K>& mesh, const std::vector<Polyline<K>>& c
       result.note = std::string("the quality stage stopped (") + e.what() + ")";
     }
     st.stage_seconds["improve"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-    if (!result.improved) {
-      mesh = std::move(embedded->first);
-      static_cast<EmbedResult<K>&>(result) = std::move(embedded->second);
-      embedded.reset();
-    }
+    if (!result.improved) back_to_embedded();
   }
   measure<K>(mesh, input_angles, options.embed.max_area, st);
   st.curve_nodes_out = 0;
@@ -105,11 +110,7 @@ EmbedRunResult<K> embed_checked(Mesh<K>& mesh, const std::vector<Polyline<K>>& c
   std::string problems;
   if (!ok && embedded) {
     problems = "improved: " + result.check.problems.front();
-    const ImproveStats improve_stats = result.improve;
-    mesh = std::move(embedded->first);
-    static_cast<EmbedResult<K>&>(result) = std::move(embedded->second);
-    result.improve = improve_stats;
-    result.improved = false;
+    back_to_embedded();
     measure<K>(mesh, input_angles, options.embed.max_area, st);
     ok = passes();
     if (ok) result.note += (result.note.empty() ? "" : "; ") + std::string("the improved output failed the check (") +
