@@ -428,6 +428,10 @@ void check_vertex_separation(std::initializer_list<const Mesh<K>*> input_meshes,
       ++report.close_vertex_pairs_in_inputs;
       return;
     }
+    if (count < 1000) {
+      report.close_vertex_points.push_back(p);
+      report.close_vertex_points.push_back(q);
+    }
     if (count++ == 0)
       first = say("(", p[0], ", ", p[1], ", ", p[2], ") and (", q[0], ", ", q[1], ", ", q[2], "), ", d, " apart");
   });

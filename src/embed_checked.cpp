@@ -1,11 +1,10 @@
 // seam::embed_checked: `seam embed` as a whole (embed, improve, verify as written). See seam/embed.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/embed.h>
+#include <seam/internal/bbox_diagonal.h>
 #include <seam/internal/improve_state.h>
 #include <seam/internal/verify_output.h>
 #include <seam/quality.h>
-
-#include <CGAL/Polygon_mesh_processing/bbox.h>
 
 #include <cmath>
 #include <optional>
@@ -16,12 +15,6 @@
 namespace seam {
 
 namespace {
-
-template <class K> double diagonal_of(const Mesh<K>& mesh) {
-  const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(mesh);
-  return std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
-                   CGAL::square(box.zmax() - box.zmin()));
-}
 
 /// The figures of the new faces after the quality stage (rounded measurements).
 template <class K>
@@ -49,7 +42,7 @@ EmbedRunResult<K> embed_checked(Mesh<K>& mesh, const std::vector<Polyline<K>>& c
   static_cast<EmbedResult<K>&>(result) = embed<K>(mesh, curves, options.embed);
   EmbedStats& st = result.stats;
   const std::vector<double> input_angles = internal::face_min_angles<K>(input);
-  const double diagonal = diagonal_of<K>(input);
+  const double diagonal = internal::bbox_diagonal<K>(input);
   result.verify_tolerance = st.snap_tol + 1e-9 * diagonal;
 
   // At tolerance 0 the stage may only keep the surface: on a faceted curved surface it cannot flip

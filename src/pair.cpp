@@ -1,6 +1,7 @@
 // seam::pair: two tows, one interface. See seam/pair.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/io.h>
+#include <seam/internal/bbox_diagonal.h>
 #include <seam/internal/flat_contacts.h>
 #include <seam/internal/collapse.h>
 #include <seam/internal/contact_points.h>
@@ -8,17 +9,17 @@
 #include <seam/internal/intersection_curves.h>
 #include <seam/internal/improve_state.h>
 #include <seam/internal/local_edits.h>
+#include <seam/internal/message.h>
 #include <seam/internal/snap.h>
 #include <seam/internal/verify_output.h>
 #include <seam/quality.h>
 #include <seam/check.h>
 #include <seam/pair.h>
 
-#include <CGAL/Polygon_mesh_processing/bbox.h>
-
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <map>
 #include <new>
@@ -36,12 +37,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-template <class K> double diagonal_of(const Mesh<K>& a, const Mesh<K>& b) {
-  const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(a) + CGAL::Polygon_mesh_processing::bbox(b);
-  return std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
-                   CGAL::square(box.zmax() - box.zmin()));
-}
 
 /// The curve counts of a result from its curves.
 template <class K> void count_curves(PairResult<K>& result) {
@@ -77,17 +72,19 @@ template <class K> void measure_meshes(const Mesh<K>& a, const Mesh<K>& b, PairR
 /// and the isolated points of contact made vertices of both. Features thinner than `separation`
 /// (a vertex of one mesh that close to the other surface: a crossing as thin as that cannot be
 /// written in doubles, nor meshed by TetGen) are first closed: such vertices move onto the curve
-/// there (exactly), and the curves are computed again.
+/// there (exactly), and the curves are computed again; with `near`, only those within
+/// `separation` of one of its points.
 template <class K>
-PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options, double separation) {
+PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options, double separation,
+                              const std::vector<std::array<double, 3>>* near) {
   PairResult<K> result;
   PairStats& st = result.stats;
   auto t = Clock::now();
   auto found = internal::compute_intersection_curves<K>(a, b);
   if (!found.curves.empty() && separation > 0) {
     // (not a vertex of a flat contact: see snap_vertices_to_segments)
-    const auto sa = internal::snap_vertices_to_segments<K>(a, found.curves, separation, false, true, &b);
-    const auto sb = internal::snap_vertices_to_segments<K>(b, found.curves, separation, false, true, &a);
+    const auto sa = internal::snap_vertices_to_segments<K>(a, found.curves, separation, false, true, &b, near);
+    const auto sb = internal::snap_vertices_to_segments<K>(b, found.curves, separation, false, true, &a, near);
     st.vertices_closed = sa.snapped + sb.snapped;
     st.max_close_move = std::max(sa.max_move, sb.max_move);
     if (st.vertices_closed > 0) found = internal::compute_intersection_curves<K>(a, b);
@@ -118,7 +115,7 @@ PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     // surfaces are close too: closer than the vertex separation, a volume mesher takes two
     // points for one. So one mesh after the other, each Steiner point kept that far from every
     // vertex of both meshes, the curve points and the Steiner points before it.
-    internal::KeepAway away(min_vertex_separation * diagonal_of<K>(a, b));
+    internal::KeepAway away(min_vertex_separation * internal::bbox_diagonal<K>(a, b));
     away.add_vertices<K>(a);
     away.add_vertices<K>(b);
     away.add_points<K>(curves);
@@ -214,7 +211,7 @@ void improve_pair(Mesh<K>& a, Mesh<K>& b, PairResult<K>& result, const PairOptio
   ImproveOptions io = options.quality;
   io.tolerance = result.stats.snap_tol;
   io.min_angle_deg = options.embed.min_angle_deg;
-  io.min_separation = min_vertex_separation * diagonal_of<K>(a, b);
+  io.min_separation = min_vertex_separation * internal::bbox_diagonal<K>(a, b);
   result.stats.improve = internal::improve<K>(meshes, shared, io);
   result.stats.improved = true;
   result.curves = result.a.curves = result.b.curves = shared.curves;
@@ -229,17 +226,22 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   check_coordinate_range<K>(b, "B");
   validate_options(options.embed);
   const Mesh<K> a0 = a, b0 = b;
-  const double diagonal = diagonal_of<K>(a, b), separation = min_vertex_separation * diagonal;
+  const double diagonal = internal::bbox_diagonal<K>(a, b), separation = min_vertex_separation * diagonal;
   const double la = mean_edge_length<K>(a), lb = mean_edge_length<K>(b);
   const double snap_tol = options.embed.snap_tol < 0 ? 0.1 * std::min(la, lb) : options.embed.snap_tol;
   // The quality stage works to angles, not to an area: with --max-area the faces are left as the
   // re-triangulation bounded them.
   const bool improve = options.improve && !(options.embed.max_area > 0);
-  // Stages 1-3 on the inputs (closing features thinner than the separation, or not).
-  auto embedded = [&](bool close_thin_features) {
+  // Stages 1-3 on the inputs: as they are; with the vertices within the separation of a curve and
+  // of a point of the too close pairs found so far closed onto the curve; or with every vertex
+  // within the separation of a curve closed.
+  enum class Closing { none, near_close_pairs, all };
+  std::vector<std::array<double, 3>> close_points;  // of the pairs every failed candidate left too close
+  auto embedded = [&](Closing closing) {
     a = a0;
     b = b0;
-    PairResult<K> r = embed_into_both<K>(a, b, options, close_thin_features ? separation : 0.0);
+    PairResult<K> r = embed_into_both<K>(a, b, options, closing == Closing::none ? 0.0 : separation,
+                                         closing == Closing::near_close_pairs ? &close_points : nullptr);
     r.stats.snap_tol = snap_tol;
     unify_contacts<K>(a, b, r, separation);
     return r;
@@ -250,23 +252,55 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     measure_meshes<K>(a, b, r, options.embed.max_area);
   };
   // Stage 6. Outputs that fail once written in doubles: the embedded meshes without the quality
-  // stage; then the same two with features thinner than the separation closed (a vertex a few
-  // units in the last place inside the other surface, say). Each is verified alike.
+  // stage; then the same two with the vertices of the pairs left too close (check 5) closed, if
+  // they lie within the separation of a curve (a vertex of one mesh a few units in the last place
+  // from the other surface, say), again while that finds new pairs, at most
+  // max_close_pair_rounds times; then with every feature thinner than the separation closed.
+  // Each is verified alike.
+  constexpr int max_close_pair_rounds = 3;
+  int close_pair_rounds = 0;
+  std::size_t close_points_used = 0;
   std::string problem, problems;
   auto failed = [&](const std::string& what) {
     problems += (problems.empty() ? "" : "; ") + what + problem;
   };
-  for (const bool close : {false, true}) {
-    const std::string closed = close ? "with features thinner than the vertex separation closed" : "";
+  // (the close pairs of the improved outputs only: those are the outputs to mend)
+  auto verify = [&](PairResult<K>& r, bool improved_outputs) {
+    const bool ok = internal::verify_outputs<K>(a0, b0, a, b, r, problem, improved_outputs ? &close_points : nullptr);
+    std::sort(close_points.begin(), close_points.end());
+    close_points.erase(std::unique(close_points.begin(), close_points.end()), close_points.end());
+    return ok;
+  };
+  for (Closing closing = Closing::none;;) {
+    if (closing == Closing::near_close_pairs) {
+      if (close_points.size() == close_points_used || close_pair_rounds == max_close_pair_rounds) {
+        closing = Closing::all;  // no new pair to close
+        continue;
+      }
+      close_points_used = close_points.size();
+      ++close_pair_rounds;
+    }
+    const std::string closed = closing == Closing::none ? ""
+                               : closing == Closing::all
+                                   ? "with features thinner than the vertex separation closed"
+                                   : internal::say("with the vertices next to ", close_points.size(),
+                                                   " points of too close pairs closed onto the curves");
+    const Closing next = closing == Closing::all ? closing : Closing::near_close_pairs;
     PairResult<K> result;
     try {
-      result = embedded(close);
+      result = embedded(closing);
     } catch (const InternalError& e) {  // (a flat contact that does not fit, say): the next way
       problem = e.what();
       failed(closed.empty() ? "" : closed + ": ");
+      if (closing == Closing::all) break;
+      closing = next;
       continue;
     }
-    if (close && result.stats.vertices_closed == 0) break;  // the same meshes again
+    if (closing != Closing::none && result.stats.vertices_closed == 0) {  // the same meshes as the first way
+      if (closing == Closing::all) break;
+      closing = Closing::all;
+      continue;
+    }
     std::optional<std::tuple<Mesh<K>, Mesh<K>, PairResult<K>>> before_improve;
     if (improve && options.verify_output && !result.curves.empty()) before_improve.emplace(a, b, result);
     bool improved = true;  // false: the quality stage stopped (an edit it could not make)
@@ -280,23 +314,27 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     if (improved) finish(result);
     if (!options.verify_output) return result;
     auto passes = [&](bool without_improve) {
-      if (!internal::verify_outputs<K>(a0, b0, a, b, result, problem)) return false;
+      if (!verify(result, !without_improve)) return false;
       if (!problems.empty())
         result.stats.note += (result.stats.note.empty() ? "" : "; ") + std::string("seam check failed on (") +
                              problems + "): these outputs are " + (closed.empty() ? "" : closed + ", ") +
-                             (without_improve ? "the embedded meshes without the quality stage" : "improved");
+                             (without_improve ? "the embedded meshes without the quality stage"
+                              : improve       ? "improved"
+                                              : "the embedded meshes");
       return true;
     };
     if (improved && passes(false)) return result;
     failed(closed.empty() ? "" : closed + ": ");
-    if (!before_improve) continue;
-    a = std::move(std::get<0>(*before_improve));
-    b = std::move(std::get<1>(*before_improve));
-    result = std::move(std::get<2>(*before_improve));
-    finish(result);
-    if (passes(true)) return result;
-    failed((closed.empty() ? "" : closed + ", ") + "without the quality stage: ");
-    before_improve.reset();
+    if (before_improve) {
+      a = std::move(std::get<0>(*before_improve));
+      b = std::move(std::get<1>(*before_improve));
+      result = std::move(std::get<2>(*before_improve));
+      finish(result);
+      if (passes(true)) return result;
+      failed((closed.empty() ? "" : closed + ", ") + "without the quality stage: ");
+    }
+    if (closing == Closing::all) break;
+    closing = next;
   }
   a = a0;
   b = b0;

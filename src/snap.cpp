@@ -133,7 +133,8 @@ template <class K> bool in_flat_contact(const Mesh<K>& mesh, typename MeshTypes<
 
 template <class K>
 SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, double tolerance,
-                                        bool round_to_doubles, bool skip_on_curves, const Mesh<K>* other) {
+                                        bool round_to_doubles, bool skip_on_curves, const Mesh<K>* other,
+                                        const std::vector<std::array<double, 3>>* near) {
   SnapReport<K> report;
   if (!(tolerance > 0)) return report;
   using Point = typename K::Point_3;
@@ -157,7 +158,12 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
     const auto q = to_filtered(mesh.point(v));
     const auto [cp, it] = tree.closest_point_and_primitive(q);
     const double d = std::sqrt(CGAL::squared_distance(q, cp));
-    if (d <= tolerance) candidates.emplace_back(d, std::size_t(v), std::size_t(it - segments.cbegin()));
+    if (!(d <= tolerance)) continue;
+    if (near && std::none_of(near->begin(), near->end(), [&](const std::array<double, 3>& p) {
+          return CGAL::squared_distance(q, DK::Point_3(p[0], p[1], p[2])) <= tolerance * tolerance;
+        }))
+      continue;
+    candidates.emplace_back(d, std::size_t(v), std::size_t(it - segments.cbegin()));
   }
   std::sort(candidates.begin(), candidates.end());
   for (const auto& [d, vi, si] : candidates) {
@@ -286,15 +292,15 @@ EdgeSnapReport<K> snap_edges_to_points(Mesh<K>& mesh, const std::vector<Polyline
 }
 
 template SnapReport<Exact> snap_vertices<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double);
-template SnapReport<Exact> snap_vertices_to_segments<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double, bool, bool, const Mesh<Exact>*);
+template SnapReport<Exact> snap_vertices_to_segments<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double, bool, bool, const Mesh<Exact>*, const std::vector<std::array<double, 3>>*);
 template EdgeSnapReport<Exact> snap_edges_to_points<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double);
 template bool move_keeps_faces<Exact>(const Mesh<Exact>&, typename MeshTypes<Exact>::V, const Exact::Point_3&);
 template SnapReport<Filtered> snap_vertices<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double);
-template SnapReport<Filtered> snap_vertices_to_segments<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double, bool, bool, const Mesh<Filtered>*);
+template SnapReport<Filtered> snap_vertices_to_segments<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double, bool, bool, const Mesh<Filtered>*, const std::vector<std::array<double, 3>>*);
 template EdgeSnapReport<Filtered> snap_edges_to_points<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double);
 template bool move_keeps_faces<Filtered>(const Mesh<Filtered>&, typename MeshTypes<Filtered>::V, const Filtered::Point_3&);
 template SnapReport<Float> snap_vertices<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double);
-template SnapReport<Float> snap_vertices_to_segments<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double, bool, bool, const Mesh<Float>*);
+template SnapReport<Float> snap_vertices_to_segments<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double, bool, bool, const Mesh<Float>*, const std::vector<std::array<double, 3>>*);
 template EdgeSnapReport<Float> snap_edges_to_points<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double);
 template bool move_keeps_faces<Float>(const Mesh<Float>&, typename MeshTypes<Float>::V, const Float::Point_3&);
 

@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/check.h>
 #include <seam/io.h>
+#include <seam/internal/bbox_diagonal.h>
 #include <seam/internal/embed_known_sites.h>
 #include <seam/internal/provenance.h>
 #include <seam/internal/improve_state.h>
@@ -305,11 +306,6 @@ template <class K> struct PairWork {
 
 std::string quoted(const std::string& name) { return "'" + name + "'"; }
 
-double diagonal(const CGAL::Bbox_3& b) {
-  const double dx = b.xmax() - b.xmin(), dy = b.ymax() - b.ymin(), dz = b.zmax() - b.zmin();
-  return std::sqrt(dx * dx + dy * dy + dz * dz);
-}
-
 
 /// Quality of the new faces of `mesh` with a vertex on the curves whose vertices are given.
 template <class K>
@@ -378,8 +374,7 @@ void improve_tows(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& inpu
   double widest_pair = 0;
   for (const auto& pair : result.pairs)
     if (!pair.curves.empty())
-      widest_pair = std::max(widest_pair, diagonal(CGAL::Polygon_mesh_processing::bbox(inputs[pair.stats.a]) +
-                                                   CGAL::Polygon_mesh_processing::bbox(inputs[pair.stats.b])));
+      widest_pair = std::max(widest_pair, internal::bbox_diagonal<K>(inputs[pair.stats.a], inputs[pair.stats.b]));
   io.min_separation = std::max(io.min_separation, min_vertex_separation * widest_pair);
   st.improve_tolerance = io.tolerance;
   st.improve = internal::improve<K>(tows, shared, io);
@@ -405,7 +400,7 @@ bool verify_pairs(const std::vector<Mesh<K>>& inputs, std::vector<Mesh<K>>& mesh
   for (auto& pair : result.pairs) {
     const std::size_t a = pair.stats.a, b = pair.stats.b;
     const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(inputs[a]) + CGAL::Polygon_mesh_processing::bbox(inputs[b]);
-    const double tol = std::max(tolerance, 1e-9 * diagonal(box)) * (1 + 1e-9);
+    const double tol = std::max(tolerance, 1e-9 * internal::bbox_diagonal(box)) * (1 + 1e-9);
     PairCheckReport report;
     try {
       report = internal::check_as_written<K>(inputs[a], inputs[b], meshes[a], meshes[b], pair.curves, tol);
@@ -605,8 +600,8 @@ template <class K> class TextileRun {
         snap_tol_[tow] = embed.snap_tol;
         continue;
       }
-      double d = diagonal(frozen_[tow].bbox);
-      for (std::size_t p : pairs_of_[tow]) d = std::min(d, diagonal(frozen_[other(p, tow)].bbox));
+      double d = internal::bbox_diagonal(frozen_[tow].bbox);
+      for (std::size_t p : pairs_of_[tow]) d = std::min(d, internal::bbox_diagonal(frozen_[other(p, tow)].bbox));
       snap_tol_[tow] = 1e-10 * d;
     }
     for_each_index(
@@ -750,7 +745,7 @@ template <class K> class TextileRun {
       // of every tow, every curve point and the Steiner points before it (see seam::pair).
       CGAL::Bbox_3 cell;
       for (const auto& m : meshes_) cell += CGAL::Polygon_mesh_processing::bbox(m);
-      internal::KeepAway away(min_vertex_separation * diagonal(cell));
+      internal::KeepAway away(min_vertex_separation * internal::bbox_diagonal(cell));
       for (const auto& m : meshes_) away.add_vertices<K>(m);
       for (std::size_t p = 0; p < work_.size(); ++p)
         for (const std::size_t tow : {work_[p].a, work_[p].b}) away.add_points<K>(curves_for(p, tow));

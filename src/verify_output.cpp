@@ -1,10 +1,9 @@
 // seam: the outputs checked as written. See seam/internal/verify_output.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/errors.h>
+#include <seam/internal/bbox_diagonal.h>
 #include <seam/internal/splice.h>
 #include <seam/internal/verify_output.h>
-
-#include <CGAL/Polygon_mesh_processing/bbox.h>
 
 #include <tbb/parallel_invoke.h>
 
@@ -111,15 +110,12 @@ EmbedCheckReport check_embedding_as_written(const Mesh<K>& input, Mesh<K>& outpu
 /// given curves' largest move and stage 1's largest move (features thinner than the vertex
 /// separation closed); at least 1e-9 of the pair's size.
 template <class K> double verification_tolerance(const Mesh<K>& a, const Mesh<K>& b, const PairStats& st) {
-  const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(a) + CGAL::Polygon_mesh_processing::bbox(b);
-  const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
-                                    CGAL::square(box.zmax() - box.zmin()));
-  return std::max(st.snap_tol + st.max_curve_move + st.max_close_move, 1e-9 * diagonal) * (1 + 1e-9);
+  return std::max(st.snap_tol + st.max_curve_move + st.max_close_move, 1e-9 * bbox_diagonal<K>(a, b)) * (1 + 1e-9);
 }
 
 template <class K>
 bool verify_outputs(const Mesh<K>& a, const Mesh<K>& b, Mesh<K>& a2, Mesh<K>& b2, PairResult<K>& result,
-                    std::string& problem) {
+                    std::string& problem, std::vector<std::array<double, 3>>* close_points) {
   const auto t = std::chrono::steady_clock::now();
   auto& st = result.stats;
   st.verify_tolerance = verification_tolerance<K>(a, b, st);
@@ -132,6 +128,8 @@ bool verify_outputs(const Mesh<K>& a, const Mesh<K>& b, Mesh<K>& a2, Mesh<K>& b2
   st.stage_seconds["verify_output"] += std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   st.verified = report.ok();
   if (!report.ok()) problem = report.problems.front();
+  if (close_points)
+    close_points->insert(close_points->end(), report.close_vertex_points.begin(), report.close_vertex_points.end());
   return report.ok();
 }
 
@@ -142,7 +140,8 @@ template PairCheckReport check_as_written<Filtered>(const Mesh<Filtered>&, const
 template PairCheckReport check_as_written<Float>(const Mesh<Float>&, const Mesh<Float>&, Mesh<Float>&, Mesh<Float>&,
                                                  std::vector<Polyline<Float>>&, double);
 #define SEAM_INSTANTIATE(K)                                                                                    \
-  template bool verify_outputs<K>(const Mesh<K>&, const Mesh<K>&, Mesh<K>&, Mesh<K>&, PairResult<K>&, std::string&); \
+  template bool verify_outputs<K>(const Mesh<K>&, const Mesh<K>&, Mesh<K>&, Mesh<K>&, PairResult<K>&, std::string&, \
+                                    std::vector<std::array<double, 3>>*); \
   template EmbedCheckReport check_embedding_as_written<K>(const Mesh<K>&, Mesh<K>&, std::vector<Polyline<K>>&, double, \
                                                           const std::vector<Polyline<K>>*);
 SEAM_INSTANTIATE(Exact)

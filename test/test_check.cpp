@@ -12,6 +12,8 @@
 #include <CGAL/Polygon_mesh_processing/intersection.h>
 #include <CGAL/boost/graph/Euler_operations.h>
 
+#include <algorithm>
+#include <array>
 #include <cstdlib>
 #include <random>
 #include <type_traits>
@@ -239,6 +241,24 @@ TEST_CASE("check_pair without curves", "[check]") {
     const auto a = cube<E>(0, 0, 0), b = cube<E>(0.5, 0.5, 0.5);
     const auto r = seam::check_pair<E>(a, b, a, b, none, 1e-9);
     CHECK(any_contains(r, "A2 and B2 intersect off the curves"));
+  }
+  SECTION("an output vertex closer than the separation to another fails, and both points are named") {
+    // B 2e-9 beyond A in x (input corners that close are counted apart); A2's corner (1, 0, 0)
+    // moved 1e-9 along A's edge, so it is no longer an input point: 3e-9 from B's corner.
+    const auto a = cube<E>(0, 0, 0), b = cube<E>(1 + 2e-9, 0, 0);
+    auto a2 = a;
+    a2.point(seam::Mesh<E>::Vertex_index(1)) = E::Point_3(1 - 1e-9, 0, 0);
+    const auto r = seam::check_pair<E>(a, b, a2, b, none, 1e-9);
+    INFO(all(r));
+    CHECK(any_contains(r, "closer than"));
+    CHECK(r.close_vertex_pairs == 1);
+    CHECK(r.close_vertex_pairs_in_inputs == 3);  // the other corners of the two facing squares
+    REQUIRE(r.close_vertex_points.size() == 2);
+    const std::array<double, 3> moved{1 - 1e-9, 0, 0}, corner{1 + 2e-9, 0, 0};
+    CHECK(std::count(r.close_vertex_points.begin(), r.close_vertex_points.end(), moved) == 1);
+    CHECK(std::count(r.close_vertex_points.begin(), r.close_vertex_points.end(), corner) == 1);
+    const auto ok = seam::check_pair<E>(a, b, a, b, none, 1e-9);
+    CHECK(ok.close_vertex_points.empty());
   }
 }
 

@@ -2,7 +2,8 @@
 // move onto it) leaves the vertices of a flat contact where they are: moving one tilts its faces
 // out of the other surface's plane, and the part of the contact they held is lost (found on a CT
 // tow against a copy moved along a grid plane, where seam check then found the intersection
-// uncovered).
+// uncovered). With a list of points (seam pair's targeted way: the points of the pairs of
+// vertices a failed output left too close), only the vertices next to them move.
 #include <catch2/catch.hpp>
 
 #include <seam/internal/snap.h>
@@ -59,5 +60,33 @@ TEST_CASE("snap to segments: a vertex of a flat contact stays, others move", "[s
     M a2 = a;
     const auto r = seam::internal::snap_vertices_to_segments<K>(a2, curves, tolerance, false, true, &b);
     CHECK(r.snapped == 1);
+  }
+}
+
+TEST_CASE("snap to segments: with points given, only the vertices next to them move", "[snap]") {
+  // A: the rectangle [0, 2] x [0, 1] in z = 0, each unit square fanned from its centre (v6, v7).
+  // The curve passes 1e-9 above both centres.
+  const M a = mesh_of({P(0, 0, 0), P(1, 0, 0), P(2, 0, 0), P(2, 1, 0), P(1, 1, 0), P(0, 1, 0), P(0.5, 0.5, 0),
+                       P(1.5, 0.5, 0)},
+                      {{0, 1, 6}, {1, 4, 6}, {4, 5, 6}, {5, 0, 6}, {1, 2, 7}, {2, 3, 7}, {3, 4, 7}, {4, 1, 7}});
+  const std::vector<seam::Polyline<K>> curves{{P(0, 0.5, 1e-9), P(2, 0.5, 1e-9)}};
+  const M::Vertex_index left(6), right(7);
+  const double tolerance = 1e-8;
+  M a2 = a;
+  SECTION("a point next to the right centre") {
+    const std::vector<std::array<double, 3>> near{{1.5, 0.5, 5e-9}};
+    const auto r = seam::internal::snap_vertices_to_segments<K>(a2, curves, tolerance, false, true, nullptr, &near);
+    CHECK(r.snapped == 1);
+    CHECK(a2.point(left) == a.point(left));
+    CHECK(K::Segment_3(curves[0][0], curves[0][1]).has_on(a2.point(right)));
+  }
+  SECTION("points farther than the tolerance from both: none moves") {
+    const std::vector<std::array<double, 3>> near{{1.0, 0.5, 0}, {1.5, 0.5, 1e-6}};
+    const auto r = seam::internal::snap_vertices_to_segments<K>(a2, curves, tolerance, false, true, nullptr, &near);
+    CHECK(r.snapped == 0);
+  }
+  SECTION("no list: both move") {
+    const auto r = seam::internal::snap_vertices_to_segments<K>(a2, curves, tolerance, false, true);
+    CHECK(r.snapped == 2);
   }
 }

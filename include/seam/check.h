@@ -65,6 +65,7 @@
 #include <seam/kernels.h>
 #include <seam/types.h>
 
+#include <array>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -106,6 +107,8 @@ struct PairCheckReport {
   std::size_t close_vertex_pairs = 0;
   /// Pairs that close which are both vertices of the inputs (not a problem of the outputs).
   std::size_t close_vertex_pairs_in_inputs = 0;
+  /// Both points of each such pair (of the first 1,000), as written: where a repair must look.
+  std::vector<std::array<double, 3>> close_vertex_points;
   /// Check 6: points sampled on the intersection of A and B, those farther than the tolerance
   /// from the curves and the shared faces, and the largest such distance.
   std::size_t intersection_samples = 0, uncovered_samples = 0;

@@ -10,6 +10,8 @@
 
 #include <seam/internal/surface_point.h>
 
+#include <array>
+
 namespace seam::internal {
 
 template <class K> struct SnapReport {
@@ -28,10 +30,12 @@ SnapReport<K> snap_vertices(Mesh<K>& mesh, const std::vector<Polyline<K>>& curve
 /// `other`: vertices of a face that lies in one plane with a face of `other` and meets it (a
 /// flat contact) stay (exact tests): moving one would tilt the face out of the contact, and the
 /// part of the contact it held would be lost.
+/// `near`: when given, only vertices within `tolerance` of one of these points (in doubles) move.
 template <class K>
 SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, double tolerance,
                                         bool round_to_doubles = false, bool skip_on_curves = false,
-                                        const Mesh<K>* other = nullptr);
+                                        const Mesh<K>* other = nullptr,
+                                        const std::vector<std::array<double, 3>>* near = nullptr);
 
 /// Would moving v to `target` keep every incident face non-degenerate, with its orientation?
 /// Exact under the exact kernel.
