@@ -252,11 +252,11 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     measure_meshes<K>(a, b, r, options.embed.max_area);
   };
   // Stage 6. Outputs that fail once written in doubles: the embedded meshes without the quality
-  // stage; then the same two with the vertices of the pairs left too close (check 5) closed, if
-  // they lie within the separation of a curve (a vertex of one mesh a few units in the last place
-  // from the other surface, say), again while that finds new pairs, at most
-  // max_close_pair_rounds times; then with every feature thinner than the separation closed.
-  // Each is verified alike.
+  // stage; then, where the improved outputs failed only on pairs of vertices too close (check 5),
+  // the same two with the vertices of those pairs closed, if they lie within the separation of a
+  // curve (a vertex of one mesh a few units in the last place from the other surface, say), again
+  // while that finds new pairs, at most max_close_pair_rounds times; then with every feature
+  // thinner than the separation closed. Each is verified alike.
   constexpr int max_close_pair_rounds = 3;
   int close_pair_rounds = 0;
   std::size_t close_points_used = 0;

@@ -43,9 +43,10 @@
 //                  closed (a vertex of one mesh that close to the curves, not on them, moves onto
 //                  them, and the curves are computed again: a crossing that thin can be neither
 //                  written in doubles nor meshed by TetGen), verified with and without stage 4:
-//                  first only the vertices next to the pairs of vertices the improved outputs
-//                  left closer than the separation (check 5), again while that finds new pairs
-//                  (at most 3 rounds: each adds points or ends); then every such vertex.
+//                  first, where the improved outputs fail on that alone, only the vertices next
+//                  to the pairs of vertices they left closer than the separation (check 5),
+//                  again while that finds new pairs (at most 3 rounds: each adds points or
+//                  ends); then every such vertex.
 //                  If every one fails, the inputs are restored and InternalError says what each
 //                  failed. A result is therefore always one that `seam check` accepts.
 //

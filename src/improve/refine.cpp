@@ -94,6 +94,7 @@ template <class K> class Refiner {
   std::optional<Outcome> merge_short_edge(std::size_t m, V x, V y);
   bool merge_plan(std::size_t m, V u, V w, Edit<K>& edit) const;
   Outcome split_constraint(std::size_t m, H h);
+  bool border_fixed(std::size_t m, H h) const;
   Outcome insert_circumcenter(std::size_t m, F f);
   bool walk(std::size_t m, F f, FP target, F& landed, FP& at, H& crossed) const;
   Outcome insert_at(std::size_t m, F g, const FP& at);
@@ -616,28 +617,55 @@ template <class K> Outcome Refiner<K>::insert_circumcenter(std::size_t m, F f) {
   const FP mid = CGAL::midpoint(p[shortest], p[(shortest + 1) % 3]), centre = CGAL::circumcenter(p0, p1, p2);
   const double half = 0.5 * std::sqrt(CGAL::squared_distance(p[shortest], p[(shortest + 1) % 3]));
   // (With two degrees to spare: a triangle made exactly at the bound may round below it.)
-  const double reach = half / std::tan(0.5 * (s_.options.min_angle_deg + 2) * M_PI / 180);
+  const double bound = (s_.options.min_angle_deg + 2) * M_PI / 180;
+  const double reach = half / std::tan(0.5 * bound);
   const double to_centre = std::sqrt(CGAL::squared_distance(mid, centre));
-  const FP target = to_centre > reach ? mid + (centre - mid) * (reach / to_centre) : centre;
-  if (!finite(target)) return {false, ShortfallCause::shape};  // (a face flat in doubles)
-  if (!walk(m, f, target, landed, at, crossed)) {
-    if (crossed == M::null_halfedge()) return {false, ShortfallCause::shape};
-    return split_constraint(m, crossed);
-  }
-  // Constraints the circumcenter encroaches (inside their diametral ball), on the face it lands in
-  // and the faces around it: split instead.
-  for (V v : s_.corners(m, landed))
-    for (H h : CGAL::halfedges_around_target(g.halfedge(v), g)) {
-      for (H e : {h, g.next(h)}) {
-        if (g.is_border(e) && g.is_border(g.opposite(e))) continue;
-        const H inside = g.is_border(e) ? g.opposite(e) : e;
-        if (!s_.is_constraint(m, inside)) continue;
-        const FP a = s_.fpoint(m, g.source(inside)), b = s_.fpoint(m, g.target(inside));
-        if (CGAL::squared_distance(at, CGAL::midpoint(a, b)) < 0.25 * CGAL::squared_distance(a, b))
-          return split_constraint(m, inside);
-      }
+  if (!(to_centre > 0)) return {false, ShortfallCause::shape};
+  // Where the off-center lies beyond a border that cannot move (band_radius reached, a flat
+  // contact), or encroaches one, points nearer the shortest edge on the same bisector are tried:
+  // each lies inside the face's circumcircle too (so the face goes), and down to
+  // half x tan(bound) from the edge the new face on it still has the bound's angles. A few fixed
+  // fractions: the number of tries per face is bounded.
+  Outcome blocked{false, ShortfallCause::constraint_angle};
+  for (const double scale : {1.0, 0.7, 0.5, 0.35}) {
+    const double distance = std::min(to_centre, reach) * scale;
+    if (scale < 1 && distance < half * std::tan(bound)) break;
+    const FP target = mid + (centre - mid) * (distance / to_centre);
+    if (!finite(target)) return {false, ShortfallCause::shape};  // (a face flat in doubles)
+    if (!walk(m, f, target, landed, at, crossed)) {
+      if (crossed == M::null_halfedge()) return {false, ShortfallCause::shape};
+      if (!border_fixed(m, crossed)) return split_constraint(m, crossed);
+      continue;
     }
-  return insert_at(m, landed, at);
+    // Constraints the point encroaches (inside their diametral ball), on the face it lands in
+    // and the faces around it: split instead.
+    H encroached = M::null_halfedge();
+    for (V v : s_.corners(m, landed))
+      for (H h : CGAL::halfedges_around_target(g.halfedge(v), g)) {
+        for (H e : {h, g.next(h)}) {
+          if (g.is_border(e) && g.is_border(g.opposite(e))) continue;
+          const H inside = g.is_border(e) ? g.opposite(e) : e;
+          if (encroached != M::null_halfedge() || !s_.is_constraint(m, inside)) continue;
+          const FP a = s_.fpoint(m, g.source(inside)), b = s_.fpoint(m, g.target(inside));
+          if (CGAL::squared_distance(at, CGAL::midpoint(a, b)) < 0.25 * CGAL::squared_distance(a, b)) encroached = inside;
+        }
+      }
+    if (encroached == M::null_halfedge()) return insert_at(m, landed, at);
+    if (!border_fixed(m, encroached)) return split_constraint(m, encroached);
+  }
+  return blocked;
+}
+
+/// A border of the band that cannot move: not a curve segment, and the face beyond is not in
+/// the band and may not join it (farther than band_radius, shared, frozen). split_constraint
+/// refuses it.
+template <class K> bool Refiner<K>::border_fixed(std::size_t m, H h) const {
+  const M& g = s_.mesh(m);
+  if (!s_.face_in_band(m, g.face(h))) h = g.opposite(h);
+  const F beyond = g.face(g.opposite(h));
+  if (beyond == M::null_face() || s_.face_in_band(m, beyond)) return false;
+  if (s_.is_curve_edge(m, g.source(h), g.target(h))) return false;
+  return !s_.may_join_band(m, beyond);
 }
 
 /// Inserts a point in face g (rounded to doubles; if the predicate refuses it, exactly in g), then

@@ -33,7 +33,8 @@ template <class K> double verification_tolerance(const Mesh<K>& a, const Mesh<K>
 
 /// check_as_written on a pair's result at verification_tolerance; fills the result's
 /// verified, verify_tolerance and seconds, and on failure `problem` (the first problem found).
-/// `close_points`, when given, receives the points of the vertex pairs found too close (check 5).
+/// `close_points`, when given, receives the points of the vertex pairs found too close (check 5)
+/// when that is the only problem found.
 template <class K>
 bool verify_outputs(const Mesh<K>& a, const Mesh<K>& b, Mesh<K>& a2, Mesh<K>& b2, PairResult<K>& result,
                     std::string& problem, std::vector<std::array<double, 3>>* close_points = nullptr);
