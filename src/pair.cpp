@@ -76,7 +76,8 @@ template <class K> void measure_meshes(const Mesh<K>& a, const Mesh<K>& b, PairR
 /// `separation` of one of its points.
 template <class K>
 PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options, double separation,
-                              const std::vector<std::array<double, 3>>* near) {
+                              const std::vector<std::array<double, 3>>* near,
+                              std::vector<std::pair<int, std::size_t>>* closed) {
   PairResult<K> result;
   PairStats& st = result.stats;
   auto t = Clock::now();
@@ -86,6 +87,11 @@ PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     const auto sa = internal::snap_vertices_to_segments<K>(a, found.curves, separation, false, true, &b, near);
     const auto sb = internal::snap_vertices_to_segments<K>(b, found.curves, separation, false, true, &a, near);
     st.vertices_closed = sa.snapped + sb.snapped;
+    if (closed) {  // (mesh, vertex) of each vertex closed, sorted
+      for (auto v : sa.moved) closed->emplace_back(0, std::size_t(v));
+      for (auto v : sb.moved) closed->emplace_back(1, std::size_t(v));
+      std::sort(closed->begin(), closed->end());
+    }
     st.max_close_move = std::max(sa.max_move, sb.max_move);
     if (st.vertices_closed > 0) found = internal::compute_intersection_curves<K>(a, b);
   }
@@ -237,11 +243,15 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   // within the separation of a curve closed.
   enum class Closing { none, near_close_pairs, all };
   std::vector<std::array<double, 3>> close_points;  // of the pairs every failed candidate left too close
+  std::vector<std::pair<int, std::size_t>> closed_vertices, closed_before;  // by this way and the last
   auto embedded = [&](Closing closing) {
     a = a0;
     b = b0;
+    closed_before = std::move(closed_vertices);
+    closed_vertices.clear();
     PairResult<K> r = embed_into_both<K>(a, b, options, closing == Closing::none ? 0.0 : separation,
-                                         closing == Closing::near_close_pairs ? &close_points : nullptr);
+                                         closing == Closing::near_close_pairs ? &close_points : nullptr,
+                                         &closed_vertices);
     r.stats.snap_tol = snap_tol;
     unify_contacts<K>(a, b, r, separation);
     return r;
@@ -296,7 +306,9 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
       closing = next;
       continue;
     }
-    if (closing != Closing::none && result.stats.vertices_closed == 0) {  // the same meshes as the first way
+    // The same meshes as the first way (nothing closed), or as the way before (the same vertices
+    // closed): the next way.
+    if (closing != Closing::none && (result.stats.vertices_closed == 0 || closed_vertices == closed_before)) {
       if (closing == Closing::all) break;
       closing = Closing::all;
       continue;

@@ -627,44 +627,65 @@ template <class K> Outcome Refiner<K>::insert_circumcenter(std::size_t m, F f) {
   // half x tan(bound) from the edge the new face on it still has the bound's angles. A few fixed
   // fractions: the number of tries per face is bounded.
   Outcome blocked{false, ShortfallCause::constraint_angle};
+  // (split_constraint's refusal of a fixed border: the cause it gives)
+  auto block = [&](H h) {
+    const double length = std::sqrt(CGAL::squared_distance(s_.fpoint(m, g.source(h)), s_.fpoint(m, g.target(h))));
+    blocked.cause = length < 2 * s_.feature_size ? ShortfallCause::feature_size : ShortfallCause::constraint_angle;
+  };
   for (const double scale : {1.0, 0.7, 0.5, 0.35}) {
     const double distance = std::min(to_centre, reach) * scale;
     if (scale < 1 && distance < half * std::tan(bound)) break;
-    const FP target = mid + (centre - mid) * (distance / to_centre);
+    // (the circumcenter itself where that is nearer than the off-center)
+    const FP target = scale == 1 && to_centre <= reach ? centre : mid + (centre - mid) * (distance / to_centre);
     if (!finite(target)) return {false, ShortfallCause::shape};  // (a face flat in doubles)
     if (!walk(m, f, target, landed, at, crossed)) {
       if (crossed == M::null_halfedge()) return {false, ShortfallCause::shape};
       if (!border_fixed(m, crossed)) return split_constraint(m, crossed);
+      block(crossed);
       continue;
     }
     // Constraints the point encroaches (inside their diametral ball), on the face it lands in
-    // and the faces around it: split instead.
+    // and the faces around it: one that can be split is split instead.
     H encroached = M::null_halfedge();
+    bool encroaches_fixed = false;
     for (V v : s_.corners(m, landed))
       for (H h : CGAL::halfedges_around_target(g.halfedge(v), g)) {
         for (H e : {h, g.next(h)}) {
           if (g.is_border(e) && g.is_border(g.opposite(e))) continue;
           const H inside = g.is_border(e) ? g.opposite(e) : e;
-          if (encroached != M::null_halfedge() || !s_.is_constraint(m, inside)) continue;
+          if (encroached != M::null_halfedge() || encroaches_fixed || !s_.is_constraint(m, inside)) continue;
           const FP a = s_.fpoint(m, g.source(inside)), b = s_.fpoint(m, g.target(inside));
-          if (CGAL::squared_distance(at, CGAL::midpoint(a, b)) < 0.25 * CGAL::squared_distance(a, b)) encroached = inside;
+          if (!(CGAL::squared_distance(at, CGAL::midpoint(a, b)) < 0.25 * CGAL::squared_distance(a, b))) continue;
+          if (!border_fixed(m, inside)) {
+            encroached = inside;
+          } else if (!encroaches_fixed) {
+            encroaches_fixed = true;
+            block(inside);
+          }
         }
       }
-    if (encroached == M::null_halfedge()) return insert_at(m, landed, at);
-    if (!border_fixed(m, encroached)) return split_constraint(m, encroached);
+    if (encroached != M::null_halfedge()) return split_constraint(m, encroached);
+    if (!encroaches_fixed) return insert_at(m, landed, at);
   }
   return blocked;
 }
 
-/// A border of the band that cannot move: not a curve segment, and the face beyond is not in
-/// the band and may not join it (farther than band_radius, shared, frozen). split_constraint
-/// refuses it.
+/// A constraint split_constraint refuses for what lies beyond it: a border of the band whose face
+/// beyond is not in the band and may not join it (farther than band_radius, shared, frozen), or a
+/// curve segment that stays (ImproveOptions::curves_fixed) or has a shared or frozen face beside
+/// it here (the border of a flat contact).
 template <class K> bool Refiner<K>::border_fixed(std::size_t m, H h) const {
   const M& g = s_.mesh(m);
   if (!s_.face_in_band(m, g.face(h))) h = g.opposite(h);
   const F beyond = g.face(g.opposite(h));
+  if (s_.is_curve_edge(m, g.source(h), g.target(h))) {
+    if (s_.options.curves_fixed) return true;
+    const auto& ms = s_.meshes[m];
+    for (const F f : {g.face(h), beyond})
+      if (f != M::null_face() && ((ms.has_shared && ms.shared[f]) || (ms.has_frozen && ms.frozen[f]))) return true;
+    return false;
+  }
   if (beyond == M::null_face() || s_.face_in_band(m, beyond)) return false;
-  if (s_.is_curve_edge(m, g.source(h), g.target(h))) return false;
   return !s_.may_join_band(m, beyond);
 }
 
