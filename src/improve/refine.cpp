@@ -621,8 +621,8 @@ template <class K> Outcome Refiner<K>::insert_circumcenter(std::size_t m, F f) {
   const double reach = half / std::tan(0.5 * bound);
   const double to_centre = std::sqrt(CGAL::squared_distance(mid, centre));
   if (!(to_centre > 0)) return {false, ShortfallCause::shape};
-  // Where the off-center lies beyond a border that cannot move (band_radius reached, a flat
-  // contact), or encroaches one, points nearer the shortest edge on the same bisector are tried:
+  // Where the off-center lies beyond a constraint that cannot be split for what lies beyond it
+  // (border_fixed), or encroaches one, points nearer the shortest edge on the same bisector are tried:
   // each lies inside the face's circumcircle too (so the face goes), and down to
   // half x tan(bound) from the edge the new face on it still has the bound's angles. A few fixed
   // fractions: the number of tries per face is bounded.
@@ -644,28 +644,23 @@ template <class K> Outcome Refiner<K>::insert_circumcenter(std::size_t m, F f) {
       block(crossed);
       continue;
     }
-    // Constraints the point encroaches (inside their diametral ball), on the face it lands in
-    // and the faces around it: one that can be split is split instead.
+    // The first constraint the point encroaches (inside its diametral ball), on the face it lands
+    // in and the faces around it, is split instead; if it cannot be, a nearer point is tried.
+    // (Preferring another encroached constraint that can be split was measured: worse.)
     H encroached = M::null_halfedge();
-    bool encroaches_fixed = false;
     for (V v : s_.corners(m, landed))
       for (H h : CGAL::halfedges_around_target(g.halfedge(v), g)) {
         for (H e : {h, g.next(h)}) {
           if (g.is_border(e) && g.is_border(g.opposite(e))) continue;
           const H inside = g.is_border(e) ? g.opposite(e) : e;
-          if (encroached != M::null_halfedge() || encroaches_fixed || !s_.is_constraint(m, inside)) continue;
+          if (encroached != M::null_halfedge() || !s_.is_constraint(m, inside)) continue;
           const FP a = s_.fpoint(m, g.source(inside)), b = s_.fpoint(m, g.target(inside));
-          if (!(CGAL::squared_distance(at, CGAL::midpoint(a, b)) < 0.25 * CGAL::squared_distance(a, b))) continue;
-          if (!border_fixed(m, inside)) {
-            encroached = inside;
-          } else if (!encroaches_fixed) {
-            encroaches_fixed = true;
-            block(inside);
-          }
+          if (CGAL::squared_distance(at, CGAL::midpoint(a, b)) < 0.25 * CGAL::squared_distance(a, b)) encroached = inside;
         }
       }
-    if (encroached != M::null_halfedge()) return split_constraint(m, encroached);
-    if (!encroaches_fixed) return insert_at(m, landed, at);
+    if (encroached == M::null_halfedge()) return insert_at(m, landed, at);
+    if (!border_fixed(m, encroached)) return split_constraint(m, encroached);
+    block(encroached);
   }
   return blocked;
 }
