@@ -186,6 +186,28 @@ template <class K> void collapse_tiny_edges(Mesh<K>& a, Mesh<K>& b, PairResult<K
   st.stage_seconds["separate"] += seconds_since(t);
 }
 
+/// A curve point repeated at two consecutive positions (the same vertex in both meshes: a
+/// segment of zero length, which seam check refuses) is kept once: the curve's geometry and its
+/// edges are the same. Seen after stage 5's collapses on CT row 10 (docs/real_tows.md), where a
+/// curve passes twice through a point.
+template <class K> void drop_repeated_curve_points(PairResult<K>& result) {
+  bool dropped = false;
+  for (std::size_t c = 0; c < result.curves.size(); ++c) {
+    auto& curve = result.curves[c];
+    auto& va = result.a.curve_vertices[c];
+    auto& vb = result.b.curve_vertices[c];
+    if (va.size() != curve.size() || vb.size() != curve.size()) continue;
+    for (std::size_t i = curve.size(); i-- > 1;)
+      if (curve.size() > 2 && curve[i] == curve[i - 1] && va[i] == va[i - 1] && vb[i] == vb[i - 1]) {
+        curve.erase(curve.begin() + std::ptrdiff_t(i));
+        va.erase(va.begin() + std::ptrdiff_t(i));
+        vb.erase(vb.begin() + std::ptrdiff_t(i));
+        dropped = true;
+      }
+  }
+  if (dropped) count_curves(result);
+}
+
 /// Flat contacts: one common triangulation in both meshes (internal/flat_contacts.h).
 template <class K> void unify_contacts(Mesh<K>& a, Mesh<K>& b, PairResult<K>& result, double separation) {
   if (result.curves.empty()) return;
@@ -259,6 +281,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   // Stage 5 and the figures.
   auto finish = [&](PairResult<K>& r) {
     collapse_tiny_edges<K>(a, b, r, separation);
+    drop_repeated_curve_points<K>(r);
     measure_meshes<K>(a, b, r, options.embed.max_area);
   };
   // Stage 6. Outputs that fail once written in doubles: the embedded meshes without the quality
