@@ -7,6 +7,7 @@
 #include <seam/internal/snap.h>
 #include <seam/internal/splice.h>
 #include <seam/internal/trace.h>
+#include <seam/internal/new_face_figures.h>
 #include <seam/quality.h>
 
 #include <algorithm>
@@ -379,11 +380,7 @@ EmbedResult<K> embed_with_known_sites(Mesh<K>& mesh, const std::vector<Polyline<
 
   // ---- quality of the new faces and distance to the input curves (rounded measurements)
   const auto quality = new_face_quality<K>(mesh, &source_min_angle, options.max_area);
-  st.largest_new_area = quality.largest_area;
-  st.new_faces_above_max_area = quality.above_max_area;
-  st.min_angle_deg_new = quality.min_angle_deg;
-  st.new_faces_below_10 = quality.below_10;
-  st.new_faces_below_20 = quality.below_20;
+  record_new_face_figures(quality, st);
   st.new_faces_below_10_unforced = quality.below_10_unforced;
   st.max_curve_deviation = polyline_deviation<K>(curves, traced, coarse);
   return result;

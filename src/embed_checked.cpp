@@ -3,6 +3,7 @@
 #include <seam/embed.h>
 #include <seam/internal/bbox_diagonal.h>
 #include <seam/internal/improve_state.h>
+#include <seam/internal/new_face_figures.h>
 #include <seam/internal/verify_output.h>
 #include <seam/quality.h>
 
@@ -20,14 +21,10 @@ namespace {
 template <class K>
 void measure(const Mesh<K>& mesh, const std::vector<double>& input_angles, double max_area, EmbedStats& st) {
   const auto q = new_face_quality<K>(mesh, &input_angles, max_area);
-  st.largest_new_area = q.largest_area;
-  st.new_faces_above_max_area = q.above_max_area;
+  internal::record_new_face_figures(q, st);
   st.output_vertices = mesh.number_of_vertices();
   st.output_faces = mesh.number_of_faces();
   st.faces_added = q.new_faces;
-  st.min_angle_deg_new = q.min_angle_deg;
-  st.new_faces_below_10 = q.below_10;
-  st.new_faces_below_20 = q.below_20;
   st.new_faces_below_10_unforced = q.below_10_unforced;
 }
 

@@ -10,6 +10,7 @@
 #include <seam/internal/improve_state.h>
 #include <seam/internal/local_edits.h>
 #include <seam/internal/message.h>
+#include <seam/internal/new_face_figures.h>
 #include <seam/internal/snap.h>
 #include <seam/internal/verify_output.h>
 #include <seam/quality.h>
@@ -55,14 +56,10 @@ template <class K> void measure_meshes(const Mesh<K>& a, const Mesh<K>& b, PairR
   for (auto* r : {&result.a, &result.b}) {
     const Mesh<K>& m = r == &result.a ? a : b;
     const auto q = new_face_quality<K>(m, nullptr, max_area);
-    r->stats.largest_new_area = q.largest_area;
-    r->stats.new_faces_above_max_area = q.above_max_area;
+    internal::record_new_face_figures(q, r->stats);
     r->curves = result.curves;
     r->stats.output_vertices = m.number_of_vertices();
     r->stats.output_faces = m.number_of_faces();
-    r->stats.min_angle_deg_new = q.min_angle_deg;
-    r->stats.new_faces_below_10 = q.below_10;
-    r->stats.new_faces_below_20 = q.below_20;
     r->stats.faces_added = q.new_faces;
     r->stats.curve_nodes_out = result.stats.curve_vertices;
   }

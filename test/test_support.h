@@ -69,7 +69,6 @@ inline std::vector<std::string> entries(const fs::path& dir) {
   return names;
 }
 
-/// A fresh directory under the system's temporary directory, removed with its content.
 /// Faces marked new (seam::new_face_property) whose area (doubles) is larger than `area`.
 template <class K> std::size_t new_faces_larger_than(const seam::Mesh<K>& m, double area) {
   using F = typename seam::Mesh<K>::Face_index;
@@ -86,6 +85,7 @@ template <class K> std::size_t new_faces_larger_than(const seam::Mesh<K>& m, dou
   return count;
 }
 
+/// A fresh directory under the system's temporary directory, removed with its content.
 class TempDir {
  public:
   explicit TempDir(const std::string& prefix) {
