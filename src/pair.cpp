@@ -51,12 +51,18 @@ template <class K> void count_curves(PairResult<K>& result) {
   }
 }
 
-/// The per-mesh figures (sizes, new faces and their angles) from the meshes as they are.
-template <class K> void measure_meshes(const Mesh<K>& a, const Mesh<K>& b, PairResult<K>& result, double max_area) {
+/// The per-mesh figures (sizes, new faces and their angles) from the meshes as they are;
+/// `input_angles` holds the smallest angle of each input face of A and of B (the faces'
+/// source_face_property), for the count of new faces below 10 degrees their input face does not
+/// force.
+template <class K>
+void measure_meshes(const Mesh<K>& a, const Mesh<K>& b, PairResult<K>& result, double max_area,
+                    const std::array<std::vector<double>, 2>& input_angles) {
   for (auto* r : {&result.a, &result.b}) {
     const Mesh<K>& m = r == &result.a ? a : b;
-    const auto q = new_face_quality<K>(m, nullptr, max_area);
+    const auto q = new_face_quality<K>(m, &input_angles[r == &result.a ? 0 : 1], max_area);
     internal::record_new_face_figures(q, r->stats);
+    r->stats.new_faces_below_10_unforced = q.below_10_unforced;
     r->curves = result.curves;
     r->stats.output_vertices = m.number_of_vertices();
     r->stats.output_faces = m.number_of_faces();
@@ -251,6 +257,8 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   check_coordinate_range<K>(b, "B");
   validate_options(options.embed);
   const Mesh<K> a0 = a, b0 = b;
+  const std::array<std::vector<double>, 2> input_angles{internal::face_min_angles<K>(a0),
+                                                        internal::face_min_angles<K>(b0)};
   const double diagonal = internal::bbox_diagonal<K>(a, b), separation = min_vertex_separation * diagonal;
   const double la = mean_edge_length<K>(a), lb = mean_edge_length<K>(b);
   const double snap_tol = options.embed.snap_tol < 0 ? 0.1 * std::min(la, lb) : options.embed.snap_tol;
@@ -279,7 +287,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   auto finish = [&](PairResult<K>& r) {
     collapse_tiny_edges<K>(a, b, r, separation);
     drop_repeated_curve_points<K>(r);
-    measure_meshes<K>(a, b, r, options.embed.max_area);
+    measure_meshes<K>(a, b, r, options.embed.max_area, input_angles);
   };
   // Stage 6. Outputs that fail once written in doubles: the embedded meshes without the quality
   // stage; then, where the improved outputs failed only on pairs of vertices too close (check 5),

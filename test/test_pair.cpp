@@ -159,6 +159,12 @@ void check_quality_contract(const CheckedPair& p, std::size_t below_10 = 0) {
   }
   CHECK(double(b20) <= 0.05 * double(new_faces));
   CHECK(b10 <= below_10);
+  // The report's counts are of the outputs: those below 10 degrees that the input face does not
+  // force are some of those below 10 degrees (not the embedding's count before the stage).
+  for (const auto* m : {&p.result.a, &p.result.b}) {
+    CHECK(m->stats.new_faces_below_10_unforced <= m->stats.new_faces_below_10);
+    CHECK(m->stats.new_faces_below_10 <= m->stats.new_faces_below_20);
+  }
 }
 
 }  // namespace
