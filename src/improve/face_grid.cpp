@@ -11,6 +11,7 @@ namespace seam::internal {
 namespace {
 
 constexpr double index_limit = 4611686018427387904.0;  // 2^62: cell indices stay well inside int64
+constexpr std::int64_t parent_limit = std::int64_t(1) << 61;  // a cell whose children could exist
 
 /// Drops the dead entries of a cell once it has grown to twice its size at its last purge
 /// (amortised O(1) liveness tests per insertion).
@@ -30,6 +31,9 @@ bool cell_index(double x, double width, std::int64_t& index) {
   return true;
 }
 
+/// floor(i / 2): the index of the cell one level up holding cell i.
+std::int64_t parent_index(std::int64_t i) { return i >= 0 ? i / 2 : -((1 - i) / 2); }
+
 }  // namespace
 
 std::size_t FaceGrid::IndexHash::operator()(const Index& i) const {
@@ -46,6 +50,29 @@ FaceGrid::FaceGrid(double typical_width) {
   }
 }
 
+void FaceGrid::mark_ancestors(int level, const Index& index) {
+  Index at = index;
+  for (int l = level + 1; l <= top_; ++l) {
+    for (auto& x : at) x = parent_index(x);
+    if (!levels_[l].try_emplace(at).second) return;  // there already: so are its ancestors
+  }
+}
+
+void FaceGrid::raise_top(int level) {
+  if (top_ < min_level) {
+    top_ = level;
+    return;
+  }
+  for (; top_ < level; ++top_) {  // every cell of the top level gets its parent
+    Level& up = levels_[top_ + 1];
+    for (const auto& [index, cell] : levels_[top_]) {
+      Index p = index;
+      for (auto& x : p) x = parent_index(x);
+      up.try_emplace(p);
+    }
+  }
+}
+
 void FaceGrid::insert(const Entry& entry, const CGAL::Bbox_3& box, const Liveness* is_live) {
   double width = 0;
   for (int d = 0; d < 3; ++d) width = std::max(width, box.max(d) - box.min(d));
@@ -55,44 +82,89 @@ void FaceGrid::insert(const Entry& entry, const CGAL::Bbox_3& box, const Livenes
     const double m = std::frexp(width / base_, &e);  // width / base_ = m 2^e, m in [0.5, 1)
     level = std::max(min_level, m == 0.5 ? e - 1 : e);
   }
-  Index index{};
+  Index lo{}, hi{};
   bool placed = level <= max_level && std::isfinite(width);
   const double cell = std::ldexp(base_, level);
-  for (int d = 0; d < 3 && placed; ++d) placed = cell_index(box.min(d), cell, index[std::size_t(d)]);
-  Cell& target = placed ? levels_[level][index] : unplaced_;
-  purge_when_grown(target, is_live);
-  target.items.push_back({entry, box});
-}
-
-void FaceGrid::collect(int level, const Level& cells, const CGAL::Bbox_3& box, std::vector<Entry>& found) const {
-  const auto take = [&](const Cell& c) {
-    for (const Item& item : c.items)
-      if (CGAL::do_overlap(item.box, box)) found.push_back(item.entry);
-  };
-  const double cell = std::ldexp(base_, level);
-  Index lo{}, hi{};
-  bool indexed = true;
-  double count = 1;
-  for (std::size_t d = 0; d < 3 && indexed; ++d) {
-    indexed = cell_index(box.min(int(d)), cell, lo[d]) && cell_index(box.max(int(d)), cell, hi[d]);
-    lo[d] -= 1;  // a box stored one cell lower can reach into the query
-    count *= double(hi[d] - lo[d] + 1);
-  }
-  if (!indexed || count > double(cells.size())) {  // fewer occupied cells than cells in range
-    for (const auto& [index, c] : cells) take(c);
+  for (std::size_t d = 0; d < 3 && placed; ++d)
+    placed = cell_index(box.min(int(d)), cell, lo[d]) && cell_index(box.max(int(d)), cell, hi[d]);
+  if (!placed) {
+    purge_when_grown(unplaced_, is_live);
+    unplaced_.items.push_back({entry, box});
     return;
   }
+  if (level > top_) raise_top(level);
+  // In every cell it overlaps: at most two per axis, as the box is no wider than a cell.
   for (std::int64_t i = lo[0]; i <= hi[0]; ++i)
     for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
-      for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
-        if (const auto it = cells.find({i, j, k}); it != cells.end()) take(it->second);
+      for (std::int64_t k = lo[2]; k <= hi[2]; ++k) {
+        const auto [it, made] = levels_[level].try_emplace(Index{i, j, k});
+        if (made) mark_ancestors(level, it->first);
+        purge_when_grown(it->second, is_live);
+        it->second.items.push_back({entry, box});
+      }
 }
 
 std::vector<FaceGrid::Entry> FaceGrid::query(const CGAL::Bbox_3& box) const {
   std::vector<Entry> found;
-  for (const auto& [level, cells] : levels_) collect(level, cells, box, found);
   for (const Item& item : unplaced_.items)
     if (CGAL::do_overlap(item.box, box)) found.push_back(item.entry);
+  if (top_ < min_level) return found;
+  // Down from the top level, through the cells that overlap the query's range of cells and
+  // exist (hold boxes, or cells below that do).
+  std::vector<std::pair<Index, const Cell*>> cells, below;
+  for (int level = top_; level >= min_level; --level) {
+    const auto at = levels_.find(level);
+    if (at == levels_.end()) break;
+    const Level& here = at->second;
+    const double width = std::ldexp(base_, level);
+    Index lo{}, hi{};
+    bool indexed = true;  // false: the query reaches beyond the indices (all cells are in range)
+    for (std::size_t d = 0; d < 3 && indexed; ++d)
+      indexed = cell_index(box.min(int(d)), width, lo[d]) && cell_index(box.max(int(d)), width, hi[d]);
+    const auto in_range = [&](const Index& c) {
+      for (std::size_t d = 0; d < 3 && indexed; ++d)
+        if (c[d] < lo[d] || c[d] > hi[d]) return false;
+      return true;
+    };
+    if (level == top_) {  // by the cells in range, or by the level's cells where they are fewer
+      double count = 1;
+      for (std::size_t d = 0; d < 3; ++d) count *= double(hi[d] - lo[d] + 1);
+      if (!indexed || count > double(here.size())) {
+        for (const auto& [index, cell] : here)
+          if (in_range(index)) cells.emplace_back(index, &cell);
+      } else {
+        for (std::int64_t i = lo[0]; i <= hi[0]; ++i)
+          for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
+            for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
+              if (const auto it = here.find({i, j, k}); it != here.end()) cells.emplace_back(it->first, &it->second);
+      }
+    } else {
+      below.clear();
+      for (const auto& [parent, unused] : cells) {
+        if (std::abs(parent[0]) >= parent_limit || std::abs(parent[1]) >= parent_limit ||
+            std::abs(parent[2]) >= parent_limit)
+          continue;  // no cell below it can be indexed
+        for (int child = 0; child < 8; ++child) {
+          const Index c{2 * parent[0] + (child & 1), 2 * parent[1] + ((child >> 1) & 1), 2 * parent[2] + (child >> 2)};
+          if (!in_range(c)) continue;
+          if (const auto it = here.find(c); it != here.end()) below.emplace_back(c, &it->second);
+        }
+      }
+      std::swap(cells, below);
+    }
+    // A box is in every cell it overlaps; it is taken from one only: the cell holding the corner
+    // of the overlap of its box and the query that is lowest along each axis (exact: the cell
+    // width is a power of two).
+    for (const auto& [index, cell] : cells)
+      for (const Item& item : cell->items) {
+        if (!CGAL::do_overlap(item.box, box)) continue;
+        bool here_once = true;
+        for (std::size_t d = 0; d < 3 && here_once; ++d)
+          here_once = std::floor(std::max(item.box.min(int(d)), box.min(int(d))) / width) == double(index[d]);
+        if (here_once) found.push_back(item.entry);
+      }
+    if (cells.empty()) break;
+  }
   return found;
 }
 

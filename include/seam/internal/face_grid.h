@@ -1,17 +1,20 @@
 // seam internal: a dynamic spatial index of face bounding boxes for the quality stage's
 // acceptance predicate (which faces lie near a new one).
 //
-// A hierarchical loose grid. Level L has cubic cells of width base x 2^L, with base a power of
-// two, so that a coordinate's cell index is exact (floor of a division by a power of two). A box
-// is stored once, at the coarsest-needed level: the smallest L whose cell is at least as wide as
-// the box, in the cell that holds its min corner; the box then lies inside that cell and the next
-// one up along each axis. A query at level L looks at the cells from the one before the cell of
-// its min corner to the cell of its max corner (at most 3 per axis where the query is no wider
-// than a cell), or at the level's occupied cells when those are fewer, and returns the entries
-// whose boxes overlap it. So a query costs O(levels + cells looked at + entries in them) whatever
-// the spread of face sizes. (A uniform grid at the input's mean edge put every face of a refined
-// spot into one cell, and the stage went quadratic: a fuzzer's 11 faces refined to 1,200 took
-// minutes under the sanitizers.)
+// A hierarchy of grids (an octree kept in hash maps). Level L has cubic cells of width
+// base x 2^L, with base a power of two, so that a coordinate's cell index is exact (floor of a
+// division by a power of two) and cell i of level L holds cells 2i and 2i + 1 of level L - 1. A box
+// is stored at the coarsest-needed level: the smallest L whose cell is at least as wide as the
+// box, in every cell it overlaps (at most two per axis). A cell exists when it holds a box or a
+// cell below it exists. A query walks down from the top level through the existing cells that
+// overlap its range of cells, and takes a box from one of its cells only (the cell of the lowest
+// corner of the box's overlap with the query). So a query costs O(levels + cells met + entries in
+// them), and at levels much finer than the query it meets only the cells where faces that small
+// are. (A uniform grid at the input's mean edge put every face of a refined spot into one cell,
+// and the stage went quadratic: a fuzzer's 11 faces refined to 1,200 took minutes under the
+// sanitizers. A grid per level looked at every level's cells in the query's range, or at all of
+// a level's cells where they were fewer: on a CT tow pair most of a query's time went to levels
+// of a few hundred cells of tiny faces, nowhere near it.)
 //
 // An entry whose face was removed or remade (another version) is dead: the caller skips it, and
 // `insert` drops the dead entries of a cell whenever the cell has grown to twice its size at its
@@ -72,8 +75,12 @@ class FaceGrid {
   static constexpr int min_level = -80, max_level = 80;
   double base_ = 1;
   std::map<int, Level> levels_;
-  Cell unplaced_;  ///< boxes outside the grid's reach
-  void collect(int level, const Level& cells, const CGAL::Bbox_3& box, std::vector<Entry>& found) const;
+  int top_ = min_level - 1;  ///< the coarsest level (below min_level: none yet)
+  Cell unplaced_;            ///< boxes outside the grid's reach
+  /// Makes the cells above a new cell of `level` exist, up to the top level.
+  void mark_ancestors(int level, const Index& index);
+  /// Makes `level` the top level: the cells of each level up to it get their parents.
+  void raise_top(int level);
 };
 
 }  // namespace seam::internal
