@@ -165,13 +165,30 @@ template <class K> Verdict near_input(const ImproveState<K>& s, std::size_t m, c
   const auto [closest, normal] = s.meshes[m].input->closest(CGAL::centroid(p, q, r));
   if (!thinner_than_separation && n * normal < std::cos(80 * M_PI / 180) * len) return Verdict::shape;
   const double slack = 1e-9 * s.mean_edge;
-  if (s.meshes[m].input->sampled_distance(p, q, r) > s.tolerance + slack) return Verdict::tolerance;
+  if (!s.meshes[m].input->within(p, q, r, s.tolerance + slack)) return Verdict::tolerance;
   return Verdict::accepted;
 }
 
-/// Whether the new faces of the edit meet the faces of the meshes (those it keeps) and each
-/// other only as allowed; on the corners as they are (PK = K), or rounded as written (Filtered).
-template <class K, class PK> bool no_crossing(const ImproveState<K>& s, const Edit<K>& edit) {
+/// The faces of the meshes whose boxes overlap each new face of the edit (by part, by face).
+/// The boxes hold the faces as they are and as written (under Exact, from the intervals of the
+/// corners, which hold both), so one query serves both tests.
+template <class K> using NearbyFaces = std::vector<std::vector<std::vector<FaceGrid::Entry>>>;
+template <class K> NearbyFaces<K> nearby_faces(const ImproveState<K>& s, const Edit<K>& edit) {
+  NearbyFaces<K> near(edit.parts.size());
+  for (std::size_t k = 0; k < edit.parts.size(); ++k)
+    for (const auto& corners : edit.parts[k].added) {
+      CGAL::Bbox_3 box;
+      for (const auto& c : corners) box += c.p.bbox();
+      near[k].push_back(s.grid.query(box));
+    }
+  return near;
+}
+
+/// Whether the new faces of the edit meet the faces of the meshes (those it keeps; `near`, from
+/// nearby_faces) and each other only as allowed; on the corners as they are (PK = K), or rounded
+/// as written (Filtered).
+template <class K, class PK>
+bool no_crossing(const ImproveState<K>& s, const Edit<K>& edit, const NearbyFaces<K>& near) {
   std::vector<std::vector<Tri<K, PK>>> made(edit.parts.size());
   for (std::size_t k = 0; k < edit.parts.size(); ++k)
     for (std::size_t i = 0; i < edit.parts[k].added.size(); ++i)
@@ -182,10 +199,9 @@ template <class K, class PK> bool no_crossing(const ImproveState<K>& s, const Ed
     return false;
   };
   for (std::size_t k = 0; k < edit.parts.size(); ++k)
-    for (const Tri<K, PK>& t : made[k]) {
-      CGAL::Bbox_3 box;
-      for (const auto& p : t.p) box += p.bbox();  // conservative: from the intervals under Exact
-      for (const auto& e : s.grid.query(box)) {
+    for (std::size_t i = 0; i < made[k].size(); ++i) {
+      const Tri<K, PK>& t = made[k][i];
+      for (const auto& e : near[k][i]) {
         const typename Mesh<K>::Face_index f(e.face);
         const auto& g = s.mesh(e.mesh);
         if (g.is_removed(f) || s.meshes[e.mesh].version[f] != e.version || removed(e.mesh, f)) continue;
@@ -242,12 +258,13 @@ template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) 
     }
   if (edit.has_fresh && s.options.min_separation > 0 && too_near_a_vertex<K>(s, edit)) return Verdict::separation;
   if (!edit.keeps_surface && !(s.tolerance > 0)) return Verdict::tolerance;  // no tolerance: the surfaces stay
+  NearbyFaces<K> near;
   if (edit.keeps_surface) {  // the new point lies on the current surface: within the tolerance of the input too?
     if (edit.has_fresh) {
       const double slack = 1e-9 * s.mean_edge;
       for (const auto& part : edit.parts) {
         const Filtered::Point_3 p = to_filtered(edit.fresh_point);
-        if (s.meshes[part.mesh].input->sampled_distance(p, p, p) > s.tolerance + slack) return Verdict::tolerance;
+        if (!s.meshes[part.mesh].input->within(p, p, p, s.tolerance + slack)) return Verdict::tolerance;
       }
     }
   } else {
@@ -256,12 +273,14 @@ template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) 
         if (const Verdict v = near_input<K>(s, edit.parts[k].mesh, new_tri<K, K>(s, edit, edit.parts[k], i));
             v != Verdict::accepted)
           return v;
-    if (!no_crossing<K, K>(s, edit)) return Verdict::crossing;  // exactly
+    near = nearby_faces<K>(s, edit);
+    if (!no_crossing<K, K>(s, edit, near)) return Verdict::crossing;  // exactly
   }
   if constexpr (kernel_traits<K>::exact_constructions) {
     // As written; unless a face it removes already crosses once written (the embedding's
     // rounding): an edit that does not add a crossing where there is one is not refused for it.
-    if (!no_crossing<K, Filtered>(s, edit) && !removes_a_written_crossing<K>(s, edit)) return Verdict::crossing;
+    if (near.empty()) near = nearby_faces<K>(s, edit);
+    if (!no_crossing<K, Filtered>(s, edit, near) && !removes_a_written_crossing<K>(s, edit)) return Verdict::crossing;
   }
   return Verdict::accepted;
 }

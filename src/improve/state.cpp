@@ -71,13 +71,43 @@ std::pair<Filtered::Point_3, Filtered::Vector_3> InputSurface::closest(const Fil
   return {q, len > 0 ? n / len : n};
 }
 
-double InputSurface::sampled_distance(const Filtered::Point_3& p, const Filtered::Point_3& q,
-                                      const Filtered::Point_3& r) const {
-  if (tree_->triangles.empty()) return std::numeric_limits<double>::infinity();
-  double worst = 0;
-  for (const auto& x : {p, q, r, CGAL::midpoint(p, q), CGAL::midpoint(q, r), CGAL::midpoint(r, p), CGAL::centroid(p, q, r)})
-    worst = std::max(worst, tree_->tree.squared_distance(x));
-  return std::sqrt(worst);
+namespace {
+
+/// An AABB tree traversal that stops at the first face within a distance of a point: whether
+/// the point is that near the surface (doubles), without finding its closest point.
+template <class Primitive> struct WithinDistance {
+  Filtered::Point_3 point;
+  double squared_distance = 0;
+  bool found = false;
+  bool go_further() const { return !found; }
+  void intersection(const Filtered::Point_3& p, const Primitive& primitive) {
+    if (!found && CGAL::squared_distance(p, primitive.datum()) <= squared_distance) found = true;
+  }
+  template <class Node> bool do_intersect(const Filtered::Point_3& p, const Node& node) const {
+    const CGAL::Bbox_3& b = node.bbox();
+    double d = 0;
+    for (int i = 0; i < 3; ++i) {
+      const double below = b.min(i) - p[i], above = p[i] - b.max(i);
+      const double out = std::max({below, above, 0.0});
+      d += out * out;
+    }
+    return d <= squared_distance;
+  }
+};
+
+}  // namespace
+
+bool InputSurface::within(const Filtered::Point_3& p, const Filtered::Point_3& q, const Filtered::Point_3& r,
+                          double distance) const {
+  if (tree_->triangles.empty()) return false;
+  // The centroid and the edge middles first: where a face leaves the surface, they leave it most.
+  for (const auto& x : {CGAL::centroid(p, q, r), CGAL::midpoint(p, q), CGAL::midpoint(q, r), CGAL::midpoint(r, p), p, q, r}) {
+    WithinDistance<Tree::Primitive> near{x, distance * distance};
+    tree_->tree.traversal(x, near);
+    if (!near.found) return false;
+    if (p == q && q == r) break;  // a point: once
+  }
+  return true;
 }
 
 // ---------------------------------------------------------------- curve cells

@@ -63,9 +63,10 @@ class InputSurface {
   InputSurface& operator=(const InputSurface&) = delete;
   /// The closest point of the surface, and the unit normal of the face it lies on.
   std::pair<Filtered::Point_3, Filtered::Vector_3> closest(const Filtered::Point_3& p) const;
-  /// The largest distance of the triangle's corners, edge middles and centroid from the surface
-  /// (a sampled bound, not the Hausdorff distance).
-  double sampled_distance(const Filtered::Point_3& p, const Filtered::Point_3& q, const Filtered::Point_3& r) const;
+  /// Whether the triangle's corners, edge middles and centroid lie within `distance` of the
+  /// surface (a sampled test, not the Hausdorff distance; doubles). A point: p = q = r.
+  bool within(const Filtered::Point_3& p, const Filtered::Point_3& q, const Filtered::Point_3& r,
+              double distance) const;
 
  private:
   struct Tree;
