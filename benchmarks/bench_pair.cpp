@@ -18,6 +18,8 @@
 //   corefine/run:i    the same read, CGAL::Polygon_mesh_processing::corefine(a, b), the same write.
 //   seam_pair_snap0/run:1  once, after the pairs: seam::pair<Exact> with --snap-tol 0 (the quality
 //                     stage keeps the surfaces), for comparison.
+// `--pair_files=A,B` runs the same comparison on two OFF files instead (the CT configurations
+// of scripts/real_tows.py, say; no seam_pair_snap0 run then).
 // The runs alternate (seam, corefine, seam, corefine, ...; `--pair_runs=N` pairs, default 3) so
 // that drifts of the machine affect both alike. `--pair_min_angle=D` sets seam's minimum angle
 // (diagnosis only: the comparison the issue asks for is with the default, 20 degrees). One iteration per run; the reported time is the
@@ -71,6 +73,7 @@ using Clock = std::chrono::steady_clock;
 using Triple = std::array<seam::Point3d, 3>;
 
 double seam_min_angle = -1;  // --pair_min_angle=D (diagnosis only); < 0: seam's default (20)
+std::string given_a, given_b;  // --pair_files=A,B; empty: the generated crossover
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
@@ -101,15 +104,23 @@ Input& input() {
 /// Generates and writes the two tows; returns false (with a message on stderr) on failure.
 bool prepare() {
   Input& in = input();
-  const auto [weft, warp] = seam::make_crossover(600, 64, 499, 64, seam::Section::lenticular, 0.45);
-  const seam::TriangleSoup soup_a = seam::make_tow(weft), soup_b = seam::make_tow(warp);
-
   in.dir = std::filesystem::temp_directory_path() / ("seam_bench_pair." + std::to_string(::getpid()));
   std::filesystem::create_directories(in.dir);
-  in.a = (in.dir / "weft.off").string();
-  in.b = (in.dir / "warp.off").string();
-  seam::write_triangle_mesh(soup_a, in.a);
-  seam::write_triangle_mesh(soup_b, in.b);
+  seam::TriangleSoup soup_a, soup_b;
+  if (given_a.empty()) {
+    const auto [weft, warp] = seam::make_crossover(600, 64, 499, 64, seam::Section::lenticular, 0.45);
+    soup_a = seam::make_tow(weft);
+    soup_b = seam::make_tow(warp);
+    in.a = (in.dir / "weft.off").string();
+    in.b = (in.dir / "warp.off").string();
+    seam::write_triangle_mesh(soup_a, in.a);
+    seam::write_triangle_mesh(soup_b, in.b);
+  } else {
+    in.a = given_a;
+    in.b = given_b;
+    soup_a = seam::read_triangle_mesh(in.a);
+    soup_b = seam::read_triangle_mesh(in.b);
+  }
   in.faces_a = face_set(soup_a);
   in.faces_b = face_set(soup_b);
   in.faces_in_a = soup_a.triangles.size();
@@ -296,7 +307,7 @@ void BM_corefine_whole(benchmark::State& state) {
 
 int main(int argc, char** argv) {
   // Own options (removed before benchmark sees them): --pair_runs=N (number of seam/corefine
-  // pairs), --pair_min_angle=D (seam's minimum angle).
+  // pairs), --pair_min_angle=D (seam's minimum angle), --pair_files=A,B (two OFF files).
   int runs = 3;
   std::vector<char*> args;
   for (int i = 0; i < argc; ++i) {
@@ -306,6 +317,17 @@ int main(int argc, char** argv) {
     }
     if (i > 0 && std::strncmp(argv[i], "--pair_min_angle=", 17) == 0) {
       seam_min_angle = std::atof(argv[i] + 17);
+      continue;
+    }
+    if (i > 0 && std::strncmp(argv[i], "--pair_files=", 13) == 0) {
+      const std::string files = argv[i] + 13;
+      const auto comma = files.find(',');
+      if (comma == std::string::npos) {
+        std::cerr << "bench_pair: --pair_files wants two files, A,B\n";
+        return 1;
+      }
+      given_a = files.substr(0, comma);
+      given_b = files.substr(comma + 1);
       continue;
     }
     args.push_back(argv[i]);
@@ -329,9 +351,10 @@ int main(int argc, char** argv) {
       benchmark::RegisterBenchmark(("corefine" + run).c_str(), BM_corefine_whole)
           ->Iterations(1)->UseManualTime()->Unit(benchmark::kMillisecond);
     }
-    // Once: --snap-tol 0, for comparison.
-    benchmark::RegisterBenchmark("seam_pair_snap0/run:1", BM_seam_pair_whole, false)
-        ->Iterations(1)->UseManualTime()->Unit(benchmark::kMillisecond);
+    // Once: --snap-tol 0, for comparison (on the generated crossover).
+    if (given_a.empty())
+      benchmark::RegisterBenchmark("seam_pair_snap0/run:1", BM_seam_pair_whole, false)
+          ->Iterations(1)->UseManualTime()->Unit(benchmark::kMillisecond);
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
   }
