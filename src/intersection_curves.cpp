@@ -124,18 +124,38 @@ template <class K> void orient_curves(const Mesh<K>& a, const Mesh<K>& b, std::v
     const auto h = m.halfedge(f);
     return std::array<Point, 3>{m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h)))};
   };
-  for (auto& line : curves) {
+  // Per curve, the faces of A and of B whose boxes meet the box of its first segments tried (one
+  // box intersection for all curves: a CT pair has hundreds of curves, and a scan of every face
+  // per curve took a tenth of a whole run).
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
+  std::vector<Box> curve_boxes;
+  for (std::size_t c = 0; c < curves.size(); ++c) {
+    const auto& line = curves[c];
+    if (line.size() < 2) continue;
+    CGAL::Bbox_3 near;
+    for (std::size_t i = 0; i <= std::min(line.size() - 1, segments_tried); ++i) near += line[i].bbox();
+    curve_boxes.emplace_back(near, c);
+  }
+  auto faces_near = [&](const Mesh<K>& m) {
+    std::vector<Box> face_boxes;
+    for (F f : m.faces()) face_boxes.emplace_back(CGAL::Polygon_mesh_processing::face_bbox(f, m), std::size_t(f));
+    std::vector<std::vector<std::pair<F, CGAL::Bbox_3>>> near(curves.size());
+    std::vector<Box> queries = curve_boxes;  // box_intersection_d reorders its ranges
+    CGAL::box_intersection_d(queries.begin(), queries.end(), face_boxes.begin(), face_boxes.end(),
+                             [&](const Box& c, const Box& f) {
+                               near[c.info()].emplace_back(F(static_cast<typename F::size_type>(f.info())), f.bbox());
+                             });
+    for (auto& faces : near)  // (in the order of the faces, as before)
+      std::sort(faces.begin(), faces.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    return near;
+  };
+  const auto near_of_a = faces_near(a), near_of_b = faces_near(b);
+  for (std::size_t c = 0; c < curves.size(); ++c) {
+    auto& line = curves[c];
     if (line.size() < 2) continue;
     const std::size_t tried = std::min(line.size() - 1, segments_tried);
-    CGAL::Bbox_3 near;
-    for (std::size_t i = 0; i <= tried; ++i) near += line[i].bbox();
-    std::vector<std::pair<F, CGAL::Bbox_3>> near_a, near_b;
-    for (F f : a.faces())
-      if (const auto box = CGAL::Polygon_mesh_processing::face_bbox(f, a); CGAL::do_overlap(box, near))
-        near_a.emplace_back(f, box);
-    for (F f : b.faces())
-      if (const auto box = CGAL::Polygon_mesh_processing::face_bbox(f, b); CGAL::do_overlap(box, near))
-        near_b.emplace_back(f, box);
+    const auto& near_a = near_of_a[c];
+    const auto& near_b = near_of_b[c];
     auto containing = [&](const Mesh<K>& m, const std::vector<std::pair<F, CGAL::Bbox_3>>& faces, const Point& p,
                           const Point& q) {
       std::vector<std::array<Point, 3>> result;
