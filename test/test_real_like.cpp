@@ -134,6 +134,19 @@ TEST_CASE("real-like: a terraced tow against turned and shifted copies comes out
       CHECK(report.ok());
       if (cs.flat) CHECK(report.shared_faces > 0);
       CHECK(tetgen_pairs(wa, wb, dir) == 0);
+      // Every new face below the bound (20 degrees) is reported with a cause: in the band, or,
+      // a face of a flat contact's common triangulation, as flat_contact. (At least as many:
+      // stage 5 may then collapse a tiny edge and remove faces reported.)
+      if (r.stats.improved) {
+        std::size_t reported[2] = {0, 0}, flat = 0;
+        for (const auto& sf : r.stats.improve.shortfalls) {
+          ++reported[sf.mesh];
+          flat += sf.cause == seam::ShortfallCause::flat_contact ? 1 : 0;
+        }
+        CHECK(reported[0] >= r.a.stats.new_faces_below_20);
+        CHECK(reported[1] >= r.b.stats.new_faces_below_20);
+        if (!cs.flat) CHECK(flat == 0);
+      }
     }
   }
 }

@@ -76,7 +76,9 @@
 //   tolerance         the edit that would fix it leaves the tolerance;
 //   crossing          the edit would make a face meet another surface, or its own, off the curves;
 //   shape             the edit would make a degenerate or folded face;
-//   budget            max_insertions_per_face ran out.
+//   budget            max_insertions_per_face ran out;
+//   flat_contact      a face of a flat contact's common triangulation (in both meshes: seam pair's
+//                     flat contacts), which the stage leaves as it is (not a face of the band).
 //
 // What is exact: decisions on intersections and degeneracy use the kernel's predicates (exact
 // under Exact and Filtered, on the coordinates as they are); curve splits use the exact middle of
@@ -122,10 +124,19 @@ struct ImproveOptions {
 };
 
 /// Why a face of the band is still below the bound (see the header comment).
-enum class ShortfallCause { input_angle, constraint_angle, feature_size, tolerance, crossing, shape, budget };
+enum class ShortfallCause {
+  input_angle,
+  constraint_angle,
+  feature_size,
+  tolerance,
+  crossing,
+  shape,
+  budget,
+  flat_contact
+};
 const char* shortfall_cause_name(ShortfallCause cause);
 
-/// A face of the band below the bound at the end.
+/// A new face below the bound at the end: of the band, or of a flat contact (flat_contact).
 struct Shortfall {
   std::size_t mesh = 0;  ///< index of the mesh (0: A, 1: B)
   std::size_t face = 0;  ///< face index in the output mesh

@@ -739,14 +739,20 @@ template <class K> Outcome Refiner<K>::insert_at(std::size_t m, F g, const FP& a
   return {true, ShortfallCause::constraint_angle};
 }
 
-/// The faces of the band below the bound, with their causes (after the meshes' garbage went).
+/// The faces of the band below the bound, with their causes, and the new faces of flat contacts
+/// below it (after the meshes' garbage went).
 template <class K> void classify(ImproveState<K>& s) {
   s.stats.min_angle_deg_after = 180;
   bool any = false;
   for (std::size_t m = 0; m < s.meshes.size(); ++m) {
     const auto& ms = s.meshes[m];
     for (auto f : ms.mesh->faces()) {
-      if (!ms.band[f]) continue;
+      if (!ms.band[f]) {  // left as it is; a new face of a flat contact is counted as such
+        if (ms.has_shared && ms.shared[f] && ms.is_new[f])
+          if (const double a = face_min_angle<K>(s, m, f); a < s.options.min_angle_deg)
+            s.stats.shortfalls.push_back({m, std::size_t(f), a, ShortfallCause::flat_contact});
+        continue;
+      }
       const double a = face_min_angle<K>(s, m, f);
       any = true;
       s.stats.min_angle_deg_after = std::min(s.stats.min_angle_deg_after, a);

@@ -27,6 +27,7 @@ const char* shortfall_cause_name(ShortfallCause cause) {
     case ShortfallCause::crossing: return "crossing";
     case ShortfallCause::shape: return "shape";
     case ShortfallCause::budget: return "budget";
+    case ShortfallCause::flat_contact: return "flat_contact";
   }
   return "?";
 }
