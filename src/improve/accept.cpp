@@ -172,9 +172,9 @@ template <class K> Verdict near_input(const ImproveState<K>& s, std::size_t m, c
 /// The faces of the meshes whose boxes overlap each new face of the edit (by part, by face).
 /// The boxes hold the faces as they are and as written (under Exact, from the intervals of the
 /// corners, which hold both), so one query serves both tests.
-template <class K> using NearbyFaces = std::vector<std::vector<std::vector<FaceGrid::Entry>>>;
-template <class K> NearbyFaces<K> nearby_faces(const ImproveState<K>& s, const Edit<K>& edit) {
-  NearbyFaces<K> near(edit.parts.size());
+using NearbyFaces = std::vector<std::vector<std::vector<FaceGrid::Entry>>>;
+template <class K> NearbyFaces nearby_faces(const ImproveState<K>& s, const Edit<K>& edit) {
+  NearbyFaces near(edit.parts.size());
   for (std::size_t k = 0; k < edit.parts.size(); ++k)
     for (const auto& corners : edit.parts[k].added) {
       CGAL::Bbox_3 box;
@@ -188,7 +188,7 @@ template <class K> NearbyFaces<K> nearby_faces(const ImproveState<K>& s, const E
 /// nearby_faces) and each other only as allowed; on the corners as they are (PK = K), or rounded
 /// as written (Filtered).
 template <class K, class PK>
-bool no_crossing(const ImproveState<K>& s, const Edit<K>& edit, const NearbyFaces<K>& near) {
+bool no_crossing(const ImproveState<K>& s, const Edit<K>& edit, const NearbyFaces& near) {
   std::vector<std::vector<Tri<K, PK>>> made(edit.parts.size());
   for (std::size_t k = 0; k < edit.parts.size(); ++k)
     for (std::size_t i = 0; i < edit.parts[k].added.size(); ++i)
@@ -258,7 +258,7 @@ template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) 
     }
   if (edit.has_fresh && s.options.min_separation > 0 && too_near_a_vertex<K>(s, edit)) return Verdict::separation;
   if (!edit.keeps_surface && !(s.tolerance > 0)) return Verdict::tolerance;  // no tolerance: the surfaces stay
-  NearbyFaces<K> near;
+  NearbyFaces near;
   if (edit.keeps_surface) {  // the new point lies on the current surface: within the tolerance of the input too?
     if (edit.has_fresh) {
       const double slack = 1e-9 * s.mean_edge;

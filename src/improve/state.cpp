@@ -77,7 +77,6 @@ namespace {
 /// An AABB tree traversal that stops at the first face within a distance of a point: whether
 /// the point is that near the surface (doubles), without finding its closest point.
 template <class Primitive> struct WithinDistance {
-  Filtered::Point_3 point;
   double squared_distance = 0;
   bool found = false;
   bool go_further() const { return !found; }
@@ -103,7 +102,7 @@ bool InputSurface::within(const Filtered::Point_3& p, const Filtered::Point_3& q
   if (tree_->triangles.empty()) return false;
   // The centroid and the edge middles first: where a face leaves the surface, they leave it most.
   for (const auto& x : {CGAL::centroid(p, q, r), CGAL::midpoint(p, q), CGAL::midpoint(q, r), CGAL::midpoint(r, p), p, q, r}) {
-    WithinDistance<Tree::Primitive> near{x, distance * distance};
+    WithinDistance<Tree::Primitive> near{distance * distance};
     tree_->tree.traversal(x, near);
     if (!near.found) return false;
     if (p == q && q == r) break;  // a point: once
