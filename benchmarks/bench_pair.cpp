@@ -130,7 +130,7 @@ bool prepare() {
   const Mesh ma = seam::mesh_from_soup<K>(seam::read_triangle_mesh(in.a), in.a);
   const Mesh mb = seam::mesh_from_soup<K>(seam::read_triangle_mesh(in.b), in.b);
   if (seam::intersection_curves<K>(ma, mb).empty()) {
-    std::cerr << "bench_pair: the generated tows do not intersect\n";
+    std::cerr << "bench_pair: the " << (given_a.empty() ? "generated tows" : "given files") << " do not intersect\n";
     return false;
   }
   return true;
@@ -322,7 +322,7 @@ int main(int argc, char** argv) {
     if (i > 0 && std::strncmp(argv[i], "--pair_files=", 13) == 0) {
       const std::string files = argv[i] + 13;
       const auto comma = files.find(',');
-      if (comma == std::string::npos) {
+      if (comma == std::string::npos || comma == 0 || comma + 1 == files.size()) {
         std::cerr << "bench_pair: --pair_files wants two files, A,B\n";
         return 1;
       }

@@ -103,9 +103,14 @@ int run_pair(PairArgs& args) {
               << qa.faces_crossed << " faces -> " << qa.faces_added << " (min angle " << qa.min_angle_deg_new
               << "), B: " << qb.faces_crossed << " faces -> " << qb.faces_added << " (min angle "
               << qb.min_angle_deg_new << ")";
-    if (st.improved)
-      std::cout << "; quality stage (tolerance " << st.snap_tol << "): " << st.improve.below_bound_after << " of the band's faces below "
-                << args.options.embed.min_angle_deg << " degrees (" << st.improve.shortfalls.size() << " new ones)";
+    if (st.improved) {
+      std::size_t flat = 0;
+      for (const auto& s : st.improve.shortfalls) flat += s.cause == seam::ShortfallCause::flat_contact ? 1 : 0;
+      std::cout << "; quality stage (tolerance " << st.snap_tol << "): " << st.improve.below_bound_after
+                << " of the band's faces below " << args.options.embed.min_angle_deg << " degrees ("
+                << st.improve.shortfalls.size() - flat << " new ones)";
+      if (flat > 0) std::cout << ", and " << flat << " faces of flat contacts (not refined)";
+    }
     if (st.curve_ends.unexplained > 0)
       std::cout << "; " << st.curve_ends.unexplained << " curve end(s) where the intersection is not a closed curve for no known reason";
     if (st.shared_faces > 0)

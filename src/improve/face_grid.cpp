@@ -83,10 +83,10 @@ void FaceGrid::insert(const Entry& entry, const CGAL::Bbox_3& box, const Livenes
     level = std::max(min_level, m == 0.5 ? e - 1 : e);
   }
   Index lo{}, hi{};
-  bool placed = level <= max_level && std::isfinite(width);
   const double cell = std::ldexp(base_, level);
+  bool placed = level <= max_level && std::isfinite(width) && std::isfinite(cell);
   for (std::size_t d = 0; d < 3 && placed; ++d)
-    placed = cell_index(box.min(int(d)), cell, lo[d]) && cell_index(box.max(int(d)), cell, hi[d]);
+    placed = cell_index(box.min(int(d)), cell, lo[d]) && cell_index(box.max(int(d)), cell, hi[d]) && lo[d] <= hi[d];
   if (!placed) {
     purge_when_grown(unplaced_, is_live);
     unplaced_.items.push_back({entry, box});

@@ -24,8 +24,9 @@
 // The boxes must hold their faces (under the exact kernel: from the interval approximations, not
 // from the rounded corners): the grid returns only entries whose boxes overlap the query box.
 //
-// Boxes whose cell index would not fit (hostile coordinates: |x| over 2^62 cells) and boxes wider
-// than the coarsest level go to one list that every query tests box by box.
+// Boxes whose cell index would not fit (hostile coordinates: |x| over 2^62 cells), boxes wider
+// than the coarsest level or than the largest double cell width, and inverted boxes go to one
+// list that every query tests box by box.
 //
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
@@ -55,7 +56,7 @@ class FaceGrid {
   /// `is_live` (optional): whether an entry's face is still the one it was made for.
   void insert(const Entry& entry, const CGAL::Bbox_3& box, const Liveness* is_live = nullptr);
   /// The entries whose boxes overlap `box`, dead ones included. Each entry inserted once is
-  /// returned once (it is stored in one cell); the order is the grid's, not a sorted one.
+  /// returned once (taken from one of its cells); the order is the grid's, not a sorted one.
   std::vector<Entry> query(const CGAL::Bbox_3& box) const;
 
  private:
