@@ -94,6 +94,12 @@ template <class K> class Refiner {
   std::optional<Outcome> merge_short_edge(std::size_t m, V x, V y);
   bool merge_plan(std::size_t m, V u, V w, Edit<K>& edit) const;
   Outcome split_constraint(std::size_t m, H h);
+  /// Shorter than twice feature_size (doubles): split_constraint refuses it for the feature size.
+  bool too_short_to_split(std::size_t m, H h) const {
+    const M& g = s_.mesh(m);
+    return std::sqrt(CGAL::squared_distance(s_.fpoint(m, g.source(h)), s_.fpoint(m, g.target(h)))) <
+           2 * s_.feature_size;
+  }
   bool border_fixed(std::size_t m, H h) const;
   Outcome insert_circumcenter(std::size_t m, F f);
   bool walk(std::size_t m, F f, FP target, F& landed, FP& at, H& crossed) const;
@@ -470,8 +476,7 @@ template <class K> Outcome Refiner<K>::split_constraint(std::size_t m, H h) {
   const M& g = s_.mesh(m);
   if (!s_.face_in_band(m, g.face(h))) h = g.opposite(h);  // from the band's side
   const V x = g.source(h), y = g.target(h);
-  if (std::sqrt(CGAL::squared_distance(s_.fpoint(m, x), s_.fpoint(m, y))) < 2 * s_.feature_size)
-    return {false, ShortfallCause::feature_size};
+  if (too_short_to_split(m, h)) return {false, ShortfallCause::feature_size};
   const F beyond = g.face(g.opposite(h));
   const bool curve = s_.is_curve_edge(m, x, y);
   if (curve && s_.options.curves_fixed) return {false, ShortfallCause::constraint_angle};
@@ -629,8 +634,7 @@ template <class K> Outcome Refiner<K>::insert_circumcenter(std::size_t m, F f) {
   Outcome blocked{false, ShortfallCause::constraint_angle};
   // (split_constraint's refusal of a fixed border: the cause it gives)
   auto block = [&](H h) {
-    const double length = std::sqrt(CGAL::squared_distance(s_.fpoint(m, g.source(h)), s_.fpoint(m, g.target(h))));
-    blocked.cause = length < 2 * s_.feature_size ? ShortfallCause::feature_size : ShortfallCause::constraint_angle;
+    blocked.cause = too_short_to_split(m, h) ? ShortfallCause::feature_size : ShortfallCause::constraint_angle;
   };
   for (const double scale : {1.0, 0.7, 0.5, 0.35}) {
     const double distance = std::min(to_centre, reach) * scale;
