@@ -102,6 +102,10 @@ nlohmann::json pair_report_json(seam::KernelKind kernel, const seam::PairStats& 
   j["contact"] = {{"patches", st.contact_patches},
                   {"shared_faces", st.shared_faces},
                   {"patches_left", st.contact_patches_left},
+                  {"points_inserted", st.contact_points_inserted},
+                  {"segments_split", st.contact_segments_split},
+                  {"points_dropped", st.contact_points_dropped},
+                  {"faces_below_bound", st.contact_faces_below_bound},
                   {"points", st.contact_points}};
   j["verified"] = st.verified;
   j["verify_tolerance"] = st.verify_tolerance;

@@ -6,6 +6,8 @@
 #include <seam/internal/local_edits.h>
 #include <seam/internal/message.h>
 #include <seam/internal/splice.h>
+#include <seam/kernels.h>
+#include <seam/quality.h>
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
@@ -118,19 +120,252 @@ template <class P> int dominant_axis(const P& p, const P& q, const P& r) {
 /// A planar contact patch: its points (both meshes' vertices there, each once), the common edges
 /// of both meshes (constraints), which of them are its border, and the projection axis.
 template <class K> struct Patch {
+  using Segment = std::pair<std::size_t, std::size_t>;  ///< two point ids, the smaller first
   std::vector<typename K::Point_3> points;
-  std::vector<std::pair<std::size_t, std::size_t>> constraints;
-  std::set<std::pair<std::size_t, std::size_t>> border;
+  std::vector<Segment> constraints;
+  std::set<Segment> border;
+  /// Constraints the refinement may split (see the header): curve segments inside, and those of
+  /// the border whose faces beyond may be split with them.
+  std::set<Segment> splittable;
   int axis = 2;
-  /// Per point: -1, or the point it stands for (a point of B only, closer than the separation to
-  /// a point of A: B's vertex moves onto that point, in the plane, rather than make a tiny edge).
-  std::vector<long> alias;
+  /// Per point: a vertex of A there, of B there. Only the points of both are kept (see
+  /// triangulate); those of one mesh only lie inside the patch and are dropped.
+  std::vector<char> in_a, in_b;
+  /// Three points of a face of A in the patch (A's faces are collected first: its first face's),
+  /// its plane, onto which Steiner points are lifted.
+  std::array<std::size_t, 3> plane{0, 1, 2};
   std::vector<std::array<std::size_t, 3>> triangles;  ///< the result, positively oriented in the projection
+  /// The points the refinement put on a constraint given: the constraint, and the point's place
+  /// along it (0 at its first point, 1 at its second; doubles, for the order only).
+  struct Split {
+    Segment original;
+    double at = 0.5;
+  };
+  std::map<std::size_t, Split> splits;  ///< by point id
+  std::size_t steiner_points = 0;       ///< points inserted inside (appended to `points`)
+  std::size_t below_bound = 0;          ///< triangles left below the angle bound (projection)
+
+  /// Each split constraint given, with its split points in order from its first point.
+  std::map<Segment, std::vector<std::size_t>> split_chains() const {
+    std::map<Segment, std::vector<std::pair<double, std::size_t>>> placed;
+    for (const auto& [point, split] : splits) placed[split.original].emplace_back(split.at, point);
+    std::map<Segment, std::vector<std::size_t>> chains;
+    for (auto& [segment, points_at] : placed) {
+      std::sort(points_at.begin(), points_at.end());
+      for (const auto& pa : points_at) chains[segment].push_back(pa.second);
+    }
+    return chains;
+  }
 };
 
-/// The constrained Delaunay triangulation of the patch, projected along its axis: each point's two
-/// kept coordinates (exact: a projection constructs nothing), with the 3D points kept by index.
-template <class K> bool triangulate(Patch<K>& patch, double expected_area, std::string& why) {
+/// The smallest angle (degrees, doubles) of a triangle given by three 2D points.
+template <class P2> double min_angle_2(const P2& p, const P2& q, const P2& r) {
+  const auto P = CGAL::to_double(p.x()), Q = CGAL::to_double(q.x()), R = CGAL::to_double(r.x());
+  const auto Py = CGAL::to_double(p.y()), Qy = CGAL::to_double(q.y()), Ry = CGAL::to_double(r.y());
+  return seam::min_angle_deg(Filtered::Point_3(P, Py, 0), Filtered::Point_3(Q, Qy, 0), Filtered::Point_3(R, Ry, 0));
+}
+
+/// The point of the patch's plane that projects (along its axis) onto (x, y): exact under the
+/// exact kernel (a rational function of exact coordinates), rounded under the others.
+template <class K> typename K::Point_3 lifted(const Patch<K>& patch, const typename K::Point_2& q) {
+  const auto& p0 = patch.points[patch.plane[0]];
+  const auto n = CGAL::cross_product(patch.points[patch.plane[1]] - p0, patch.points[patch.plane[2]] - p0);
+  const auto [u, v] = kept_coordinates(patch.axis);
+  const int a = patch.axis;
+  std::array<typename K::FT, 3> c;
+  c[std::size_t(u)] = q.x();
+  c[std::size_t(v)] = q.y();
+  c[std::size_t(a)] = p0[a] - (n[u] * (q.x() - p0[u]) + n[v] * (q.y() - p0[v])) / n[a];
+  typename K::Point_3 result(c[0], c[1], c[2]);
+  make_exact(result);
+  return result;
+}
+
+/// Ruppert's refinement of the inside of a patch (its faces of odd nesting), see the header for
+/// the rules, the bound and why it ends.
+template <class K, class CDT> class PatchRefiner {
+ public:
+  using FH = typename CDT::Face_handle;
+  using VH = typename CDT::Vertex_handle;
+  using P2 = typename K::Point_2;
+  using Segment = typename Patch<K>::Segment;
+
+  PatchRefiner(CDT& cdt, Patch<K>& patch, double bound, double feature_size)
+      : cdt_(cdt), patch_(patch), bound_(bound), feature_(feature_size), budget_(4 * cdt.number_of_vertices() + 64) {}
+
+  void run() {
+    for (const auto& e : cdt_.finite_edges())
+      if (e.first->is_constrained(e.second)) encroach_checks_.push_back(ends(e.first, e.second));
+    for (FH f : cdt_.finite_face_handles())
+      if (bad(f)) bad_faces_.push_back(corners(f));
+    while (budget_ > 0) {
+      if (!encroach_checks_.empty()) {
+        const auto [s, t] = encroach_checks_.front();
+        encroach_checks_.pop_front();
+        if (encroached_by_a_vertex(s, t)) split(s, t);
+        continue;
+      }
+      if (bad_faces_.empty()) break;
+      const auto c = bad_faces_.front();
+      bad_faces_.pop_front();
+      FH f;
+      if (cdt_.is_face(c[0], c[1], c[2], f) && bad(f) && refine_face(f)) bad_faces_.push_back(c);  // a split: again
+    }
+  }
+
+ private:
+  bool inside(FH f) const { return !cdt_.is_infinite(f) && f->info().nesting % 2 == 1; }
+  bool bad(FH f) const {
+    return inside(f) && min_angle_2(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()) < bound_;
+  }
+  static std::array<VH, 3> corners(FH f) { return {f->vertex(0), f->vertex(1), f->vertex(2)}; }
+  static std::pair<VH, VH> ends(FH f, int i) { return {f->vertex(CDT::cw(i)), f->vertex(CDT::ccw(i))}; }
+  /// q lies in the closed diametral circle of s-t (exact).
+  static bool encroaches(const P2& q, VH s, VH t) { return CGAL::angle(s->point(), q, t->point()) != CGAL::ACUTE; }
+
+  /// The constraint s-t (if it still is one) has an inside face whose third corner encroaches it.
+  bool encroached_by_a_vertex(VH s, VH t) const {
+    FH f;
+    int i = 0;
+    if (!cdt_.is_edge(s, t, f, i) || !f->is_constrained(i)) return false;
+    for (const auto& [g, k] : {std::pair<FH, int>(f, i), std::pair<FH, int>(f->neighbor(i), f->neighbor(i)->index(f))})
+      if (inside(g) && encroaches(g->vertex(k)->point(), s, t)) return true;
+    return false;
+  }
+
+  /// Splits the constraint s-t at its middle where the rules allow; whether it did.
+  bool split(VH s, VH t) {
+    FH f;
+    int i = 0;
+    if (!cdt_.is_edge(s, t, f, i) || !f->is_constrained(i)) return false;
+    const std::size_t a = std::min(s->info(), t->info()), b = std::max(s->info(), t->info());
+    const auto from = original_.find({a, b});
+    const Segment original = from != original_.end() ? from->second : Segment{a, b};
+    if (!patch_.splittable.count(original)) return false;
+    if (CGAL::to_double(CGAL::squared_distance(patch_.points[a], patch_.points[b])) < 4 * feature_ * feature_)
+      return false;
+    // The faces around the new point on the side of a finite face beside s-t take its nesting,
+    // the others that of the face across.
+    FH known = f->neighbor(i), across = f;
+    if (cdt_.is_infinite(known)) std::swap(known, across);
+    const int nesting_known = known->info().nesting, nesting_across = across->info().nesting;
+    const P2 apex = known->vertex(known->index(across))->point();
+    const P2 middle = CGAL::midpoint(s->point(), t->point());
+    const VH w = cdt_.insert(middle, CDT::EDGE, f, i);  // splits the constraint in two
+    w->info() = patch_.points.size();
+    patch_.points.push_back(CGAL::midpoint(patch_.points[a], patch_.points[b]));  // exact under Exact
+    patch_.in_a.push_back(1);
+    patch_.in_b.push_back(1);
+    auto at = [&](std::size_t x) {
+      return x == original.first ? 0.0 : x == original.second ? 1.0 : patch_.splits.at(x).at;
+    };
+    patch_.splits[w->info()] = {original, (at(a) + at(b)) / 2};
+    original_[{std::min(a, w->info()), std::max(a, w->info())}] = original;
+    original_[{std::min(b, w->info()), std::max(b, w->info())}] = original;
+    --budget_;
+    const CGAL::Orientation side = CGAL::orientation(s->point(), t->point(), apex);
+    after_insertion(w, [&](FH h) {
+      for (int k = 0; k < 3; ++k) {
+        const VH x = h->vertex(k);
+        if (x == w || x == s || x == t) continue;
+        return CGAL::orientation(s->point(), t->point(), x->point()) == side ? nesting_known : nesting_across;
+      }
+      return nesting_known;
+    });
+    return true;
+  }
+
+  /// Refines a bad face: splits the constraint its circumcenter lies beyond or encroaches, or
+  /// inserts the circumcenter. True when a constraint was split (the face may go the next time).
+  bool refine_face(FH f) {
+    const P2 exact_center = CGAL::circumcenter(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point());
+    if (CGAL::to_double(CGAL::squared_distance(exact_center, f->vertex(0)->point())) < feature_ * feature_)
+      return false;  // forced: the corners are that close
+    // Rounded to doubles: a point of bounded size (its lifted coordinate is exact).
+    const P2 c(CGAL::to_double(exact_center.x()), CGAL::to_double(exact_center.y()));
+    // Walk from f towards c; a constraint in the way is split.
+    FH at = f;
+    if (cdt_.oriented_side(f, c) == CGAL::ON_NEGATIVE_SIDE) {
+      const P2 start = CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point());
+      auto walk = cdt_.line_walk(start, c, f);
+      FH previous = walk;
+      for (std::size_t steps = 0;; ++steps) {
+        ++walk;
+        const FH next = walk;
+        if (next == FH() || steps > 10000 || !previous->has_neighbor(next)) return false;  // (through a vertex)
+        const int k = previous->index(next);
+        if (previous->is_constrained(k)) {
+          const auto [s, t] = ends(previous, k);
+          return split(s, t);
+        }
+        if (cdt_.is_infinite(next)) return false;
+        if (cdt_.oriented_side(next, c) != CGAL::ON_NEGATIVE_SIDE) {
+          at = next;
+          break;
+        }
+        previous = next;
+      }
+    }
+    if (!inside(at)) return false;
+    // A constraint of c's conflict zone that c encroaches is split instead.
+    zone_.clear();
+    cdt_.get_conflicts(c, std::back_inserter(zone_), at);
+    for (FH g : zone_)
+      for (int i = 0; i < 3; ++i)
+        if (g->is_constrained(i)) {
+          const auto [s, t] = ends(g, i);
+          if (encroaches(c, s, t)) return split(s, t);
+        }
+    for (int i = 0; i < 3; ++i)  // (rounding moved c: keep the distance to the corners)
+      if (CGAL::to_double(CGAL::squared_distance(c, at->vertex(i)->point())) < feature_ * feature_) return false;
+    typename CDT::Locate_type lt;
+    int li = 0;
+    const FH located = cdt_.locate(c, lt, li, at);
+    if (!(lt == CDT::FACE || (lt == CDT::EDGE && !located->is_constrained(li))) || !inside(located)) return false;
+    const int nesting = located->info().nesting;
+    const VH w = cdt_.insert(c, lt, located, li);
+    w->info() = patch_.points.size();
+    patch_.points.push_back(lifted<K>(patch_, c));
+    patch_.in_a.push_back(1);
+    patch_.in_b.push_back(1);
+    ++patch_.steiner_points;
+    --budget_;
+    after_insertion(w, [&](FH) { return nesting; });  // the conflict zone ends at constraints
+    return false;
+  }
+
+  /// After inserting w: the nesting of its faces, its bad faces queued, the constraints it may
+  /// encroach (those opposite it) queued for the test.
+  template <class NestingOf> void after_insertion(VH w, NestingOf nesting_of) {
+    auto h = cdt_.incident_faces(w);
+    const auto first = h;
+    do {
+      if (cdt_.is_infinite(h)) continue;
+      h->info().nesting = nesting_of(FH(h));
+      const int k = h->index(w);
+      if (h->is_constrained(k)) encroach_checks_.push_back(ends(h, k));
+      for (int j = 0; j < 3; ++j)
+        if (j != k && h->is_constrained(j)) encroach_checks_.push_back(ends(h, j));
+      if (bad(h)) bad_faces_.push_back(corners(h));
+    } while (++h != first);
+  }
+
+  CDT& cdt_;
+  Patch<K>& patch_;
+  const double bound_, feature_;
+  std::size_t budget_;
+  std::deque<std::pair<VH, VH>> encroach_checks_;
+  std::deque<std::array<VH, 3>> bad_faces_;
+  std::map<Segment, Segment> original_;  ///< a piece of a split constraint -> the constraint given
+  std::vector<FH> zone_;
+};
+
+/// The constrained Delaunay triangulation of the patch, projected along its axis: its points of
+/// both meshes (each point's two kept coordinates: exact, a projection constructs nothing), with
+/// the border and the curve segments as constraints, refined inside (PatchRefiner) when
+/// options.min_angle_deg > 0.
+template <class K>
+bool triangulate(Patch<K>& patch, double expected_area, const FlatContactOptions& options, std::string& why) {
   using Traits = K;
   struct FaceInfo {
     int nesting = -1;
@@ -141,17 +376,19 @@ template <class K> bool triangulate(Patch<K>& patch, double expected_area, std::
   using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
   using CDT = CGAL::Constrained_Delaunay_triangulation_2<Traits, Tds, CGAL::Exact_predicates_tag>;
   using FH = typename CDT::Face_handle;
+  using VH = typename CDT::Vertex_handle;
   using Edge = typename CDT::Edge;
+  using P2 = typename K::Point_2;
   CDT cdt;
   const auto [u, v] = kept_coordinates(patch.axis);
-  std::vector<typename CDT::Vertex_handle> handle(patch.points.size());
+  std::vector<VH> handle(patch.points.size());
   for (std::size_t i = 0; i < patch.points.size(); ++i) {
-    if (patch.alias[i] >= 0) continue;
-    handle[i] = cdt.insert(typename K::Point_2(patch.points[i][u], patch.points[i][v]));
+    if (!(patch.in_a[i] && patch.in_b[i])) continue;
+    handle[i] = cdt.insert(P2(patch.points[i][u], patch.points[i][v]));
     handle[i]->info() = i;
   }
   for (std::size_t i = 0; i < patch.points.size(); ++i)
-    if (patch.alias[i] < 0 && handle[i]->info() != i) {  // two points with one projection: not planar after all
+    if (handle[i] != VH() && handle[i]->info() != i) {  // two points with one projection: not planar after all
       why = "two of its points project onto one";
       return false;
     }
@@ -205,12 +442,15 @@ template <class K> bool triangulate(Patch<K>& patch, double expected_area, std::
     const FH n = e.first->neighbor(e.second);
     if (n->info().nesting == -1) flood(n, e.first->info().nesting + 1);
   }
+  if (options.min_angle_deg > 0) PatchRefiner<K, CDT>(cdt, patch, options.min_angle_deg, options.feature_size).run();
   double area = 0;
   for (FH f : cdt.finite_face_handles()) {
     if (f->info().nesting % 2 != 1) continue;
     std::array<std::size_t, 3> t;
     for (int i = 0; i < 3; ++i) t[i] = f->vertex(i)->info();
     patch.triangles.push_back(t);
+    if (min_angle_2(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()) < options.min_angle_deg)
+      ++patch.below_bound;
     const auto p = to_filtered(patch.points[t[0]]), q = to_filtered(patch.points[t[1]]),
                r = to_filtered(patch.points[t[2]]);
     area += std::abs((q[u] - p[u]) * (r[v] - p[v]) - (q[v] - p[v]) * (r[u] - p[u])) / 2;
@@ -258,124 +498,217 @@ std::string misfit_cause(const std::vector<std::array<V, 3>>& triangles, const s
   return say("triangle ", t, in_patch[t] ? " (of a patch)" : " (kept)", " would make a vertex non-manifold");
 }
 
-/// The mesh with the faces of the unified patches replaced (see the header): vertices kept in
-/// order, the patches' other points appended, faces in order, each patch's triangles where its
-/// first face was.
+/// Hands each triangle of a unified patch to `emit` as this mesh's: its corners by `ids`, turned
+/// like this mesh's faces there (`faces`), with the face it comes from (itself when this mesh has
+/// it already: `unchanged`; otherwise the face holding its centroid, doubles: provenance only).
+template <class K, class Emit>
+void emit_patch(const Patch<K>& patch, const std::vector<std::size_t>& ids, const std::vector<std::size_t>& faces,
+                const FaceCorners<K>& fc, Emit emit) {
+  using Id = std::size_t;
+  const auto first = fc.points(faces.front());
+  const bool reverse = projected_orientation(*first[0], *first[1], *first[2], patch.axis) != CGAL::POSITIVE;
+  std::map<std::array<Id, 3>, std::size_t> existing;  // this mesh's faces there, by sorted corners
+  for (std::size_t g : faces) {
+    const auto& c = fc.corners[g];
+    std::array<Id, 3> key = {std::size_t(c[0]), std::size_t(c[1]), std::size_t(c[2])};
+    std::sort(key.begin(), key.end());
+    existing.emplace(key, g);
+  }
+  // Not a structured binding: C++17 lambdas cannot capture those (Clang refuses).
+  const auto kept = kept_coordinates(patch.axis);
+  auto projected = [&](const typename K::Point_3& q) {
+    const auto d = to_filtered(q);
+    return std::array<double, 2>{d[kept[0]], d[kept[1]]};
+  };
+  for (const auto& t : patch.triangles) {
+    std::array<Id, 3> tri = {ids[t[0]], ids[t[1]], ids[t[2]]};
+    if (reverse) std::swap(tri[1], tri[2]);
+    auto key = tri;
+    std::sort(key.begin(), key.end());
+    if (const auto it = existing.find(key); it != existing.end()) {
+      emit(tri, it->second, true);
+      continue;
+    }
+    const auto a = projected(patch.points[t[0]]), b = projected(patch.points[t[1]]), c = projected(patch.points[t[2]]);
+    const std::array<double, 2> m = {(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3};
+    std::size_t origin = faces.front();
+    double best = -HUGE_VAL;
+    for (std::size_t g : faces) {
+      const auto corners = fc.points(g);
+      std::array<std::array<double, 2>, 3> x = {projected(*corners[0]), projected(*corners[1]), projected(*corners[2])};
+      const double turn = (x[1][0] - x[0][0]) * (x[2][1] - x[0][1]) - (x[1][1] - x[0][1]) * (x[2][0] - x[0][0]);
+      double inside = HUGE_VAL;  // the smallest signed distance-like value over the three edges
+      for (int i = 0; i < 3; ++i) {
+        const auto &s = x[i], &e = x[(i + 1) % 3];
+        inside = std::min(inside, ((e[0] - s[0]) * (m[1] - s[1]) - (e[1] - s[1]) * (m[0] - s[0])) * (turn > 0 ? 1 : -1));
+      }
+      if (inside > best) best = inside, origin = g;
+      if (inside >= 0) break;
+    }
+    emit(tri, origin, false);
+  }
+}
+
+/// A convex polygon (corners in order; points on its sides may be among them) cut into triangles
+/// of the same orientation: an ear at a time, at a corner not collinear with its neighbours whose
+/// cut leaves a polygon that is not flat (exact), the ear with the largest smallest angle first
+/// (doubles).
 template <class K>
-Mesh<K> rebuilt(const Mesh<K>& mesh, const FaceCorners<K>& fc, const std::vector<long>& patch_of_face,
-                const std::vector<Patch<K>>& patches, const std::vector<char>& unified) {
+std::vector<std::array<std::size_t, 3>> ear_cut(std::vector<std::size_t> polygon,
+                                                const std::vector<typename K::Point_3>& point_of) {
+  std::vector<std::array<std::size_t, 3>> result;
+  auto collinear = [&](std::size_t x, std::size_t y, std::size_t z) {
+    return CGAL::collinear(point_of[x], point_of[y], point_of[z]);
+  };
+  while (polygon.size() > 3) {
+    const std::size_t n = polygon.size();
+    std::size_t best = n;
+    double best_angle = -1;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t before = polygon[(i + n - 1) % n], at = polygon[i], after = polygon[(i + 1) % n];
+      if (collinear(before, at, after) || collinear(polygon[(i + n - 2) % n], before, after) ||
+          collinear(before, after, polygon[(i + 2) % n]))
+        continue;
+      const double angle = seam::min_angle_deg(to_filtered(point_of[before]), to_filtered(point_of[at]),
+                                               to_filtered(point_of[after]));
+      if (angle > best_angle) best_angle = angle, best = i;
+    }
+    if (best == n) throw InternalError("flat contacts: a face beyond a split border edge cannot be cut");
+    result.push_back({polygon[(best + n - 1) % n], polygon[best], polygon[(best + 1) % n]});
+    polygon.erase(polygon.begin() + std::ptrdiff_t(best));
+  }
+  if (collinear(polygon[0], polygon[1], polygon[2]))
+    throw InternalError("flat contacts: a face beyond a split border edge is flat");
+  result.push_back({polygon[0], polygon[1], polygon[2]});
+  return result;
+}
+
+/// A mesh rebuilt by `rebuilt`, and where the points went.
+template <class K> struct Rebuilt {
+  using V = typename Mesh<K>::Vertex_index;
+  Mesh<K> mesh;
+  std::vector<V> vertex_of_old;                 ///< per vertex of the mesh given; null: dropped
+  std::vector<std::vector<V>> vertex_of_point;  ///< per unified patch, per point; null: not a vertex here
+};
+
+/// The mesh with the faces of the unified patches replaced (see the header): its vertices that
+/// some face still uses, in order, then the patches' new points; faces in order, each patch's
+/// triangles where its first face was, a face beyond a split border edge cut at the split points.
+template <class K>
+Rebuilt<K> rebuilt(const Mesh<K>& mesh, const FaceCorners<K>& fc, const std::vector<long>& patch_of_face,
+                   const std::vector<Patch<K>>& patches, const std::vector<char>& unified) {
   using M = Mesh<K>;
   using V = typename M::Vertex_index;
   using F = typename M::Face_index;
-  M out;
-  for (V v : mesh.vertices()) out.add_vertex(mesh.point(v));
+  using Id = std::size_t;  // a vertex of `mesh`, or (from its number of vertices on) a new point
+  constexpr Id none = Id(-1);
+  std::vector<typename K::Point_3> point_of;
+  for (V v : mesh.vertices()) point_of.push_back(mesh.point(v));
+  const std::size_t n = point_of.size();
   const auto [source, has_source] = mesh.template property_map<F, std::uint32_t>(source_face_property);
   const auto [is_new, has_new] = mesh.template property_map<F, bool>(new_face_property);
   const auto [frozen, has_frozen] = mesh.template property_map<F, bool>(frozen_face_property);
-  // Per patch: its points as vertices of `out`, its faces here (and their source faces), the
-  // orientation of those faces in the projection.
-  std::vector<std::vector<V>> vertex_of(patches.size());
   std::vector<std::vector<std::size_t>> faces_of(patches.size());
   for (auto f : mesh.faces()) {
     const long p = patch_of_face[std::size_t(f)];
     if (p >= 0 && unified[std::size_t(p)]) faces_of[std::size_t(p)].push_back(std::size_t(f));
   }
-  std::vector<std::array<V, 3>> triangles;
+  // The id of each point of each patch's triangles (this mesh's vertex there, or a new point),
+  // and the split points of each split edge of this mesh (in order from its smaller id).
+  std::vector<std::vector<Id>> ids(patches.size());
+  std::map<std::pair<Id, Id>, std::vector<Id>> split_edges;
+  for (std::size_t p = 0; p < patches.size(); ++p) {
+    if (!unified[p]) continue;
+    const Patch<K>& patch = patches[p];
+    std::map<typename K::Point_3, Id, PointLess> here;
+    for (std::size_t g : faces_of[p])
+      for (V v : fc.corners[g]) here.emplace(mesh.point(v), std::size_t(v));
+    ids[p].assign(patch.points.size(), none);
+    for (const auto& t : patch.triangles)
+      for (std::size_t i : t) {
+        if (ids[p][i] != none) continue;
+        const auto it = here.find(patch.points[i]);
+        ids[p][i] = it != here.end() ? it->second : point_of.size();
+        if (it == here.end()) point_of.push_back(patch.points[i]);
+      }
+    for (const auto& [segment, chain] : patch.split_chains()) {
+      const Id s = ids[p][segment.first], t = ids[p][segment.second];
+      std::vector<Id> points;
+      for (std::size_t i : chain) points.push_back(ids[p][i]);
+      if (s > t) std::reverse(points.begin(), points.end());
+      split_edges[{std::min(s, t), std::max(s, t)}] = points;
+    }
+  }
+  std::vector<std::array<Id, 3>> triangles;
   std::vector<std::uint32_t> from;
   std::vector<char> added, shared, frozen_mark;
+  auto emit = [&](const std::array<Id, 3>& t, std::uint32_t source_face, bool is_added, bool is_shared, bool is_frozen) {
+    triangles.push_back(t);
+    from.push_back(source_face);
+    added.push_back(is_added);
+    shared.push_back(is_shared);
+    frozen_mark.push_back(is_frozen);
+  };
   std::vector<char> emitted(patches.size(), 0);
   for (auto f : mesh.faces()) {
     const long pi = patch_of_face[std::size_t(f)];
+    const std::uint32_t own_source = has_source ? source[f] : std::uint32_t(std::size_t(f));
     if (pi < 0 || !unified[std::size_t(pi)]) {
-      triangles.push_back(fc.corners[std::size_t(f)]);
-      from.push_back(has_source ? source[f] : std::uint32_t(std::size_t(f)));
-      added.push_back(has_new && is_new[f]);
-      shared.push_back(0);
-      frozen_mark.push_back(has_frozen && frozen[f]);
+      const auto& c = fc.corners[std::size_t(f)];
+      std::vector<Id> polygon;  // the corners, with the points of split edges between them
+      for (int k = 0; k < 3; ++k) {
+        const Id s = std::size_t(c[std::size_t(k)]), t = std::size_t(c[std::size_t((k + 1) % 3)]);
+        polygon.push_back(s);
+        if (split_edges.empty()) continue;
+        const auto it = split_edges.find({std::min(s, t), std::max(s, t)});
+        if (it == split_edges.end()) continue;
+        if (s < t)
+          polygon.insert(polygon.end(), it->second.begin(), it->second.end());
+        else
+          polygon.insert(polygon.end(), it->second.rbegin(), it->second.rend());
+      }
+      const bool keeps = has_new && is_new[f], stays_frozen = has_frozen && frozen[f];
+      if (polygon.size() == 3)
+        emit({polygon[0], polygon[1], polygon[2]}, own_source, keeps, false, stays_frozen);
+      else
+        for (const auto& t : ear_cut<K>(polygon, point_of)) emit(t, own_source, true, false, stays_frozen);
       continue;
     }
     const std::size_t p = std::size_t(pi);
     if (emitted[p]) continue;
     emitted[p] = 1;
-    const Patch<K>& patch = patches[p];
-    std::map<typename K::Point_3, V, PointLess> here;
-    for (std::size_t g : faces_of[p])
-      for (V v : fc.corners[g]) here.emplace(mesh.point(v), v);
-    // A vertex at a point that stands for another moves onto it (in the plane of the patch).
-    for (std::size_t i = 0; i < patch.points.size(); ++i)
-      if (patch.alias[i] >= 0)
-        if (const auto it = here.find(patch.points[i]); it != here.end()) {
-          const auto& target = patch.points[std::size_t(patch.alias[i])];
-          out.point(it->second) = target;
-          here.emplace(target, it->second);
-        }
-    std::vector<V> vs(patch.points.size());
-    for (std::size_t i = 0; i < patch.points.size(); ++i) {
-      if (patch.alias[i] >= 0) continue;
-      const auto it = here.find(patch.points[i]);
-      vs[i] = it != here.end() ? it->second : out.add_vertex(patch.points[i]);
-    }
-    const auto first = fc.points(faces_of[p].front());
-    const bool reverse = projected_orientation(*first[0], *first[1], *first[2], patch.axis) != CGAL::POSITIVE;
-    // This mesh's faces there, by their sorted corners, and as doubles (for the source faces).
-    std::map<std::array<V, 3>, std::size_t> existing;
-    for (std::size_t g : faces_of[p]) {
-      auto key = fc.corners[g];
-      std::sort(key.begin(), key.end());
-      existing.emplace(key, g);
-    }
-    // Not a structured binding: C++17 lambdas cannot capture those (Clang refuses).
-    const auto kept = kept_coordinates(patch.axis);
-    auto projected = [&](const typename K::Point_3& q) {
-      const auto d = to_filtered(q);
-      return std::array<double, 2>{d[kept[0]], d[kept[1]]};
-    };
-    for (const auto& t : patch.triangles) {
-      std::array<V, 3> tri = {vs[t[0]], vs[t[1]], vs[t[2]]};
-      if (reverse) std::swap(tri[1], tri[2]);
-      auto key = tri;
-      std::sort(key.begin(), key.end());
-      std::size_t origin = faces_of[p].front();
-      bool unchanged = false;
-      if (const auto it = existing.find(key); it != existing.end()) {
-        origin = it->second, unchanged = true;
-      } else {
-        // The face of this mesh holding the centroid (doubles: provenance only).
-        const auto a = projected(patch.points[t[0]]), b = projected(patch.points[t[1]]),
-                   c = projected(patch.points[t[2]]);
-        const std::array<double, 2> m = {(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3};
-        double best = -HUGE_VAL;
-        for (std::size_t g : faces_of[p]) {
-          const auto corners = fc.points(g);
-          std::array<std::array<double, 2>, 3> x = {projected(*corners[0]), projected(*corners[1]),
-                                                    projected(*corners[2])};
-          const double turn = (x[1][0] - x[0][0]) * (x[2][1] - x[0][1]) - (x[1][1] - x[0][1]) * (x[2][0] - x[0][0]);
-          double inside = HUGE_VAL;  // the smallest signed distance-like value over the three edges
-          for (int i = 0; i < 3; ++i) {
-            const auto &s = x[i], &e = x[(i + 1) % 3];
-            inside = std::min(inside, ((e[0] - s[0]) * (m[1] - s[1]) - (e[1] - s[1]) * (m[0] - s[0])) * (turn > 0 ? 1 : -1));
-          }
-          if (inside > best) best = inside, origin = g;
-          if (inside >= 0) break;
-        }
-      }
+    emit_patch(patches[p], ids[p], faces_of[p], fc, [&](const std::array<Id, 3>& t, std::size_t origin, bool unchanged) {
       const F g(static_cast<typename F::size_type>(origin));
-      triangles.push_back(tri);
-      from.push_back(has_source ? source[g] : std::uint32_t(origin));
-      added.push_back(!unchanged || (has_new && is_new[g]));
-      shared.push_back(1);
-      frozen_mark.push_back(0);
-    }
+      emit(t, has_source ? source[g] : std::uint32_t(origin), !unchanged || (has_new && is_new[g]), true, false);
+    });
   }
-  if (const std::size_t t = add_triangles<K>(out, triangles); t != triangles.size())
+  // The points some triangle uses, in order, as the vertices of the result.
+  std::vector<char> used(point_of.size(), 0);
+  for (const auto& t : triangles)
+    for (Id i : t) used[i] = 1;
+  Rebuilt<K> out;
+  std::vector<V> vertex(point_of.size());
+  out.vertex_of_old.assign(n, V());
+  for (Id i = 0; i < point_of.size(); ++i) {
+    const bool isolated_before = i < n && mesh.is_isolated(V(static_cast<typename V::size_type>(i)));
+    if (!used[i] && !isolated_before) continue;  // a point of this mesh only, inside a patch
+    vertex[i] = out.mesh.add_vertex(point_of[i]);
+    if (i < n) out.vertex_of_old[i] = vertex[i];
+  }
+  out.vertex_of_point.resize(patches.size());
+  for (std::size_t p = 0; p < patches.size(); ++p)
+    for (Id i : ids[p]) out.vertex_of_point[p].push_back(i == none ? V() : vertex[i]);
+  std::vector<std::array<V, 3>> faces;
+  for (const auto& t : triangles) faces.push_back({vertex[t[0]], vertex[t[1]], vertex[t[2]]});
+  if (const std::size_t t = add_triangles<K>(out.mesh, faces); t != faces.size())
     throw InternalError("flat contacts: the common triangulation of a contact does not fit into the mesh (" +
                         misfit_cause(triangles, shared, t) + ")");
-  auto out_source = out.template add_property_map<F, std::uint32_t>(source_face_property, 0).first;
-  auto out_new = out.template add_property_map<F, bool>(new_face_property, false).first;
-  auto out_shared = out.template add_property_map<F, bool>(shared_face_property, false).first;
+  auto out_source = out.mesh.template add_property_map<F, std::uint32_t>(source_face_property, 0).first;
+  auto out_new = out.mesh.template add_property_map<F, bool>(new_face_property, false).first;
+  auto out_shared = out.mesh.template add_property_map<F, bool>(shared_face_property, false).first;
   const bool any_frozen = std::any_of(frozen_mark.begin(), frozen_mark.end(), [](char c) { return c != 0; });
   std::optional<typename M::template Property_map<F, bool>> out_frozen;
-  if (any_frozen) out_frozen = out.template add_property_map<F, bool>(frozen_face_property, false).first;
+  if (any_frozen) out_frozen = out.mesh.template add_property_map<F, bool>(frozen_face_property, false).first;
   for (std::size_t i = 0; i < triangles.size(); ++i) {
     const F f(static_cast<typename F::size_type>(i));
     out_source[f] = from[i];
@@ -392,8 +725,20 @@ template <class K> class FlatContactUnifier {
   using M = Mesh<K>;
   using Point = typename K::Point_3;
 
-  FlatContactUnifier(M& a, M& b, double min_separation)
-      : a_(a), b_(b), ca_(a), cb_(b), na_(ca_.corners.size()), nb_(cb_.corners.size()), min_separation_(min_separation) {}
+  using V = typename M::Vertex_index;
+
+  FlatContactUnifier(M& a, M& b, ContactCurves<K> curves, const FlatContactOptions& options)
+      : a_(a), b_(b), ca_(a), cb_(b), na_(ca_.corners.size()), nb_(cb_.corners.size()), curves_(curves), options_(options) {
+    auto segments_of = [&](const std::vector<std::vector<V>>& vertices) {
+      std::set<std::pair<V, V>> segments;
+      for (const auto& curve : vertices)
+        for (std::size_t k = 0; k + 1 < curve.size(); ++k)
+          segments.emplace(std::min(curve[k], curve[k + 1]), std::max(curve[k], curve[k + 1]));
+      return segments;
+    };
+    curve_segments_a_ = segments_of(curves.vertices_a);
+    curve_segments_b_ = segments_of(curves.vertices_b);
+  }
 
   FlatContactStats run() {
     FlatContactStats stats;
@@ -401,21 +746,22 @@ template <class K> class FlatContactUnifier {
     if (confirmed.empty()) return stats;
     group_into_patches();
     collect(a_, ca_, patch_of_a_, true);
-    std::vector<std::size_t> points_of_a(count_);
-    for (std::size_t p = 0; p < count_; ++p) points_of_a[p] = patches_[p].points.size();
     collect(b_, cb_, patch_of_b_, false);
-    alias_close_points_of_b(points_of_a);
     const std::vector<char> unified = triangulate_patches(stats);
     if (stats.patches == 0) return stats;
     for (std::size_t f = 0; f < na_; ++f)
       stats.faces_replaced_a += patch_of_a_[f] >= 0 && unified[std::size_t(patch_of_a_[f])];
     for (std::size_t f = 0; f < nb_; ++f)
       stats.faces_replaced_b += patch_of_b_[f] >= 0 && unified[std::size_t(patch_of_b_[f])];
-    // 5. Both meshes rebuilt with the common triangulations.
-    M a2 = rebuilt<K>(a_, ca_, patch_of_a_, patches_, unified);
-    M b2 = rebuilt<K>(b_, cb_, patch_of_b_, patches_, unified);
-    a_ = std::move(a2);
-    b_ = std::move(b2);
+    // 5. Both meshes rebuilt with the common triangulations; the curves follow.
+    Rebuilt<K> a2 = rebuilt<K>(a_, ca_, patch_of_a_, patches_, unified);
+    Rebuilt<K> b2 = rebuilt<K>(b_, cb_, patch_of_b_, patches_, unified);
+    const std::size_t new_points = stats.steiner_points + stats.border_splits;
+    stats.points_dropped = (a_.number_of_vertices() + new_points - a2.mesh.number_of_vertices()) +
+                           (b_.number_of_vertices() + new_points - b2.mesh.number_of_vertices());
+    update_curves(a2, b2, unified);
+    a_ = std::move(a2.mesh);
+    b_ = std::move(b2.mesh);
     return stats;
   }
 
@@ -516,6 +862,8 @@ template <class K> class FlatContactUnifier {
     edges_a_.assign(count_, {});
     edges_b_.assign(count_, {});
     border_b_.assign(count_, {});
+    not_curve_.assign(count_, {});
+    fixed_.assign(count_, {});
     area_.assign(count_, 0.0);
     axis_set_.assign(count_, 0);
   }
@@ -523,6 +871,7 @@ template <class K> class FlatContactUnifier {
   /// 3. Per patch: the points, the border of each mesh's faces (must agree), the edges of each,
   ///    the area of A's faces (doubles).
   void collect(const M& m, const FaceCorners<K>& fc, const std::vector<long>& patch_of, bool is_a) {
+    const auto [frozen, has_frozen] = m.template property_map<typename M::Face_index, bool>(frozen_face_property);
     for (auto f : m.faces()) {
       const long pi = patch_of[std::size_t(f)];
       if (pi < 0) continue;
@@ -533,10 +882,16 @@ template <class K> class FlatContactUnifier {
         axis_set_[p] = 1;
       }
       std::array<std::size_t, 3> id;
+      Patch<K>& patch = patches_[p];
       for (int k = 0; k < 3; ++k) {
-        const auto [it, inserted] = index_[p].emplace(*s[k], patches_[p].points.size());
-        if (inserted) patches_[p].points.push_back(*s[k]);
+        const auto [it, inserted] = index_[p].emplace(*s[k], patch.points.size());
+        if (inserted) {
+          patch.points.push_back(*s[k]);
+          patch.in_a.push_back(0);
+          patch.in_b.push_back(0);
+        }
         id[k] = it->second;
+        (is_a ? patch.in_a : patch.in_b)[id[k]] = 1;
       }
       if (is_a) {
         const auto [u, v] = kept_coordinates(patches_[p].axis);
@@ -549,38 +904,77 @@ template <class K> class FlatContactUnifier {
         const std::pair<std::size_t, std::size_t> e = {std::min(id[k], id[(k + 1) % 3]), std::max(id[k], id[(k + 1) % 3])};
         ++k;
         (is_a ? edges_a_ : edges_b_)[p].insert(e);
+        const V s = m.source(h), t = m.target(h);
+        if (!(is_a ? curve_segments_a_ : curve_segments_b_).count({std::min(s, t), std::max(s, t)}))
+          not_curve_[p].insert(e);
         const auto g = m.face(m.opposite(h));
-        if (g == M::null_face() || patch_of[std::size_t(g)] != pi) (is_a ? patches_[p].border : border_b_[p]).insert(e);
+        if (g == M::null_face() || patch_of[std::size_t(g)] != pi) {
+          (is_a ? patches_[p].border : border_b_[p]).insert(e);
+          // The face beyond may be split with the edge: in no patch, not frozen.
+          if (g != M::null_face() && (patch_of[std::size_t(g)] >= 0 || (has_frozen && frozen[g]))) fixed_[p].insert(e);
+        }
       }
     }
   }
 
-  /// Points of B only (inside the patch: its border is A's too) closer than min_separation to a
-  /// point of A stand for that point (box test on doubles, then the distance in doubles).
-  void alias_close_points_of_b(const std::vector<std::size_t>& points_of_a) {
-    std::vector<std::vector<char>> used_by_b(count_);
-    for (std::size_t p = 0; p < count_; ++p) used_by_b[p].assign(patches_[p].points.size(), 0);
-    for (auto f : b_.faces())
-      if (const long pi = patch_of_b_[std::size_t(f)]; pi >= 0)
-        for (const auto* q : cb_.points(std::size_t(f))) used_by_b[std::size_t(pi)][index_[std::size_t(pi)].at(*q)] = 1;
+  /// The curves after the rebuild: vertices renumbered, the split points inserted (in both).
+  void update_curves(const Rebuilt<K>& ra, const Rebuilt<K>& rb, const std::vector<char>& unified) {
+    auto renumber = [](std::vector<std::vector<V>>& curves, const std::vector<V>& map) {
+      for (auto& curve : curves)
+        for (auto& v : curve) {
+          if (std::size_t(v) >= map.size() || map[std::size_t(v)] == V())
+            throw InternalError("flat contacts: a curve vertex was dropped");
+          v = map[std::size_t(v)];
+        }
+    };
+    renumber(curves_.vertices_a, ra.vertex_of_old);
+    renumber(curves_.vertices_b, rb.vertex_of_old);
+    // Each split segment by its vertices in A: its patch, its ends in A and B, its split points.
+    struct Chain {
+      std::size_t patch;
+      std::array<V, 2> a, b;
+      std::vector<std::size_t> points;
+    };
+    std::map<std::pair<V, V>, Chain> chains;
     for (std::size_t p = 0; p < count_; ++p) {
-      auto& patch = patches_[p];
-      patch.alias.assign(patch.points.size(), -1);
-      std::vector<Box> of_a, of_b;
-      for (std::size_t i = 0; i < patch.points.size(); ++i) {
-        const auto q = to_filtered(patch.points[i]);
-        const double r = min_separation_;
-        (i < points_of_a[p] ? of_a : of_b)
-            .emplace_back(CGAL::Bbox_3(q.x() - r, q.y() - r, q.z() - r, q.x() + r, q.y() + r, q.z() + r),
-                          std::uint32_t(i));
+      if (!unified[p]) continue;
+      const auto& in_a = ra.vertex_of_point[p];
+      const auto& in_b = rb.vertex_of_point[p];
+      for (auto& [segment, points] : patches_[p].split_chains()) {
+        const std::array<V, 2> a = {in_a[segment.first], in_a[segment.second]};
+        chains[{std::min(a[0], a[1]), std::max(a[0], a[1])}] = {
+            p, a, {in_b[segment.first], in_b[segment.second]}, std::move(points)};
       }
-      if (of_b.empty()) continue;
-      CGAL::box_intersection_d(of_a.begin(), of_a.end(), of_b.begin(), of_b.end(), [&](const Box& x, const Box& y) {
-        const double d = std::sqrt(CGAL::squared_distance(to_filtered(patch.points[x.info()]),
-                                                          to_filtered(patch.points[y.info()])));
-        if (d < min_separation_ && patch.alias[y.info()] < 0 && !used_by_b[p][x.info()])
-          patch.alias[y.info()] = long(x.info());
-      });
+    }
+    if (chains.empty()) return;
+    for (std::size_t c = 0; c < curves_.curves.size(); ++c) {
+      const auto& points = curves_.curves[c];
+      const auto& va = curves_.vertices_a[c];
+      const auto& vb = curves_.vertices_b[c];
+      Polyline<K> new_points;
+      std::vector<V> new_va, new_vb;
+      for (std::size_t k = 0; k < points.size(); ++k) {
+        new_points.push_back(points[k]);
+        new_va.push_back(va[k]);
+        new_vb.push_back(vb[k]);
+        if (k + 1 == points.size()) break;
+        const auto it = chains.find({std::min(va[k], va[k + 1]), std::max(va[k], va[k + 1])});
+        if (it == chains.end()) continue;
+        const Chain& chain = it->second;
+        const bool forward = va[k] == chain.a[0];
+        if (vb[k] != chain.b[forward ? 0 : 1] || vb[k + 1] != chain.b[forward ? 1 : 0])
+          throw InternalError("flat contacts: a split curve segment is not the same segment in both meshes");
+        const Patch<K>& patch = patches_[chain.patch];
+        for (std::size_t j = 0; j < chain.points.size(); ++j) {
+          const std::size_t i = chain.points[forward ? j : chain.points.size() - 1 - j];
+          new_points.push_back(patch.points[i]);
+          new_va.push_back(ra.vertex_of_point[chain.patch][i]);
+          new_vb.push_back(rb.vertex_of_point[chain.patch][i]);
+        }
+      }
+      curves_.curves[c] = std::move(new_points);
+      curves_.vertices_a[c] = std::move(new_va);
+      curves_.vertices_b[c] = std::move(new_vb);
     }
   }
 
@@ -593,15 +987,24 @@ template <class K> class FlatContactUnifier {
         why = say("its border in A (", patches_[p].border.size(), " edges) is not its border in B (",
                   border_b_[p].size(), " edges): the curves do not bound it in both");
       } else {
-        for (const auto& e : edges_a_[p])
-          if (edges_b_[p].count(e)) patches_[p].constraints.push_back(e);
-        for (const auto& e : patches_[p].border)
+        // Constraints: the border, and the curve segments inside (edges of both meshes).
+        Patch<K>& patch = patches_[p];
+        for (const auto& e : edges_a_[p]) {
+          if (!edges_b_[p].count(e)) continue;
+          const bool curve = !not_curve_[p].count(e);
+          if (curve || patch.border.count(e)) patch.constraints.push_back(e);
+          if (curve && !fixed_[p].count(e)) patch.splittable.insert(e);
+        }
+        for (const auto& e : patch.border)
           if (!edges_b_[p].count(e)) why = "a border edge is not an edge of both";
-        if (why.empty() && triangulate<K>(patches_[p], area_[p], why)) unified[p] = 1;
+        if (why.empty() && triangulate<K>(patch, area_[p], options_, why)) unified[p] = 1;
       }
       if (unified[p]) {
         ++stats.patches;
         stats.shared_faces += patches_[p].triangles.size();
+        stats.steiner_points += patches_[p].steiner_points;
+        stats.border_splits += patches_[p].splits.size();
+        stats.shared_faces_below_bound += patches_[p].below_bound;
       } else if (stats.patches_left++ == 0) {
         const auto q = to_filtered(patches_[p].points.front());
         stats.first_left = say("the flat contact at (", q.x(), ", ", q.y(), ", ", q.z(), ") was left as it was: ", why);
@@ -614,7 +1017,9 @@ template <class K> class FlatContactUnifier {
   M& b_;
   const FaceCorners<K> ca_, cb_;
   const std::size_t na_, nb_;
-  const double min_separation_;
+  ContactCurves<K> curves_;
+  const FlatContactOptions options_;
+  std::set<std::pair<V, V>> curve_segments_a_, curve_segments_b_;  ///< (smaller vertex first)
   std::vector<char> contact_;  ///< per face of A, then of B: in a flat contact
   DisjointSets sets_{na_ + nb_};
   std::vector<long> patch_of_a_, patch_of_b_;
@@ -622,19 +1027,28 @@ template <class K> class FlatContactUnifier {
   std::vector<Patch<K>> patches_;
   std::vector<std::map<Point, std::size_t, PointLess>> index_;
   std::vector<std::set<std::pair<std::size_t, std::size_t>>> edges_a_, edges_b_, border_b_;
+  /// Per patch: its edges that are no curve segment in A or in B; its border edges whose face
+  /// beyond (in A or in B) may not be split (another patch's, or frozen).
+  std::vector<std::set<std::pair<std::size_t, std::size_t>>> not_curve_, fixed_;
   std::vector<double> area_;
   std::vector<char> axis_set_;
 };
 
 }  // namespace
 
-template <class K> FlatContactStats unify_flat_contacts(Mesh<K>& a, Mesh<K>& b, double min_separation) {
+template <class K>
+FlatContactStats unify_flat_contacts(Mesh<K>& a, Mesh<K>& b, ContactCurves<K> curves, const FlatContactOptions& options) {
   if (a.has_garbage() || b.has_garbage()) throw InternalError("flat contacts: a mesh has garbage");
-  return FlatContactUnifier<K>(a, b, min_separation).run();
+  if (curves.vertices_a.size() != curves.curves.size() || curves.vertices_b.size() != curves.curves.size())
+    throw InternalError("flat contacts: the curves' vertices do not match the curves");
+  return FlatContactUnifier<K>(a, b, curves, options).run();
 }
 
-template FlatContactStats unify_flat_contacts<Exact>(Mesh<Exact>&, Mesh<Exact>&, double);
-template FlatContactStats unify_flat_contacts<Filtered>(Mesh<Filtered>&, Mesh<Filtered>&, double);
-template FlatContactStats unify_flat_contacts<Float>(Mesh<Float>&, Mesh<Float>&, double);
+template FlatContactStats unify_flat_contacts<Exact>(Mesh<Exact>&, Mesh<Exact>&, ContactCurves<Exact>,
+                                                        const FlatContactOptions&);
+template FlatContactStats unify_flat_contacts<Filtered>(Mesh<Filtered>&, Mesh<Filtered>&, ContactCurves<Filtered>,
+                                                        const FlatContactOptions&);
+template FlatContactStats unify_flat_contacts<Float>(Mesh<Float>&, Mesh<Float>&, ContactCurves<Float>,
+                                                        const FlatContactOptions&);
 
 }  // namespace seam::internal

@@ -211,15 +211,24 @@ template <class K> void drop_repeated_curve_points(PairResult<K>& result) {
   if (dropped) count_curves(result);
 }
 
-/// Flat contacts: one common triangulation in both meshes (internal/flat_contacts.h).
-template <class K> void unify_contacts(Mesh<K>& a, Mesh<K>& b, PairResult<K>& result, double separation) {
+/// Flat contacts: one common triangulation in both meshes, refined to the angle bound when
+/// `min_angle_deg` > 0 (internal/flat_contacts.h); the curves follow.
+template <class K>
+void unify_contacts(Mesh<K>& a, Mesh<K>& b, PairResult<K>& result, const internal::FlatContactOptions& options) {
   if (result.curves.empty()) return;
   const auto t = Clock::now();
-  const auto fc = internal::unify_flat_contacts<K>(a, b, separation);
+  const auto fc = internal::unify_flat_contacts<K>(
+      a, b, {result.curves, result.a.curve_vertices, result.b.curve_vertices}, options);
+  result.a.curves = result.b.curves = result.curves;
+  if (fc.border_splits > 0) count_curves(result);
   auto& st = result.stats;
   st.contact_patches = fc.patches;
   st.shared_faces = fc.shared_faces;
   st.contact_patches_left = fc.patches_left;
+  st.contact_points_inserted = fc.steiner_points;
+  st.contact_segments_split = fc.border_splits;
+  st.contact_points_dropped = fc.points_dropped;
+  st.contact_faces_below_bound = fc.shared_faces_below_bound;
   if (fc.patches_left > 0) st.note += (st.note.empty() ? "" : "; ") + fc.first_left;
   st.stage_seconds["flat_contacts"] = seconds_since(t);
 }
@@ -265,6 +274,14 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   // The quality stage works to angles, not to an area: with --max-area the faces are left as the
   // re-triangulation bounded them.
   const bool improve = options.improve && !(options.embed.max_area > 0);
+  // Flat contacts are refined to the quality stage's bound and feature size when that stage runs
+  // (it then refines the faces beyond their split borders).
+  internal::FlatContactOptions contact_options;
+  if (improve) {
+    contact_options.min_angle_deg = options.embed.min_angle_deg;
+    contact_options.feature_size = options.quality.feature_size >= 0 ? options.quality.feature_size
+                                                                     : std::max(snap_tol, std::min(la, lb) / 64);
+  }
   // Stages 1-3 on the inputs: as they are; with the vertices within the separation of a curve and
   // of a point of the too close pairs found so far closed onto the curve; or with every vertex
   // within the separation of a curve closed.
@@ -280,7 +297,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
                                          closing == Closing::near_close_pairs ? &close_points : nullptr,
                                          &closed_vertices);
     r.stats.snap_tol = snap_tol;
-    unify_contacts<K>(a, b, r, separation);
+    unify_contacts<K>(a, b, r, contact_options);
     return r;
   };
   // Stage 5 and the figures.

@@ -112,6 +112,11 @@ struct PairStats {
   /// made one common triangulation; its faces (each a face of both outputs); patches that could
   /// not be (their borders differ in the two meshes: seam check then fails).
   std::size_t contact_patches = 0, shared_faces = 0, contact_patches_left = 0;
+  /// The refinement of the flat contacts (when the quality stage runs): points inserted inside
+  /// them, curve segments split (in both meshes, with the faces beyond), vertices of one mesh only
+  /// dropped from inside them (both meshes), their faces left below the bound (in the projection).
+  std::size_t contact_points_inserted = 0, contact_segments_split = 0, contact_points_dropped = 0,
+              contact_faces_below_bound = 0;
   /// Isolated points of contact made a vertex of both (curves of one point).
   std::size_t contact_points = 0;
   bool given_curves = false;      ///< the curves were given (seam::pair_with_curves)

@@ -14,16 +14,48 @@
 // A faces equals the border of its B faces, edge for edge (exact coordinates): the curves
 // embedded before (the boundary of the contact region and its ridges) make it so. Its CDT, in the
 // plane projected along the axis of the normal's largest component (exact: a coordinate is
-// dropped), holds every vertex of both meshes' faces there, with the edges the two meshes have in
-// common (the border, and any curve segment inside) as constraints; the triangles inside the
-// border are kept (odd nesting depth). Exact under the exact kernel: the CDT only decides
-// orientations and in-circle tests on the given points (Exact_predicates_tag: no point is
-// constructed), and its projected area is checked to equal that of the faces it replaces. Under
-// the rounded kernels the same tests are exact on the rounded coordinates.
+// dropped), holds the points that are vertices of both meshes there (the border's, the curves'
+// and the points of contact), with the border and the curve segments inside as constraints; the
+// triangles inside the border are kept (odd nesting depth). The vertices of one mesh only inside
+// the patch are dropped: interleaved, the two meshes' own vertices made the common
+// triangulation's slivers.
 //
-// No vertex is removed or moved: vertex i of a mesh keeps index i, the other mesh's vertices of
-// the patch are appended. New faces get the source face of the face of their own mesh that
-// holds their centroid, are marked new unless they are a face of that mesh already, and get
+// Refinement (when `min_angle_deg` > 0): Ruppert's Delaunay refinement of the inside, in the
+// projection (an affine map of the plane: it changes angles, so the bound is held in the
+// projection along the dominant axis, where angles shrink by at most the factor the normal's
+// tilt allows; the figures are measured in 3D afterwards).
+//   1. A constraint encroached by a vertex of the patch (it sees the constraint at 90 degrees or
+//      more) is split at its middle.
+//   2. A face below the bound: its circumcenter c (rounded to doubles in the projection, then
+//      lifted exactly onto the plane). If a constraint lies between the face and c, or c lies in
+//      the diametral circle of a constraint of its conflict zone, that constraint is split;
+//      otherwise c is inserted.
+//   A constraint may be split when it is at least 2 x `feature_size` long and is a curve segment
+//   inside the patch, or a curve segment of the border whose faces outside the patch (in A and in
+//   B) belong to no contact patch and are not frozen: its middle is a point of both surfaces
+//   (exact under the exact kernel), the face beyond it in each mesh is split with it (a fan of
+//   that face's plane: the surface is unchanged), and the curves get the point. A circumcenter
+//   nearer than `feature_size` to the face's corners (circumradius below it) is not inserted.
+//   Termination: every inserted point is at least `feature_size` from the points it sees (an
+//   empty circumcircle), and every split halves a segment at least twice that long, so the points
+//   a patch can receive are bounded by its area and border length over feature_size; a budget of
+//   4 x (points) + 64 edits bounds it outright. The bound: in the plane, with no constraint split
+//   refused and input angles between constraints of at least 60 degrees, Ruppert's algorithm
+//   ends with every angle above arcsin(1/(2 sqrt 2)) = 20.7 degrees. What can force a smaller
+//   angle: a small angle between two constraints (curves meeting at the border), constraints
+//   that may not be split (the border next to another patch or a frozen face, or shorter than
+//   2 x feature_size), and points closer than feature_size. The faces left below the bound are
+//   counted (shared_faces_below_bound) and reported by the quality stage as flat_contact.
+//
+// Exact under the exact kernel: the CDT decides orientations and in-circle tests on the points
+// (Exact_predicates_tag), split points are exact middles, Steiner points lie exactly in the plane,
+// and the triangulation's projected area is checked to equal that of the faces it replaces.
+// Under the rounded kernels the tests are exact on the rounded coordinates.
+//
+// The vertices kept keep their order; those dropped are gone from the result, the new points are
+// appended; the curves given follow (their vertices renumbered, split points inserted). New
+// faces get the source face of the face of their own mesh that holds their centroid (a split
+// face: its own), are marked new unless they are a face of that mesh already, and patch faces get
 // shared_face_property, which every later step of pair treats like a frozen face.
 //
 // SPDX-License-Identifier: GPL-3.0-or-later
@@ -33,6 +65,7 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 namespace seam::internal {
 
@@ -41,18 +74,35 @@ struct FlatContactStats {
   std::size_t patches = 0;       ///< planar contact patches made one common triangulation
   std::size_t shared_faces = 0;  ///< faces of those triangulations (each is in both meshes)
   std::size_t faces_replaced_a = 0, faces_replaced_b = 0;
+  std::size_t steiner_points = 0;            ///< points inserted inside the patches (in both meshes)
+  std::size_t border_splits = 0;             ///< curve segments split (in both meshes)
+  std::size_t points_dropped = 0;            ///< vertices of one mesh only inside a patch, both meshes
+  std::size_t shared_faces_below_bound = 0;  ///< shared faces left below the angle bound (in the projection)
   /// Patches left as they were (the borders differ in the two meshes, or the triangulation did
   /// not reproduce the patch): seam check rejects their overlaps. `first_left` says why.
   std::size_t patches_left = 0;
   std::string first_left;
 };
 
-/// Unifies the flat contacts of `a` and `b` (see above). \pre both are triangle meshes without
-/// garbage; the curves where they meet are embedded in both. Throws InternalError when a
-/// triangulation does not fit into a mesh (the meshes are then unchanged).
-/// A point of B only that is closer than `min_separation` to a point of A in the same patch is
-/// not a point of the triangulation: B's vertex there moves onto A's point, within the plane
-/// (so no two vertices of the outputs are that close: seam check's check 5).
-template <class K> FlatContactStats unify_flat_contacts(Mesh<K>& a, Mesh<K>& b, double min_separation);
+struct FlatContactOptions {
+  /// The angle bound of the refinement (degrees); 0: no refinement.
+  double min_angle_deg = 0;
+  /// No point inserted nearer than this to the corners of its face, no constraint shorter than
+  /// twice this split.
+  double feature_size = 0;
+};
+
+/// The curves both meshes hold: points, and each point's vertex in A and in B (the same sizes).
+template <class K> struct ContactCurves {
+  std::vector<Polyline<K>>& curves;
+  std::vector<std::vector<typename Mesh<K>::Vertex_index>>& vertices_a;
+  std::vector<std::vector<typename Mesh<K>::Vertex_index>>& vertices_b;
+};
+
+/// Unifies the flat contacts of `a` and `b` (see above) and updates `curves`. \pre both are
+/// triangle meshes without garbage; the curves where they meet are embedded in both. Throws
+/// InternalError when a triangulation does not fit into a mesh (the meshes are then unchanged).
+template <class K>
+FlatContactStats unify_flat_contacts(Mesh<K>& a, Mesh<K>& b, ContactCurves<K> curves, const FlatContactOptions& options);
 
 }  // namespace seam::internal

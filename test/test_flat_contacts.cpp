@@ -1,0 +1,185 @@
+// Tests of the flat-contact step (seam/internal/flat_contacts.h): two meshes that coincide over a
+// plane come out with one common triangulation there, refined to the angle bound, with the
+// curves (its border) still edges of both, the surfaces unchanged, and the faces beyond a split
+// border edge cut in their own plane.
+#include <catch2/catch.hpp>
+
+#include <seam/internal/flat_contacts.h>
+#include <seam/kernels.h>
+#include <seam/quality.h>
+
+#include <CGAL/Polygon_mesh_processing/measure.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <set>
+#include <vector>
+
+namespace {
+
+using K = seam::Exact;
+using Mesh = seam::Mesh<K>;
+using V = Mesh::Vertex_index;
+using P = K::Point_3;
+
+/// The rectangle [0, 1] x [0, height] at z = 0 with `n` points on each side (its border,
+/// counterclockwise from the origin), cut into a fan of triangles from the inner point `apex`.
+/// Returns the border vertices in order.
+std::vector<V> add_rectangle_fan(Mesh& m, int n, std::array<double, 2> apex, double height = 1) {
+  std::vector<V> border;
+  const std::array<std::array<double, 2>, 4> corner = {{{0, 0}, {1, 0}, {1, height}, {0, height}}};
+  for (int side = 0; side < 4; ++side)
+    for (int i = 0; i < n; ++i) {
+      const auto& s = corner[std::size_t(side)];
+      const auto& e = corner[std::size_t((side + 1) % 4)];
+      const double t = double(i) / n;
+      border.push_back(m.add_vertex(P(s[0] + t * (e[0] - s[0]), s[1] + t * (e[1] - s[1]), 0)));
+    }
+  const V centre = m.add_vertex(P(apex[0], apex[1], 0));
+  for (std::size_t k = 0; k < border.size(); ++k) m.add_face(centre, border[k], border[(k + 1) % border.size()]);
+  return border;
+}
+
+double smallest_angle(const Mesh& m) {
+  double smallest = 180;
+  for (auto f : m.faces()) {
+    const auto h = m.halfedge(f);
+    smallest = std::min(smallest, seam::min_angle_deg(seam::to_filtered(m.point(m.source(h))),
+                                                      seam::to_filtered(m.point(m.target(h))),
+                                                      seam::to_filtered(m.point(m.target(m.next(h))))));
+  }
+  return smallest;
+}
+
+/// The faces as sorted triples of corner points (doubles).
+std::set<std::array<std::array<double, 3>, 3>> face_set(const Mesh& m) {
+  std::set<std::array<std::array<double, 3>, 3>> faces;
+  for (auto f : m.faces()) {
+    std::array<std::array<double, 3>, 3> t;
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) {
+      const auto q = seam::to_filtered(m.point(v));
+      t[std::size_t(k++)] = {q.x(), q.y(), q.z()};
+    }
+    std::sort(t.begin(), t.end());
+    faces.insert(t);
+  }
+  return faces;
+}
+
+/// Every curve point is the point of its vertex in the mesh, every segment an edge.
+void require_curves_embedded(const Mesh& m, const std::vector<seam::Polyline<K>>& curves,
+                             const std::vector<std::vector<V>>& vertices) {
+  REQUIRE(curves.size() == vertices.size());
+  for (std::size_t c = 0; c < curves.size(); ++c) {
+    REQUIRE(curves[c].size() == vertices[c].size());
+    for (std::size_t k = 0; k < curves[c].size(); ++k) {
+      CHECK(m.point(vertices[c][k]) == curves[c][k]);
+      if (k + 1 < curves[c].size()) CHECK(m.halfedge(vertices[c][k], vertices[c][k + 1]) != Mesh::null_halfedge());
+    }
+  }
+}
+
+double area(const Mesh& m) { return CGAL::to_double(CGAL::Polygon_mesh_processing::area(m)); }
+
+}  // namespace
+
+TEST_CASE("flat contacts: two fans of one rectangle become one refined triangulation, its border curve split in both",
+          "[flat_contacts]") {
+  Mesh a, b;
+  // Fans from points near opposite corners: thin triangles, crossing each other.
+  const auto border_a = add_rectangle_fan(a, 6, {0.05, 0.02}, 0.3);
+  const auto border_b = add_rectangle_fan(b, 6, {0.9, 0.28}, 0.3);
+  REQUIRE(smallest_angle(a) < 10);
+  // The border is the one curve both hold (closed: the first point repeated).
+  std::vector<seam::Polyline<K>> curves(1);
+  std::vector<std::vector<V>> va(1), vb(1);
+  for (std::size_t k = 0; k <= border_a.size(); ++k) {
+    const std::size_t i = k % border_a.size();
+    curves[0].push_back(a.point(border_a[i]));
+    va[0].push_back(border_a[i]);
+    vb[0].push_back(border_b[i]);
+  }
+  const std::size_t curve_points_before = curves[0].size();
+  seam::internal::FlatContactOptions options;
+  options.min_angle_deg = 20;
+  options.feature_size = 0.01;
+  const auto stats = seam::internal::unify_flat_contacts<K>(a, b, {curves, va, vb}, options);
+  CHECK(stats.patches == 1);
+  CHECK(stats.patches_left == 0);
+  CHECK(stats.points_dropped == 2);  // the fans' centres: points of one mesh only
+  // One triangulation in both, covering the rectangle.
+  CHECK(face_set(a) == face_set(b));
+  CHECK(area(a) == Approx(0.3).epsilon(1e-12));
+  CHECK(area(b) == Approx(0.3).epsilon(1e-12));
+  CHECK(CGAL::is_valid_polygon_mesh(a));
+  CHECK(CGAL::is_valid_polygon_mesh(b));
+  // Ruppert's bound holds: the corners are right angles, the border may be split (the mesh
+  // border lies beyond it), and nothing reaches the feature size here.
+  CHECK(stats.shared_faces_below_bound == 0);
+  CHECK(smallest_angle(a) >= 20.0);
+  // The splits are curve points in both, in order along the border.
+  CHECK(stats.border_splits > 0);
+  CHECK(curves[0].size() == curve_points_before + stats.border_splits);
+  require_curves_embedded(a, curves, va);
+  require_curves_embedded(b, curves, vb);
+}
+
+TEST_CASE("flat contacts: a split border edge cuts the faces beyond it in each mesh within their plane",
+          "[flat_contacts]") {
+  Mesh a, b;
+  // A thin rectangle as fans of four triangles (6 degree angles) from two inner points.
+  const auto border_a = add_rectangle_fan(a, 1, {0.3, 0.1}, 0.2);
+  const auto border_b = add_rectangle_fan(b, 1, {0.7, 0.1}, 0.2);
+  // Beyond the side y = 0 (border points 0 and 1): A rises, B falls (a face each).
+  a.add_face(border_a[1], border_a[0], a.add_vertex(P(0.5, -0.1, 1)));
+  b.add_face(border_b[1], border_b[0], b.add_vertex(P(0.5, -0.1, -1)));
+  const double area_a = area(a), area_b = area(b);
+  std::vector<seam::Polyline<K>> curves(1);
+  std::vector<std::vector<V>> va(1), vb(1);
+  for (std::size_t k = 0; k <= border_a.size(); ++k) {
+    const std::size_t i = k % border_a.size();
+    curves[0].push_back(a.point(border_a[i]));
+    va[0].push_back(border_a[i]);
+    vb[0].push_back(border_b[i]);
+  }
+  seam::internal::FlatContactOptions options;
+  options.min_angle_deg = 20;
+  options.feature_size = 0.01;
+  const auto stats = seam::internal::unify_flat_contacts<K>(a, b, {curves, va, vb}, options);
+  REQUIRE(stats.patches == 1);
+  CHECK(CGAL::is_valid_polygon_mesh(a));
+  CHECK(CGAL::is_valid_polygon_mesh(b));
+  // The surfaces are the same: areas kept, the faces beyond still in their planes.
+  CHECK(area(a) == Approx(area_a).epsilon(1e-12));
+  CHECK(area(b) == Approx(area_b).epsilon(1e-12));
+  std::size_t beyond_a = 0, beyond_b = 0;
+  for (auto f : a.faces())
+    for (auto v : CGAL::vertices_around_face(a.halfedge(f), a))
+      if (a.point(v).z() > 0) ++beyond_a;
+  for (auto f : b.faces())
+    for (auto v : CGAL::vertices_around_face(b.halfedge(f), b))
+      if (b.point(v).z() < 0) ++beyond_b;
+  // Each face beyond has its apex off the plane; a split of y = 0 made more of them.
+  std::size_t splits_on_side = 0;
+  for (const auto& p : curves[0])
+    if (p.y() == 0 && p.x() > 0 && p.x() < 1) ++splits_on_side;
+  CHECK(splits_on_side > 0);
+  CHECK(beyond_a == splits_on_side + 1);
+  CHECK(beyond_b == splits_on_side + 1);
+  for (auto f : a.faces()) {  // every face beyond lies in the plane of the one it was cut from
+    const auto h = a.halfedge(f);
+    const P &p = a.point(a.source(h)), &q = a.point(a.target(h)), &r = a.point(a.target(a.next(h)));
+    if (p.z() > 0 || q.z() > 0 || r.z() > 0)
+      for (const P& x : {p, q, r}) CHECK(CGAL::coplanar(x, P(0, 0, 0), P(1, 0, 0), P(0.5, -0.1, 1)));
+  }
+  require_curves_embedded(a, curves, va);
+  require_curves_embedded(b, curves, vb);
+  // The contact is one triangulation in both, refined to the bound.
+  std::size_t shared = 0;
+  const auto faces_b = face_set(b);
+  for (const auto& t : face_set(a)) shared += faces_b.count(t);
+  CHECK(shared == stats.shared_faces);
+  CHECK(stats.shared_faces_below_bound == 0);
+}
