@@ -131,9 +131,6 @@ template <class K> struct Patch {
   /// Per point: a vertex of A there, of B there. Only the points of both are kept (see
   /// triangulate); those of one mesh only lie inside the patch and are dropped.
   std::vector<char> in_a, in_b;
-  /// Three points of a face of A in the patch (A's faces are collected first: its first face's),
-  /// its plane, onto which Steiner points are lifted.
-  std::array<std::size_t, 3> plane{0, 1, 2};
   std::vector<std::array<std::size_t, 3>> triangles;  ///< the result, positively oriented in the projection
   /// The points the refinement put on a constraint given: the constraint, and the point's place
   /// along it (0 at its first point, 1 at its second; doubles, for the order only).
@@ -168,8 +165,9 @@ template <class P2> double min_angle_2(const P2& p, const P2& q, const P2& r) {
 /// The point of the patch's plane that projects (along its axis) onto (x, y): exact under the
 /// exact kernel (a rational function of exact coordinates), rounded under the others.
 template <class K> typename K::Point_3 lifted(const Patch<K>& patch, const typename K::Point_2& q) {
-  const auto& p0 = patch.points[patch.plane[0]];
-  const auto n = CGAL::cross_product(patch.points[patch.plane[1]] - p0, patch.points[patch.plane[2]] - p0);
+  // Points 0, 1, 2 are the corners of a face of A in the patch (its first, collected first).
+  const auto& p0 = patch.points[0];
+  const auto n = CGAL::cross_product(patch.points[1] - p0, patch.points[2] - p0);
   const auto [u, v] = kept_coordinates(patch.axis);
   const int a = patch.axis;
   std::array<typename K::FT, 3> c;
@@ -244,6 +242,11 @@ template <class K, class CDT> class PatchRefiner {
     if (!patch_.splittable.count(original)) return false;
     if (CGAL::to_double(CGAL::squared_distance(patch_.points[a], patch_.points[b])) < 4 * feature_ * feature_)
       return false;
+    // The middle must lie on the segment: exact under Exact; under Filtered the middle of two
+    // doubles is often rounded off it (tested exactly); under Float no test is exact: no split.
+    if constexpr (std::is_same_v<K, Float>) return false;
+    const typename K::Point_3 middle_3 = CGAL::midpoint(patch_.points[a], patch_.points[b]);
+    if (!CGAL::collinear(patch_.points[a], middle_3, patch_.points[b])) return false;
     // The faces around the new point on the side of a finite face beside s-t take its nesting,
     // the others that of the face across.
     FH known = f->neighbor(i), across = f;
@@ -252,10 +255,7 @@ template <class K, class CDT> class PatchRefiner {
     const P2 apex = known->vertex(known->index(across))->point();
     const P2 middle = CGAL::midpoint(s->point(), t->point());
     const VH w = cdt_.insert(middle, CDT::EDGE, f, i);  // splits the constraint in two
-    w->info() = patch_.points.size();
-    patch_.points.push_back(CGAL::midpoint(patch_.points[a], patch_.points[b]));  // exact under Exact
-    patch_.in_a.push_back(1);
-    patch_.in_b.push_back(1);
+    add_point(w, middle_3);
     auto at = [&](std::size_t x) {
       return x == original.first ? 0.0 : x == original.second ? 1.0 : patch_.splits.at(x).at;
     };
@@ -268,7 +268,9 @@ template <class K, class CDT> class PatchRefiner {
       for (int k = 0; k < 3; ++k) {
         const VH x = h->vertex(k);
         if (x == w || x == s || x == t) continue;
-        return CGAL::orientation(s->point(), t->point(), x->point()) == side ? nesting_known : nesting_across;
+        const CGAL::Orientation o = CGAL::orientation(s->point(), t->point(), x->point());
+        if (o == CGAL::COLLINEAR) continue;  // (rounded kernels: a corner on the line)
+        return o == side ? nesting_known : nesting_across;
       }
       return nesting_known;
     });
@@ -287,6 +289,7 @@ template <class K, class CDT> class PatchRefiner {
     FH at = f;
     if (cdt_.oriented_side(f, c) == CGAL::ON_NEGATIVE_SIDE) {
       const P2 start = CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point());
+      if (cdt_.oriented_side(f, start) != CGAL::ON_POSITIVE_SIDE) return false;  // (rounded: not inside f)
       auto walk = cdt_.line_walk(start, c, f);
       FH previous = walk;
       for (std::size_t steps = 0;; ++steps) {
@@ -296,6 +299,9 @@ template <class K, class CDT> class PatchRefiner {
         const int k = previous->index(next);
         if (previous->is_constrained(k)) {
           const auto [s, t] = ends(previous, k);
+          // Crossed, not touched at an end (the line through a vertex): its ends on either side.
+          if (CGAL::orientation(start, c, s->point()) * CGAL::orientation(start, c, t->point()) != CGAL::NEGATIVE)
+            return false;
           return split(s, t);
         }
         if (cdt_.is_infinite(next)) return false;
@@ -324,14 +330,19 @@ template <class K, class CDT> class PatchRefiner {
     if (!(lt == CDT::FACE || (lt == CDT::EDGE && !located->is_constrained(li))) || !inside(located)) return false;
     const int nesting = located->info().nesting;
     const VH w = cdt_.insert(c, lt, located, li);
-    w->info() = patch_.points.size();
-    patch_.points.push_back(lifted<K>(patch_, c));
-    patch_.in_a.push_back(1);
-    patch_.in_b.push_back(1);
+    add_point(w, lifted<K>(patch_, c));
     ++patch_.steiner_points;
     --budget_;
     after_insertion(w, [&](FH) { return nesting; });  // the conflict zone ends at constraints
     return false;
+  }
+
+  /// A point inserted (a vertex of both meshes).
+  void add_point(VH w, const typename K::Point_3& p) {
+    w->info() = patch_.points.size();
+    patch_.points.push_back(p);
+    patch_.in_a.push_back(1);
+    patch_.in_b.push_back(1);
   }
 
   /// After inserting w: the nesting of its faces, its bad faces queued, the constraints it may
@@ -394,15 +405,15 @@ bool triangulate(Patch<K>& patch, double expected_area, const FlatContactOptions
     }
   try {
     for (const auto& [i, j] : patch.constraints) cdt.insert_constraint(handle[i], handle[j]);
-  } catch (...) {  // constraints that cross (Exact_predicates_tag constructs no intersection)
-    why = "its constraints cross";
+  } catch (...) {  // (no exception is expected: Exact_predicates_tag inserts crossings as points,
+    why = "its constraints cross";  // which the test below finds)
     return false;
   }
   for (const auto& [i, j] : patch.constraints) {
     FH f;
     int k;
     if (!cdt.is_edge(handle[i], handle[j], f, k)) {
-      why = "a constraint passes through another of its points";
+      why = "a constraint passes through another of its points, or crosses another";
       return false;
     }
   }
@@ -605,9 +616,14 @@ Rebuilt<K> rebuilt(const Mesh<K>& mesh, const FaceCorners<K>& fc, const std::vec
   std::vector<typename K::Point_3> point_of;
   for (V v : mesh.vertices()) point_of.push_back(mesh.point(v));
   const std::size_t n = point_of.size();
-  const auto [source, has_source] = mesh.template property_map<F, std::uint32_t>(source_face_property);
-  const auto [is_new, has_new] = mesh.template property_map<F, bool>(new_face_property);
-  const auto [frozen, has_frozen] = mesh.template property_map<F, bool>(frozen_face_property);
+  // Not structured bindings: C++17 lambdas cannot capture those (Clang refuses).
+  const auto source_map = mesh.template property_map<F, std::uint32_t>(source_face_property);
+  const auto new_map = mesh.template property_map<F, bool>(new_face_property);
+  const auto frozen_map = mesh.template property_map<F, bool>(frozen_face_property);
+  const auto& source = source_map.first;
+  const auto& is_new = new_map.first;
+  const auto& frozen = frozen_map.first;
+  const bool has_source = source_map.second, has_new = new_map.second, has_frozen = frozen_map.second;
   std::vector<std::vector<std::size_t>> faces_of(patches.size());
   for (auto f : mesh.faces()) {
     const long p = patch_of_face[std::size_t(f)];
@@ -759,9 +775,13 @@ template <class K> class FlatContactUnifier {
     const std::size_t new_points = stats.steiner_points + stats.border_splits;
     stats.points_dropped = (a_.number_of_vertices() + new_points - a2.mesh.number_of_vertices()) +
                            (b_.number_of_vertices() + new_points - b2.mesh.number_of_vertices());
-    update_curves(a2, b2, unified);
+    ContactCurvesData updated = updated_curves(a2, b2, unified);
+    // Nothing was changed before this point (an InternalError above leaves all as it was).
     a_ = std::move(a2.mesh);
     b_ = std::move(b2.mesh);
+    curves_.curves = std::move(updated.curves);
+    curves_.vertices_a = std::move(updated.vertices_a);
+    curves_.vertices_b = std::move(updated.vertices_b);
     return stats;
   }
 
@@ -917,8 +937,14 @@ template <class K> class FlatContactUnifier {
     }
   }
 
+  struct ContactCurvesData {
+    std::vector<Polyline<K>> curves;
+    std::vector<std::vector<V>> vertices_a, vertices_b;
+  };
+
   /// The curves after the rebuild: vertices renumbered, the split points inserted (in both).
-  void update_curves(const Rebuilt<K>& ra, const Rebuilt<K>& rb, const std::vector<char>& unified) {
+  ContactCurvesData updated_curves(const Rebuilt<K>& ra, const Rebuilt<K>& rb, const std::vector<char>& unified) const {
+    ContactCurvesData out{curves_.curves, curves_.vertices_a, curves_.vertices_b};
     auto renumber = [](std::vector<std::vector<V>>& curves, const std::vector<V>& map) {
       for (auto& curve : curves)
         for (auto& v : curve) {
@@ -927,8 +953,8 @@ template <class K> class FlatContactUnifier {
           v = map[std::size_t(v)];
         }
     };
-    renumber(curves_.vertices_a, ra.vertex_of_old);
-    renumber(curves_.vertices_b, rb.vertex_of_old);
+    renumber(out.vertices_a, ra.vertex_of_old);
+    renumber(out.vertices_b, rb.vertex_of_old);
     // Each split segment by its vertices in A: its patch, its ends in A and B, its split points.
     struct Chain {
       std::size_t patch;
@@ -946,11 +972,11 @@ template <class K> class FlatContactUnifier {
             p, a, {in_b[segment.first], in_b[segment.second]}, std::move(points)};
       }
     }
-    if (chains.empty()) return;
-    for (std::size_t c = 0; c < curves_.curves.size(); ++c) {
-      const auto& points = curves_.curves[c];
-      const auto& va = curves_.vertices_a[c];
-      const auto& vb = curves_.vertices_b[c];
+    if (chains.empty()) return out;
+    for (std::size_t c = 0; c < out.curves.size(); ++c) {
+      const auto& points = out.curves[c];
+      const auto& va = out.vertices_a[c];
+      const auto& vb = out.vertices_b[c];
       Polyline<K> new_points;
       std::vector<V> new_va, new_vb;
       for (std::size_t k = 0; k < points.size(); ++k) {
@@ -972,10 +998,11 @@ template <class K> class FlatContactUnifier {
           new_vb.push_back(rb.vertex_of_point[chain.patch][i]);
         }
       }
-      curves_.curves[c] = std::move(new_points);
-      curves_.vertices_a[c] = std::move(new_va);
-      curves_.vertices_b[c] = std::move(new_vb);
+      out.curves[c] = std::move(new_points);
+      out.vertices_a[c] = std::move(new_va);
+      out.vertices_b[c] = std::move(new_vb);
     }
+    return out;
   }
 
   /// 4. Triangulates each patch whose borders agree; per patch, whether it was.
@@ -1041,7 +1068,17 @@ FlatContactStats unify_flat_contacts(Mesh<K>& a, Mesh<K>& b, ContactCurves<K> cu
   if (a.has_garbage() || b.has_garbage()) throw InternalError("flat contacts: a mesh has garbage");
   if (curves.vertices_a.size() != curves.curves.size() || curves.vertices_b.size() != curves.curves.size())
     throw InternalError("flat contacts: the curves' vertices do not match the curves");
-  return FlatContactUnifier<K>(a, b, curves, options).run();
+  try {
+    return FlatContactUnifier<K>(a, b, curves, options).run();
+  } catch (const InternalError& e) {
+    if (!(options.min_angle_deg > 0)) throw;
+    // The refined triangulations did not fit (nothing was changed): the plain ones.
+    FlatContactOptions plain = options;
+    plain.min_angle_deg = 0;
+    FlatContactStats stats = FlatContactUnifier<K>(a, b, curves, plain).run();
+    stats.refinement_failed = e.what();
+    return stats;
+  }
 }
 
 template FlatContactStats unify_flat_contacts<Exact>(Mesh<Exact>&, Mesh<Exact>&, ContactCurves<Exact>,

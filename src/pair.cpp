@@ -230,6 +230,8 @@ void unify_contacts(Mesh<K>& a, Mesh<K>& b, PairResult<K>& result, const interna
   st.contact_points_dropped = fc.points_dropped;
   st.contact_faces_below_bound = fc.shared_faces_below_bound;
   if (fc.patches_left > 0) st.note += (st.note.empty() ? "" : "; ") + fc.first_left;
+  if (!fc.refinement_failed.empty())
+    st.note += (st.note.empty() ? "" : "; ") + ("flat contacts not refined: " + fc.refinement_failed);
   st.stage_seconds["flat_contacts"] = seconds_since(t);
 }
 

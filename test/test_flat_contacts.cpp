@@ -69,14 +69,16 @@ std::set<std::array<std::array<double, 3>, 3>> face_set(const Mesh& m) {
 }
 
 /// Every curve point is the point of its vertex in the mesh, every segment an edge.
-void require_curves_embedded(const Mesh& m, const std::vector<seam::Polyline<K>>& curves,
-                             const std::vector<std::vector<V>>& vertices) {
+template <class KK>
+void require_curves_embedded(const seam::Mesh<KK>& m, const std::vector<seam::Polyline<KK>>& curves,
+                             const std::vector<std::vector<typename seam::Mesh<KK>::Vertex_index>>& vertices) {
   REQUIRE(curves.size() == vertices.size());
   for (std::size_t c = 0; c < curves.size(); ++c) {
     REQUIRE(curves[c].size() == vertices[c].size());
     for (std::size_t k = 0; k < curves[c].size(); ++k) {
       CHECK(m.point(vertices[c][k]) == curves[c][k]);
-      if (k + 1 < curves[c].size()) CHECK(m.halfedge(vertices[c][k], vertices[c][k + 1]) != Mesh::null_halfedge());
+      if (k + 1 < curves[c].size())
+        CHECK(m.halfedge(vertices[c][k], vertices[c][k + 1]) != seam::Mesh<KK>::null_halfedge());
     }
   }
 }
@@ -122,8 +124,8 @@ TEST_CASE("flat contacts: two fans of one rectangle become one refined triangula
   // The splits are curve points in both, in order along the border.
   CHECK(stats.border_splits > 0);
   CHECK(curves[0].size() == curve_points_before + stats.border_splits);
-  require_curves_embedded(a, curves, va);
-  require_curves_embedded(b, curves, vb);
+  require_curves_embedded<K>(a, curves, va);
+  require_curves_embedded<K>(b, curves, vb);
 }
 
 TEST_CASE("flat contacts: a split border edge cuts the faces beyond it in each mesh within their plane",
@@ -174,12 +176,77 @@ TEST_CASE("flat contacts: a split border edge cuts the faces beyond it in each m
     if (p.z() > 0 || q.z() > 0 || r.z() > 0)
       for (const P& x : {p, q, r}) CHECK(CGAL::coplanar(x, P(0, 0, 0), P(1, 0, 0), P(0.5, -0.1, 1)));
   }
-  require_curves_embedded(a, curves, va);
-  require_curves_embedded(b, curves, vb);
+  require_curves_embedded<K>(a, curves, va);
+  require_curves_embedded<K>(b, curves, vb);
   // The contact is one triangulation in both, refined to the bound.
   std::size_t shared = 0;
   const auto faces_b = face_set(b);
   for (const auto& t : face_set(a)) shared += faces_b.count(t);
   CHECK(shared == stats.shared_faces);
   CHECK(stats.shared_faces_below_bound == 0);
+}
+
+TEST_CASE("flat contacts: under the filtered kernel, with coordinates whose middles round off the segments, the "
+          "faces beyond stay in their planes and turned as they were",
+          "[flat_contacts]") {
+  using KF = seam::Filtered;
+  using MF = seam::Mesh<KF>;
+  using PF = KF::Point_3;
+  using VF = MF::Vertex_index;
+  // The second case's thin rectangle, turned in its plane and moved to coordinates without short
+  // binary expansions: the middles of its sides round off them.
+  const double x0 = 0.1234567891234, y0 = 0.3141592653589, w = 1.0 / 3, h = 0.0712345678901;
+  const double c = std::cos(0.4321), s = std::sin(0.4321);
+  auto at = [&](double along, double across, double z) {
+    return PF(x0 + along * c - across * s, y0 + along * s + across * c, z);
+  };
+  auto rectangle = [&](MF& m, double cx) {
+    std::vector<VF> border = {m.add_vertex(at(0, 0, 0)), m.add_vertex(at(w, 0, 0)), m.add_vertex(at(w, h, 0)),
+                              m.add_vertex(at(0, h, 0))};
+    const VF centre = m.add_vertex(at(cx * w, h / 2, 0));
+    for (std::size_t k = 0; k < 4; ++k) m.add_face(centre, border[k], border[(k + 1) % 4]);
+    return border;
+  };
+  MF a, b;
+  const auto border_a = rectangle(a, 0.3), border_b = rectangle(b, 0.7);
+  const PF apex_a = at(w / 2, -h, 0.4), apex_b = at(w / 2, -h, -0.4);
+  a.add_face(border_a[1], border_a[0], a.add_vertex(apex_a));
+  b.add_face(border_b[1], border_b[0], b.add_vertex(apex_b));
+  const auto normal_a = CGAL::normal(a.point(border_a[1]), a.point(border_a[0]), apex_a);
+  const auto normal_b = CGAL::normal(b.point(border_b[1]), b.point(border_b[0]), apex_b);
+  std::vector<seam::Polyline<KF>> curves(1);
+  std::vector<std::vector<VF>> va(1), vb(1);
+  for (std::size_t k = 0; k <= 4; ++k) {
+    curves[0].push_back(a.point(border_a[k % 4]));
+    va[0].push_back(border_a[k % 4]);
+    vb[0].push_back(border_b[k % 4]);
+  }
+  seam::internal::FlatContactOptions options;
+  options.min_angle_deg = 20;
+  options.feature_size = 0.001;
+  const auto stats = seam::internal::unify_flat_contacts<KF>(a, b, {curves, va, vb}, options);
+  REQUIRE(stats.patches == 1);
+  CHECK(stats.refinement_failed.empty());
+  CHECK(CGAL::is_valid_polygon_mesh(a));
+  CHECK(CGAL::is_valid_polygon_mesh(b));
+  // Every face beyond the contact (a corner off the plane) lies in its plane, turned as it was
+  // (exact predicates on the doubles); every face of the contact is turned like the others.
+  auto check_turns = [](const MF& m, const PF& apex, const KF::Vector_3& normal) {
+    for (auto f : m.faces()) {
+      const auto h = m.halfedge(f);
+      const PF &p = m.point(m.source(h)), &q = m.point(m.target(h)), &r = m.point(m.target(m.next(h)));
+      CHECK(!CGAL::collinear(p, q, r));
+      if (p.z() != 0 || q.z() != 0 || r.z() != 0) {
+        for (const PF& x : {p, q, r}) CHECK(CGAL::coplanar(x, p, q, apex));
+        CHECK(CGAL::cross_product(q - p, r - p) * normal > 0);
+      } else {
+        CHECK(CGAL::orientation(PF(0, 0, 0), PF(1, 0, 0), PF(0, 1, 0), PF(0, 0, 1)) ==
+              CGAL::orientation(p, q, r, PF(p.x(), p.y(), 1)));
+      }
+    }
+  };
+  check_turns(a, apex_a, normal_a);
+  check_turns(b, apex_b, normal_b);
+  require_curves_embedded<KF>(a, curves, va);
+  require_curves_embedded<KF>(b, curves, vb);
 }

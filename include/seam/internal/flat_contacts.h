@@ -82,6 +82,9 @@ struct FlatContactStats {
   /// not reproduce the patch): seam check rejects their overlaps. `first_left` says why.
   std::size_t patches_left = 0;
   std::string first_left;
+  /// Not empty: the refined triangulations did not fit into a mesh (why), and the plain ones
+  /// were made instead.
+  std::string refinement_failed;
 };
 
 struct FlatContactOptions {
@@ -100,8 +103,9 @@ template <class K> struct ContactCurves {
 };
 
 /// Unifies the flat contacts of `a` and `b` (see above) and updates `curves`. \pre both are
-/// triangle meshes without garbage; the curves where they meet are embedded in both. Throws
-/// InternalError when a triangulation does not fit into a mesh (the meshes are then unchanged).
+/// triangle meshes without garbage; the curves where they meet are embedded in both. Where the
+/// refined triangulations do not fit, the plain ones are made (FlatContactStats::refinement_failed);
+/// throws InternalError when those do not fit either (the meshes and curves are then unchanged).
 template <class K>
 FlatContactStats unify_flat_contacts(Mesh<K>& a, Mesh<K>& b, ContactCurves<K> curves, const FlatContactOptions& options);
 
