@@ -109,7 +109,7 @@ int run_pair(PairArgs& args) {
       std::cout << "; quality stage (tolerance " << st.snap_tol << "): " << st.improve.below_bound_after
                 << " of the band's faces below " << args.options.embed.min_angle_deg << " degrees ("
                 << st.improve.shortfalls.size() - flat << " new ones)";
-      if (flat > 0) std::cout << ", and " << flat << " faces of flat contacts (not refined)";
+      if (flat > 0) std::cout << ", and " << flat << " faces of flat contacts (shared by both, refined before this stage)";
     }
     if (st.curve_ends.unexplained > 0)
       std::cout << "; " << st.curve_ends.unexplained << " curve end(s) where the intersection is not a closed curve for no known reason";

@@ -22,14 +22,17 @@ double default_check_tolerance(const seam::TriangleSoup& a, const seam::Triangle
 }
 
 nlohmann::json improve_json(const seam::ImproveStats& s, bool done, const std::vector<std::string>& mesh_names) {
-  nlohmann::json causes = nlohmann::json::object(), faces = nlohmann::json::array();
+  nlohmann::json causes = nlohmann::json::object(), flat_reasons = nlohmann::json::object(),
+                 faces = nlohmann::json::array();
   for (const auto& f : s.shortfalls) {
-    const std::string cause = seam::shortfall_cause_name(f.cause);
+    const std::string cause = seam::shortfall_cause_name(f.cause), reason = seam::shortfall_cause_name(f.reason);
     causes[cause] = causes.value(cause, 0) + 1;
+    if (f.cause == seam::ShortfallCause::flat_contact) flat_reasons[reason] = flat_reasons.value(reason, 0) + 1;
     faces.push_back({{"mesh", f.mesh < mesh_names.size() ? mesh_names[f.mesh] : std::to_string(f.mesh)},
                      {"face", f.face},
                      {"min_angle", f.min_angle_deg},
-                     {"cause", cause}});
+                     {"cause", cause},
+                     {"reason", reason}});
   }
   return {{"done", done},
           {"band_faces", s.band_faces},
@@ -45,6 +48,7 @@ nlohmann::json improve_json(const seam::ImproveStats& s, bool done, const std::v
           {"min_angle_before", s.min_angle_deg_before},
           {"min_angle_after", s.min_angle_deg_after},
           {"shortfalls", causes},
+          {"flat_contact_reasons", flat_reasons},
           {"shortfall_faces", faces},
           {"seconds", s.seconds}};
 }

@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/errors.h>
 #include <seam/internal/certified.h>
+#include <seam/improve.h>
 #include <seam/internal/flat_contacts.h>
 #include <seam/internal/local_edits.h>
 #include <seam/internal/message.h>
@@ -132,6 +133,9 @@ template <class K> struct Patch {
   /// triangulate); those of one mesh only lie inside the patch and are dropped.
   std::vector<char> in_a, in_b;
   std::vector<std::array<std::size_t, 3>> triangles;  ///< the result, positively oriented in the projection
+  /// Per triangle below the bound (in the projection) after the refinement: 1 + why it stays
+  /// (ShortfallCause); 0 for the others.
+  std::vector<std::uint8_t> reasons;
   /// The points the refinement put on a constraint given: the constraint, and the point's place
   /// along it (0 at its first point, 1 at its second; doubles, for the order only).
   struct Split {
@@ -191,6 +195,12 @@ template <class K, class CDT> class PatchRefiner {
   PatchRefiner(CDT& cdt, Patch<K>& patch, double bound, double feature_size)
       : cdt_(cdt), patch_(patch), bound_(bound), feature_(feature_size), budget_(4 * cdt.number_of_vertices() + 64) {}
 
+  /// Why a face still below the bound stays: the reason it was left for, or the budget.
+  ShortfallCause reason(FH f) const {
+    const auto it = gave_up_.find(key(f));
+    return it != gave_up_.end() ? it->second : ShortfallCause::budget;
+  }
+
   void run() {
     for (const auto& e : cdt_.finite_edges())
       if (e.first->is_constrained(e.second)) encroach_checks_.push_back(ends(e.first, e.second));
@@ -235,18 +245,18 @@ template <class K, class CDT> class PatchRefiner {
   bool split(VH s, VH t) {
     FH f;
     int i = 0;
-    if (!cdt_.is_edge(s, t, f, i) || !f->is_constrained(i)) return false;
+    if (!cdt_.is_edge(s, t, f, i) || !f->is_constrained(i)) return refuse(ShortfallCause::shape);
     const std::size_t a = std::min(s->info(), t->info()), b = std::max(s->info(), t->info());
     const auto from = original_.find({a, b});
     const Segment original = from != original_.end() ? from->second : Segment{a, b};
-    if (!patch_.splittable.count(original)) return false;
+    if (!patch_.splittable.count(original)) return refuse(ShortfallCause::constraint_angle);  // (a border that stays)
     if (CGAL::to_double(CGAL::squared_distance(patch_.points[a], patch_.points[b])) < 4 * feature_ * feature_)
-      return false;
+      return refuse(ShortfallCause::feature_size);
     // The middle must lie on the segment: exact under Exact; under Filtered the middle of two
     // doubles is often rounded off it (tested exactly); under Float no test is exact: no split.
-    if constexpr (std::is_same_v<K, Float>) return false;
+    if constexpr (std::is_same_v<K, Float>) return refuse(ShortfallCause::constraint_angle);
     const typename K::Point_3 middle_3 = CGAL::midpoint(patch_.points[a], patch_.points[b]);
-    if (!CGAL::collinear(patch_.points[a], middle_3, patch_.points[b])) return false;
+    if (!CGAL::collinear(patch_.points[a], middle_3, patch_.points[b])) return refuse(ShortfallCause::constraint_angle);
     // The faces around the new point on the side of a finite face beside s-t take its nesting,
     // the others that of the face across.
     FH known = f->neighbor(i), across = f;
@@ -282,29 +292,29 @@ template <class K, class CDT> class PatchRefiner {
   bool refine_face(FH f) {
     const P2 exact_center = CGAL::circumcenter(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point());
     if (CGAL::to_double(CGAL::squared_distance(exact_center, f->vertex(0)->point())) < feature_ * feature_)
-      return false;  // forced: the corners are that close
+      return give_up(f, ShortfallCause::feature_size);  // the corners are that close
     // Rounded to doubles: a point of bounded size (its lifted coordinate is exact).
     const P2 c(CGAL::to_double(exact_center.x()), CGAL::to_double(exact_center.y()));
     // Walk from f towards c; a constraint in the way is split.
     FH at = f;
     if (cdt_.oriented_side(f, c) == CGAL::ON_NEGATIVE_SIDE) {
       const P2 start = CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point());
-      if (cdt_.oriented_side(f, start) != CGAL::ON_POSITIVE_SIDE) return false;  // (rounded: not inside f)
+      if (cdt_.oriented_side(f, start) != CGAL::ON_POSITIVE_SIDE) return give_up(f, ShortfallCause::shape);  // (rounded: not inside f)
       auto walk = cdt_.line_walk(start, c, f);
       FH previous = walk;
       for (std::size_t steps = 0;; ++steps) {
         ++walk;
         const FH next = walk;
-        if (next == FH() || steps > 10000 || !previous->has_neighbor(next)) return false;  // (through a vertex)
+        if (next == FH() || steps > 10000 || !previous->has_neighbor(next)) return give_up(f, ShortfallCause::shape);  // (through a vertex)
         const int k = previous->index(next);
         if (previous->is_constrained(k)) {
           const auto [s, t] = ends(previous, k);
           // Crossed, not touched at an end (the line through a vertex): its ends on either side.
           if (CGAL::orientation(start, c, s->point()) * CGAL::orientation(start, c, t->point()) != CGAL::NEGATIVE)
-            return false;
-          return split(s, t);
+            return give_up(f, ShortfallCause::shape);
+          return split(s, t) || give_up(f, refused_);
         }
-        if (cdt_.is_infinite(next)) return false;
+        if (cdt_.is_infinite(next)) return give_up(f, ShortfallCause::shape);
         if (cdt_.oriented_side(next, c) != CGAL::ON_NEGATIVE_SIDE) {
           at = next;
           break;
@@ -312,7 +322,7 @@ template <class K, class CDT> class PatchRefiner {
         previous = next;
       }
     }
-    if (!inside(at)) return false;
+    if (!inside(at)) return give_up(f, ShortfallCause::shape);
     // A constraint of c's conflict zone that c encroaches is split instead.
     zone_.clear();
     cdt_.get_conflicts(c, std::back_inserter(zone_), at);
@@ -320,14 +330,14 @@ template <class K, class CDT> class PatchRefiner {
       for (int i = 0; i < 3; ++i)
         if (g->is_constrained(i)) {
           const auto [s, t] = ends(g, i);
-          if (encroaches(c, s, t)) return split(s, t);
+          if (encroaches(c, s, t)) return split(s, t) || give_up(f, refused_);
         }
     for (int i = 0; i < 3; ++i)  // (rounding moved c: keep the distance to the corners)
-      if (CGAL::to_double(CGAL::squared_distance(c, at->vertex(i)->point())) < feature_ * feature_) return false;
+      if (CGAL::to_double(CGAL::squared_distance(c, at->vertex(i)->point())) < feature_ * feature_) return give_up(f, ShortfallCause::feature_size);
     typename CDT::Locate_type lt;
     int li = 0;
     const FH located = cdt_.locate(c, lt, li, at);
-    if (!(lt == CDT::FACE || (lt == CDT::EDGE && !located->is_constrained(li))) || !inside(located)) return false;
+    if (!(lt == CDT::FACE || (lt == CDT::EDGE && !located->is_constrained(li))) || !inside(located)) return give_up(f, ShortfallCause::shape);
     const int nesting = located->info().nesting;
     const VH w = cdt_.insert(c, lt, located, li);
     add_point(w, lifted<K>(patch_, c));
@@ -335,6 +345,22 @@ template <class K, class CDT> class PatchRefiner {
     --budget_;
     after_insertion(w, [&](FH) { return nesting; });  // the conflict zone ends at constraints
     return false;
+  }
+
+  /// A split refused, and why (refused_).
+  bool refuse(ShortfallCause why) {
+    refused_ = why;
+    return false;
+  }
+  /// A bad face left as it is, and why.
+  bool give_up(FH f, ShortfallCause why) {
+    gave_up_[key(f)] = why;
+    return false;
+  }
+  static std::array<std::size_t, 3> key(FH f) {
+    std::array<std::size_t, 3> k = {f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()};
+    std::sort(k.begin(), k.end());
+    return k;
   }
 
   /// A point inserted (a vertex of both meshes).
@@ -369,6 +395,8 @@ template <class K, class CDT> class PatchRefiner {
   std::deque<std::array<VH, 3>> bad_faces_;
   std::map<Segment, Segment> original_;  ///< a piece of a split constraint -> the constraint given
   std::vector<FH> zone_;
+  ShortfallCause refused_ = ShortfallCause::constraint_angle;  ///< why the last split was refused
+  std::map<std::array<std::size_t, 3>, ShortfallCause> gave_up_;  ///< bad faces left, by sorted corners
 };
 
 /// The constrained Delaunay triangulation of the patch, projected along its axis: its points of
@@ -453,15 +481,22 @@ bool triangulate(Patch<K>& patch, double expected_area, const FlatContactOptions
     const FH n = e.first->neighbor(e.second);
     if (n->info().nesting == -1) flood(n, e.first->info().nesting + 1);
   }
-  if (options.min_angle_deg > 0) PatchRefiner<K, CDT>(cdt, patch, options.min_angle_deg, options.feature_size).run();
+  std::optional<PatchRefiner<K, CDT>> refiner;
+  if (options.min_angle_deg > 0) {
+    refiner.emplace(cdt, patch, options.min_angle_deg, options.feature_size);
+    refiner->run();
+  }
   double area = 0;
   for (FH f : cdt.finite_face_handles()) {
     if (f->info().nesting % 2 != 1) continue;
     std::array<std::size_t, 3> t;
     for (int i = 0; i < 3; ++i) t[i] = f->vertex(i)->info();
     patch.triangles.push_back(t);
-    if (min_angle_2(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()) < options.min_angle_deg)
+    patch.reasons.push_back(0);
+    if (refiner && min_angle_2(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()) < options.min_angle_deg) {
       ++patch.below_bound;
+      patch.reasons.back() = std::uint8_t(1 + int(refiner->reason(f)));
+    }
     const auto p = to_filtered(patch.points[t[0]]), q = to_filtered(patch.points[t[1]]),
                r = to_filtered(patch.points[t[2]]);
     area += std::abs((q[u] - p[u]) * (r[v] - p[v]) - (q[v] - p[v]) * (r[u] - p[u])) / 2;
@@ -531,13 +566,14 @@ void emit_patch(const Patch<K>& patch, const std::vector<std::size_t>& ids, cons
     const auto d = to_filtered(q);
     return std::array<double, 2>{d[kept[0]], d[kept[1]]};
   };
-  for (const auto& t : patch.triangles) {
+  for (std::size_t n = 0; n < patch.triangles.size(); ++n) {
+    const auto& t = patch.triangles[n];
     std::array<Id, 3> tri = {ids[t[0]], ids[t[1]], ids[t[2]]};
     if (reverse) std::swap(tri[1], tri[2]);
     auto key = tri;
     std::sort(key.begin(), key.end());
     if (const auto it = existing.find(key); it != existing.end()) {
-      emit(tri, it->second, true);
+      emit(tri, it->second, true, patch.reasons[n]);
       continue;
     }
     const auto a = projected(patch.points[t[0]]), b = projected(patch.points[t[1]]), c = projected(patch.points[t[2]]);
@@ -556,7 +592,7 @@ void emit_patch(const Patch<K>& patch, const std::vector<std::size_t>& ids, cons
       if (inside > best) best = inside, origin = g;
       if (inside >= 0) break;
     }
-    emit(tri, origin, false);
+    emit(tri, origin, false, patch.reasons[n]);
   }
 }
 
@@ -658,7 +694,10 @@ Rebuilt<K> rebuilt(const Mesh<K>& mesh, const FaceCorners<K>& fc, const std::vec
   std::vector<std::array<Id, 3>> triangles;
   std::vector<std::uint32_t> from;
   std::vector<char> added, shared, frozen_mark;
-  auto emit = [&](const std::array<Id, 3>& t, std::uint32_t source_face, bool is_added, bool is_shared, bool is_frozen) {
+  std::vector<std::uint8_t> reason;
+  auto emit = [&](const std::array<Id, 3>& t, std::uint32_t source_face, bool is_added, bool is_shared, bool is_frozen,
+                  std::uint8_t why = 0) {
+    reason.push_back(why);
     triangles.push_back(t);
     from.push_back(source_face);
     added.push_back(is_added);
@@ -693,10 +732,12 @@ Rebuilt<K> rebuilt(const Mesh<K>& mesh, const FaceCorners<K>& fc, const std::vec
     const std::size_t p = std::size_t(pi);
     if (emitted[p]) continue;
     emitted[p] = 1;
-    emit_patch(patches[p], ids[p], faces_of[p], fc, [&](const std::array<Id, 3>& t, std::size_t origin, bool unchanged) {
-      const F g(static_cast<typename F::size_type>(origin));
-      emit(t, has_source ? source[g] : std::uint32_t(origin), !unchanged || (has_new && is_new[g]), true, false);
-    });
+    emit_patch(patches[p], ids[p], faces_of[p], fc,
+               [&](const std::array<Id, 3>& t, std::size_t origin, bool unchanged, std::uint8_t why) {
+                 const F g(static_cast<typename F::size_type>(origin));
+                 emit(t, has_source ? source[g] : std::uint32_t(origin), !unchanged || (has_new && is_new[g]), true,
+                      false, why);
+               });
   }
   // The points some triangle uses, in order, as the vertices of the result.
   std::vector<char> used(point_of.size(), 0);
@@ -722,6 +763,7 @@ Rebuilt<K> rebuilt(const Mesh<K>& mesh, const FaceCorners<K>& fc, const std::vec
   auto out_source = out.mesh.template add_property_map<F, std::uint32_t>(source_face_property, 0).first;
   auto out_new = out.mesh.template add_property_map<F, bool>(new_face_property, false).first;
   auto out_shared = out.mesh.template add_property_map<F, bool>(shared_face_property, false).first;
+  auto out_reason = out.mesh.template add_property_map<F, std::uint8_t>(shared_reason_property, 0).first;
   const bool any_frozen = std::any_of(frozen_mark.begin(), frozen_mark.end(), [](char c) { return c != 0; });
   std::optional<typename M::template Property_map<F, bool>> out_frozen;
   if (any_frozen) out_frozen = out.mesh.template add_property_map<F, bool>(frozen_face_property, false).first;
@@ -730,6 +772,7 @@ Rebuilt<K> rebuilt(const Mesh<K>& mesh, const FaceCorners<K>& fc, const std::vec
     out_source[f] = from[i];
     out_new[f] = added[i] != 0;
     out_shared[f] = shared[i] != 0;
+    out_reason[f] = reason[i];
     if (out_frozen) (*out_frozen)[f] = frozen_mark[i] != 0;
   }
   return out;

@@ -4,6 +4,7 @@
 // border edge cut in their own plane.
 #include <catch2/catch.hpp>
 
+#include <seam/improve.h>
 #include <seam/internal/flat_contacts.h>
 #include <seam/kernels.h>
 #include <seam/quality.h>
@@ -249,4 +250,54 @@ TEST_CASE("flat contacts: under the filtered kernel, with coordinates whose midd
   check_turns(b, apex_b, normal_b);
   require_curves_embedded<KF>(a, curves, va);
   require_curves_embedded<KF>(b, curves, vb);
+}
+
+TEST_CASE("flat contacts: faces a sharp corner of the border forces below the bound stay there, each with its reason",
+          "[flat_contacts]") {
+  // A contact whose border has an 8 degree corner at the origin (a triangle, its sides curves),
+  // fanned from different inner points in A and B.
+  const double angle = 8 * 3.14159265358979 / 180;
+  const std::array<P, 3> corner = {P(0, 0, 0), P(1, 0, 0), P(std::cos(angle), std::sin(angle), 0)};
+  auto fan = [&](Mesh& m, double along) {
+    std::vector<V> border;
+    for (const P& p : corner) border.push_back(m.add_vertex(p));
+    const V centre = m.add_vertex(P(along, along * std::tan(angle / 2), 0));
+    for (std::size_t k = 0; k < 3; ++k) m.add_face(centre, border[k], border[(k + 1) % 3]);
+    return border;
+  };
+  Mesh a, b;
+  const auto border_a = fan(a, 0.6), border_b = fan(b, 0.8);
+  std::vector<seam::Polyline<K>> curves(1);
+  std::vector<std::vector<V>> va(1), vb(1);
+  for (std::size_t k = 0; k <= 3; ++k) {
+    curves[0].push_back(corner[k % 3]);
+    va[0].push_back(border_a[k % 3]);
+    vb[0].push_back(border_b[k % 3]);
+  }
+  seam::internal::FlatContactOptions options;
+  options.min_angle_deg = 20;
+  options.feature_size = 0.005;
+  const auto stats = seam::internal::unify_flat_contacts<K>(a, b, {curves, va, vb}, options);
+  REQUIRE(stats.patches == 1);
+  CHECK(face_set(a) == face_set(b));
+  const auto [reason, has_reason] = a.property_map<Mesh::Face_index, std::uint8_t>(seam::internal::shared_reason_property);
+  REQUIRE(has_reason);
+  std::size_t below = 0;
+  for (auto f : a.faces()) {
+    const auto h = a.halfedge(f);
+    const auto p = seam::to_filtered(a.point(a.source(h))), q = seam::to_filtered(a.point(a.target(h))),
+               r = seam::to_filtered(a.point(a.target(a.next(h))));
+    if (seam::min_angle_deg(p, q, r) >= 20) continue;
+    ++below;
+    // Forced by the corner: near it, and said so (two constraints meeting there, or points as
+    // close as the feature size).
+    const double from_corner = std::sqrt(CGAL::squared_distance(CGAL::centroid(p, q, r), seam::Filtered::Point_3(0, 0, 0)));
+    CHECK(from_corner < 0.5);
+    const int why = int(reason[f]) - 1;
+    CHECK((why == int(seam::ShortfallCause::constraint_angle) || why == int(seam::ShortfallCause::feature_size)));
+  }
+  CHECK(below > 0);
+  CHECK(below == stats.shared_faces_below_bound);
+  require_curves_embedded<K>(a, curves, va);
+  require_curves_embedded<K>(b, curves, vb);
 }

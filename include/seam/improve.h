@@ -142,6 +142,10 @@ struct Shortfall {
   std::size_t face = 0;  ///< face index in the output mesh
   double min_angle_deg = 0;
   ShortfallCause cause = ShortfallCause::constraint_angle;
+  /// For a flat_contact face: why the contact's refinement (internal/flat_contacts.h) left it,
+  /// constraint_angle, feature_size, shape or budget as above, or flat_contact where it meets the
+  /// bound in the projection that refinement works in. For the others: `cause`.
+  ShortfallCause reason = ShortfallCause::constraint_angle;
 };
 
 struct ImproveStats {

@@ -3,6 +3,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 
 #include <seam/errors.h>
+#include <seam/internal/flat_contacts.h>
 #include <seam/internal/improve_state.h>
 #include <seam/quality.h>
 
@@ -746,15 +747,20 @@ template <class K> Outcome Refiner<K>::insert_at(std::size_t m, F g, const FP& a
 /// The faces of the band below the bound, with their causes, and the new faces of flat contacts
 /// below it (after the meshes' garbage went).
 template <class K> void classify(ImproveState<K>& s) {
+  using F = typename Mesh<K>::Face_index;
   s.stats.min_angle_deg_after = 180;
   bool any = false;
   for (std::size_t m = 0; m < s.meshes.size(); ++m) {
     const auto& ms = s.meshes[m];
+    const auto [reason, has_reason] = ms.mesh->template property_map<F, std::uint8_t>(shared_reason_property);
     for (auto f : ms.mesh->faces()) {
       if (!ms.band[f]) {  // left as it is; a new face of a flat contact is counted as such
         if (ms.has_shared && ms.shared[f] && ms.is_new[f])
-          if (const double a = face_min_angle<K>(s, m, f); a < s.options.min_angle_deg)
-            s.stats.shortfalls.push_back({m, std::size_t(f), a, ShortfallCause::flat_contact});
+          if (const double a = face_min_angle<K>(s, m, f); a < s.options.min_angle_deg) {
+            const std::uint8_t why = has_reason ? reason[f] : 0;
+            s.stats.shortfalls.push_back({m, std::size_t(f), a, ShortfallCause::flat_contact,
+                                          why ? ShortfallCause(why - 1) : ShortfallCause::flat_contact});
+          }
         continue;
       }
       const double a = face_min_angle<K>(s, m, f);
@@ -766,7 +772,7 @@ template <class K> void classify(ImproveState<K>& s) {
       const ShortfallCause cause = a >= s.target_angle(m, f) ? ShortfallCause::input_angle
                                    : ms.cause[f]             ? ShortfallCause(ms.cause[f] - 1)
                                                              : ShortfallCause::budget;
-      s.stats.shortfalls.push_back({m, std::size_t(f), a, cause});
+      s.stats.shortfalls.push_back({m, std::size_t(f), a, cause, cause});
     }
   }
   if (!any) s.stats.min_angle_deg_after = 0;

@@ -69,6 +69,13 @@
 
 namespace seam::internal {
 
+/// Face property of both meshes: per shared face below the angle bound after its contact's
+/// refinement, 1 + the ShortfallCause it stays for (std::uint8_t; 0: none recorded):
+/// constraint_angle (a border that may not be split, or two constraints meeting at a small
+/// angle), feature_size (corners or a segment too close to refine), shape (a degenerate step),
+/// budget. A face at the bound in the projection but below it in 3D has none.
+inline constexpr const char* shared_reason_property = "f:seam_shared_reason";
+
 /// (The faces made get shared_face_property, seam/internal/local_edits.h.)
 struct FlatContactStats {
   std::size_t patches = 0;       ///< planar contact patches made one common triangulation
