@@ -84,6 +84,28 @@ void require_curves_embedded(const seam::Mesh<KK>& m, const std::vector<seam::Po
   }
 }
 
+/// The closed curve through A's border vertices (B's at the same places), and the refinement of
+/// the contact to 20 degrees with it.
+template <class KK> struct ClosedBorder {
+  using VV = typename seam::Mesh<KK>::Vertex_index;
+  std::vector<seam::Polyline<KK>> curves = std::vector<seam::Polyline<KK>>(1);
+  std::vector<std::vector<VV>> va = std::vector<std::vector<VV>>(1), vb = std::vector<std::vector<VV>>(1);
+  ClosedBorder(const seam::Mesh<KK>& a, const std::vector<VV>& border_a, const std::vector<VV>& border_b) {
+    for (std::size_t k = 0; k <= border_a.size(); ++k) {
+      const std::size_t i = k % border_a.size();
+      curves[0].push_back(a.point(border_a[i]));
+      va[0].push_back(border_a[i]);
+      vb[0].push_back(border_b[i]);
+    }
+  }
+  seam::internal::FlatContactStats unify(seam::Mesh<KK>& a, seam::Mesh<KK>& b, double feature_size) {
+    seam::internal::FlatContactOptions options;
+    options.min_angle_deg = 20;
+    options.feature_size = feature_size;
+    return seam::internal::unify_flat_contacts<KK>(a, b, {curves, va, vb}, options);
+  }
+};
+
 double area(const Mesh& m) { return CGAL::to_double(CGAL::Polygon_mesh_processing::area(m)); }
 
 }  // namespace
@@ -96,19 +118,9 @@ TEST_CASE("flat contacts: two fans of one rectangle become one refined triangula
   const auto border_b = add_rectangle_fan(b, 6, {0.9, 0.28}, 0.3);
   REQUIRE(smallest_angle(a) < 10);
   // The border is the one curve both hold (closed: the first point repeated).
-  std::vector<seam::Polyline<K>> curves(1);
-  std::vector<std::vector<V>> va(1), vb(1);
-  for (std::size_t k = 0; k <= border_a.size(); ++k) {
-    const std::size_t i = k % border_a.size();
-    curves[0].push_back(a.point(border_a[i]));
-    va[0].push_back(border_a[i]);
-    vb[0].push_back(border_b[i]);
-  }
-  const std::size_t curve_points_before = curves[0].size();
-  seam::internal::FlatContactOptions options;
-  options.min_angle_deg = 20;
-  options.feature_size = 0.01;
-  const auto stats = seam::internal::unify_flat_contacts<K>(a, b, {curves, va, vb}, options);
+  ClosedBorder<K> border(a, border_a, border_b);
+  const std::size_t curve_points_before = border.curves[0].size();
+  const auto stats = border.unify(a, b, 0.01);
   CHECK(stats.patches == 1);
   CHECK(stats.patches_left == 0);
   CHECK(stats.points_dropped == 2);  // the fans' centres: points of one mesh only
@@ -124,9 +136,9 @@ TEST_CASE("flat contacts: two fans of one rectangle become one refined triangula
   CHECK(smallest_angle(a) >= 20.0);
   // The splits are curve points in both, in order along the border.
   CHECK(stats.border_splits > 0);
-  CHECK(curves[0].size() == curve_points_before + stats.border_splits);
-  require_curves_embedded<K>(a, curves, va);
-  require_curves_embedded<K>(b, curves, vb);
+  CHECK(border.curves[0].size() == curve_points_before + stats.border_splits);
+  require_curves_embedded<K>(a, border.curves, border.va);
+  require_curves_embedded<K>(b, border.curves, border.vb);
 }
 
 TEST_CASE("flat contacts: a split border edge cuts the faces beyond it in each mesh within their plane",
@@ -139,18 +151,8 @@ TEST_CASE("flat contacts: a split border edge cuts the faces beyond it in each m
   a.add_face(border_a[1], border_a[0], a.add_vertex(P(0.5, -0.1, 1)));
   b.add_face(border_b[1], border_b[0], b.add_vertex(P(0.5, -0.1, -1)));
   const double area_a = area(a), area_b = area(b);
-  std::vector<seam::Polyline<K>> curves(1);
-  std::vector<std::vector<V>> va(1), vb(1);
-  for (std::size_t k = 0; k <= border_a.size(); ++k) {
-    const std::size_t i = k % border_a.size();
-    curves[0].push_back(a.point(border_a[i]));
-    va[0].push_back(border_a[i]);
-    vb[0].push_back(border_b[i]);
-  }
-  seam::internal::FlatContactOptions options;
-  options.min_angle_deg = 20;
-  options.feature_size = 0.01;
-  const auto stats = seam::internal::unify_flat_contacts<K>(a, b, {curves, va, vb}, options);
+  ClosedBorder<K> border(a, border_a, border_b);
+  const auto stats = border.unify(a, b, 0.01);
   REQUIRE(stats.patches == 1);
   CHECK(CGAL::is_valid_polygon_mesh(a));
   CHECK(CGAL::is_valid_polygon_mesh(b));
@@ -166,7 +168,7 @@ TEST_CASE("flat contacts: a split border edge cuts the faces beyond it in each m
       if (b.point(v).z() < 0) ++beyond_b;
   // Each face beyond has its apex off the plane; a split of y = 0 made more of them.
   std::size_t splits_on_side = 0;
-  for (const auto& p : curves[0])
+  for (const auto& p : border.curves[0])
     if (p.y() == 0 && p.x() > 0 && p.x() < 1) ++splits_on_side;
   CHECK(splits_on_side > 0);
   CHECK(beyond_a == splits_on_side + 1);
@@ -177,8 +179,8 @@ TEST_CASE("flat contacts: a split border edge cuts the faces beyond it in each m
     if (p.z() > 0 || q.z() > 0 || r.z() > 0)
       for (const P& x : {p, q, r}) CHECK(CGAL::coplanar(x, P(0, 0, 0), P(1, 0, 0), P(0.5, -0.1, 1)));
   }
-  require_curves_embedded<K>(a, curves, va);
-  require_curves_embedded<K>(b, curves, vb);
+  require_curves_embedded<K>(a, border.curves, border.va);
+  require_curves_embedded<K>(b, border.curves, border.vb);
   // The contact is one triangulation in both, refined to the bound.
   std::size_t shared = 0;
   const auto faces_b = face_set(b);
@@ -215,17 +217,8 @@ TEST_CASE("flat contacts: under the filtered kernel, with coordinates whose midd
   b.add_face(border_b[1], border_b[0], b.add_vertex(apex_b));
   const auto normal_a = CGAL::normal(a.point(border_a[1]), a.point(border_a[0]), apex_a);
   const auto normal_b = CGAL::normal(b.point(border_b[1]), b.point(border_b[0]), apex_b);
-  std::vector<seam::Polyline<KF>> curves(1);
-  std::vector<std::vector<VF>> va(1), vb(1);
-  for (std::size_t k = 0; k <= 4; ++k) {
-    curves[0].push_back(a.point(border_a[k % 4]));
-    va[0].push_back(border_a[k % 4]);
-    vb[0].push_back(border_b[k % 4]);
-  }
-  seam::internal::FlatContactOptions options;
-  options.min_angle_deg = 20;
-  options.feature_size = 0.001;
-  const auto stats = seam::internal::unify_flat_contacts<KF>(a, b, {curves, va, vb}, options);
+  ClosedBorder<KF> border(a, border_a, border_b);
+  const auto stats = border.unify(a, b, 0.001);
   REQUIRE(stats.patches == 1);
   CHECK(stats.refinement_failed.empty());
   CHECK(CGAL::is_valid_polygon_mesh(a));
@@ -248,8 +241,8 @@ TEST_CASE("flat contacts: under the filtered kernel, with coordinates whose midd
   };
   check_turns(a, apex_a, normal_a);
   check_turns(b, apex_b, normal_b);
-  require_curves_embedded<KF>(a, curves, va);
-  require_curves_embedded<KF>(b, curves, vb);
+  require_curves_embedded<KF>(a, border.curves, border.va);
+  require_curves_embedded<KF>(b, border.curves, border.vb);
 }
 
 TEST_CASE("flat contacts: faces a sharp corner of the border forces below the bound stay there, each with its reason",
@@ -267,17 +260,8 @@ TEST_CASE("flat contacts: faces a sharp corner of the border forces below the bo
   };
   Mesh a, b;
   const auto border_a = fan(a, 0.6), border_b = fan(b, 0.8);
-  std::vector<seam::Polyline<K>> curves(1);
-  std::vector<std::vector<V>> va(1), vb(1);
-  for (std::size_t k = 0; k <= 3; ++k) {
-    curves[0].push_back(corner[k % 3]);
-    va[0].push_back(border_a[k % 3]);
-    vb[0].push_back(border_b[k % 3]);
-  }
-  seam::internal::FlatContactOptions options;
-  options.min_angle_deg = 20;
-  options.feature_size = 0.005;
-  const auto stats = seam::internal::unify_flat_contacts<K>(a, b, {curves, va, vb}, options);
+  ClosedBorder<K> border(a, border_a, border_b);
+  const auto stats = border.unify(a, b, 0.005);
   REQUIRE(stats.patches == 1);
   CHECK(face_set(a) == face_set(b));
   const auto [reason, has_reason] = a.property_map<Mesh::Face_index, std::uint8_t>(seam::internal::shared_reason_property);
@@ -298,6 +282,6 @@ TEST_CASE("flat contacts: faces a sharp corner of the border forces below the bo
   }
   CHECK(below > 0);
   CHECK(below == stats.shared_faces_below_bound);
-  require_curves_embedded<K>(a, curves, va);
-  require_curves_embedded<K>(b, curves, vb);
+  require_curves_embedded<K>(a, border.curves, border.va);
+  require_curves_embedded<K>(b, border.curves, border.vb);
 }
