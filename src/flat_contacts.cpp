@@ -630,6 +630,50 @@ std::vector<std::array<std::size_t, 3>> ear_cut(std::vector<std::size_t> polygon
   return result;
 }
 
+/// Where the points of the unified patches go in one mesh: per patch, the id of each point its
+/// triangles use (the mesh's vertex there, or a new point), and per split edge of the mesh its
+/// split points (in order from its smaller id). Ids from the mesh's number of vertices on are
+/// new points, appended to `point_of`.
+struct PatchPoints {
+  std::vector<std::vector<std::size_t>> ids;
+  std::map<std::pair<std::size_t, std::size_t>, std::vector<std::size_t>> split_edges;
+};
+
+template <class K>
+PatchPoints place_patch_points(const Mesh<K>& mesh, const FaceCorners<K>& fc,
+                               const std::vector<std::vector<std::size_t>>& faces_of,
+                               const std::vector<Patch<K>>& patches, const std::vector<char>& unified,
+                               std::vector<typename K::Point_3>& point_of) {
+  using Id = std::size_t;
+  constexpr Id none = Id(-1);
+  PatchPoints out;
+  out.ids.resize(patches.size());
+  for (std::size_t p = 0; p < patches.size(); ++p) {
+    if (!unified[p]) continue;
+    const Patch<K>& patch = patches[p];
+    auto& ids = out.ids[p];
+    std::map<typename K::Point_3, Id, PointLess> here;
+    for (std::size_t g : faces_of[p])
+      for (auto v : fc.corners[g]) here.emplace(mesh.point(v), std::size_t(v));
+    ids.assign(patch.points.size(), none);
+    for (const auto& t : patch.triangles)
+      for (std::size_t i : t) {
+        if (ids[i] != none) continue;
+        const auto it = here.find(patch.points[i]);
+        ids[i] = it != here.end() ? it->second : point_of.size();
+        if (it == here.end()) point_of.push_back(patch.points[i]);
+      }
+    for (const auto& [segment, chain] : patch.split_chains()) {
+      const Id s = ids[segment.first], t = ids[segment.second];
+      std::vector<Id> points;
+      for (std::size_t i : chain) points.push_back(ids[i]);
+      if (s > t) std::reverse(points.begin(), points.end());
+      out.split_edges[{std::min(s, t), std::max(s, t)}] = points;
+    }
+  }
+  return out;
+}
+
 /// A mesh rebuilt by `rebuilt`, and where the points went.
 template <class K> struct Rebuilt {
   using V = typename Mesh<K>::Vertex_index;
@@ -665,32 +709,9 @@ Rebuilt<K> rebuilt(const Mesh<K>& mesh, const FaceCorners<K>& fc, const std::vec
     const long p = patch_of_face[std::size_t(f)];
     if (p >= 0 && unified[std::size_t(p)]) faces_of[std::size_t(p)].push_back(std::size_t(f));
   }
-  // The id of each point of each patch's triangles (this mesh's vertex there, or a new point),
-  // and the split points of each split edge of this mesh (in order from its smaller id).
-  std::vector<std::vector<Id>> ids(patches.size());
-  std::map<std::pair<Id, Id>, std::vector<Id>> split_edges;
-  for (std::size_t p = 0; p < patches.size(); ++p) {
-    if (!unified[p]) continue;
-    const Patch<K>& patch = patches[p];
-    std::map<typename K::Point_3, Id, PointLess> here;
-    for (std::size_t g : faces_of[p])
-      for (V v : fc.corners[g]) here.emplace(mesh.point(v), std::size_t(v));
-    ids[p].assign(patch.points.size(), none);
-    for (const auto& t : patch.triangles)
-      for (std::size_t i : t) {
-        if (ids[p][i] != none) continue;
-        const auto it = here.find(patch.points[i]);
-        ids[p][i] = it != here.end() ? it->second : point_of.size();
-        if (it == here.end()) point_of.push_back(patch.points[i]);
-      }
-    for (const auto& [segment, chain] : patch.split_chains()) {
-      const Id s = ids[p][segment.first], t = ids[p][segment.second];
-      std::vector<Id> points;
-      for (std::size_t i : chain) points.push_back(ids[p][i]);
-      if (s > t) std::reverse(points.begin(), points.end());
-      split_edges[{std::min(s, t), std::max(s, t)}] = points;
-    }
-  }
+  const PatchPoints placed = place_patch_points<K>(mesh, fc, faces_of, patches, unified, point_of);
+  const auto& ids = placed.ids;
+  const auto& split_edges = placed.split_edges;
   std::vector<std::array<Id, 3>> triangles;
   std::vector<std::uint32_t> from;
   std::vector<char> added, shared, frozen_mark;
