@@ -195,6 +195,7 @@ def main():
     ap.add_argument('--markdown', default='')
     ap.add_argument('extra', nargs='*')
     args = ap.parse_args()
+    args.out = os.path.abspath(args.out)  # tetgen runs in each case's directory
     if not all(os.path.exists(os.path.join(args.data, f)) for f in FILES.values()):
         print('real_tows: no CT tows in %s: skipped' % args.data)
         return 0
