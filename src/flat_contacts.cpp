@@ -56,6 +56,13 @@ inline std::array<int, 2> kept_coordinates(int axis) {
   return axis == 0 ? std::array<int, 2>{1, 2} : axis == 1 ? std::array<int, 2>{0, 2} : std::array<int, 2>{0, 1};
 }
 
+/// The area of the projection of (p, q, r) along `axis` (doubles).
+template <class P> double projected_area(const P& p, const P& q, const P& r, int axis) {
+  const auto [u, v] = kept_coordinates(axis);
+  const auto x = to_filtered(p), y = to_filtered(q), z = to_filtered(r);
+  return std::abs((y[u] - x[u]) * (z[v] - x[v]) - (y[v] - x[v]) * (z[u] - x[u])) / 2;
+}
+
 /// Orientation of the projection of (p, q, r) along `axis` (exact under the exact kernel).
 template <class P> CGAL::Sign projected_orientation(const P& p, const P& q, const P& r, int axis) {
   const auto [u, v] = kept_coordinates(axis);
@@ -379,10 +386,8 @@ template <class K, class CDT> class PatchRefiner {
     do {
       if (cdt_.is_infinite(h)) continue;
       h->info().nesting = nesting_of(FH(h));
-      const int k = h->index(w);
-      if (h->is_constrained(k)) encroach_checks_.push_back(ends(h, k));
       for (int j = 0; j < 3; ++j)
-        if (j != k && h->is_constrained(j)) encroach_checks_.push_back(ends(h, j));
+        if (h->is_constrained(j)) encroach_checks_.push_back(ends(h, j));
       if (bad(h)) bad_faces_.push_back(corners(h));
     } while (++h != first);
   }
@@ -497,9 +502,7 @@ bool triangulate(Patch<K>& patch, double expected_area, const FlatContactOptions
       ++patch.below_bound;
       patch.reasons.back() = std::uint8_t(1 + int(refiner->reason(f)));
     }
-    const auto p = to_filtered(patch.points[t[0]]), q = to_filtered(patch.points[t[1]]),
-               r = to_filtered(patch.points[t[2]]);
-    area += std::abs((q[u] - p[u]) * (r[v] - p[v]) - (q[v] - p[v]) * (r[u] - p[u])) / 2;
+    area += projected_area(patch.points[t[0]], patch.points[t[1]], patch.points[t[2]], patch.axis);
   }
   // The triangulation covers the region of the faces it replaces (doubles: a sanity check).
   if (!(std::abs(area - expected_area) <= 1e-9 * expected_area)) {
@@ -977,11 +980,7 @@ template <class K> class FlatContactUnifier {
         id[k] = it->second;
         (is_a ? patch.in_a : patch.in_b)[id[k]] = 1;
       }
-      if (is_a) {
-        const auto [u, v] = kept_coordinates(patches_[p].axis);
-        const auto x = to_filtered(*s[0]), y = to_filtered(*s[1]), z = to_filtered(*s[2]);
-        area_[p] += std::abs((y[u] - x[u]) * (z[v] - x[v]) - (y[v] - x[v]) * (z[u] - x[u])) / 2;
-      }
+      if (is_a) area_[p] += projected_area(*s[0], *s[1], *s[2], patches_[p].axis);
       int k = 0;
       for (auto h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
         // halfedges_around_face starts at m.halfedge(f): source(h) is corner k

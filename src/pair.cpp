@@ -281,8 +281,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   internal::FlatContactOptions contact_options;
   if (improve) {
     contact_options.min_angle_deg = options.embed.min_angle_deg;
-    contact_options.feature_size = options.quality.feature_size >= 0 ? options.quality.feature_size
-                                                                     : std::max(snap_tol, std::min(la, lb) / 64);
+    contact_options.feature_size = internal::feature_size_of(options.quality, snap_tol, std::min(la, lb));
   }
   // Stages 1-3 on the inputs: as they are; with the vertices within the separation of a curve and
   // of a point of the too close pairs found so far closed onto the curve; or with every vertex

@@ -240,7 +240,7 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
   }
   if (!(s.mean_edge > 0) || !std::isfinite(s.mean_edge)) s.mean_edge = coarsest = 1;
   s.tolerance = std::max(0.0, options.tolerance);
-  s.feature_size = options.feature_size >= 0 ? options.feature_size : std::max(s.tolerance, s.mean_edge / 64);
+  s.feature_size = feature_size_of(options, s.tolerance, s.mean_edge);
   s.band_radius = options.band_radius > 0 ? options.band_radius : 3 * coarsest;
   s.meshes.resize(meshes.size());
   for (std::size_t m = 0; m < meshes.size(); ++m) {

@@ -17,6 +17,7 @@
 
 #include <CGAL/Bbox_3.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <map>
@@ -49,6 +50,12 @@ template <class K> struct SharedCurves {
 /// edit cannot be made (a bug, not an input property).
 template <class K>
 ImproveStats improve(std::vector<ImproveMesh<K>>& meshes, SharedCurves<K>& curves, const ImproveOptions& options);
+
+/// The feature size of the quality stage: options.feature_size, or by default the larger of the
+/// tolerance and 1/64 of the mean edge length (of the finer mesh).
+inline double feature_size_of(const ImproveOptions& options, double tolerance, double mean_edge) {
+  return options.feature_size >= 0 ? options.feature_size : std::max(tolerance, mean_edge / 64);
+}
 
 /// The smallest angle (degrees, doubles) of each face of `input`, by face index: what
 /// ImproveMesh::source_min_angle points to.
