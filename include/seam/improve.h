@@ -6,8 +6,11 @@
 //
 // The band. Faces that touch a curve vertex or were made by the embedding, minus faces shared by
 // two meshes (flat contacts) and frozen faces. It grows when a new point falls beyond its border
-// or encroaches it: the face there joins it, up to `band_radius` from the curves; farther out the
-// border stays as it is. Every face the stage makes is in the band. Constraints: curve segments
+// or encroaches it: the face there joins it (nothing in the surface changes), however far from
+// the curves, unless it is shared or frozen. So the band's border is never what holds a face
+// below the bound; only curve segments, shared and frozen faces and the mesh's own border are
+// fixed. (How far it grows is bounded by the budget below, not by a distance.) Every face the
+// stage makes is in the band. Constraints: curve segments
 // and the band's border (a mesh's own border included). Old mesh edges inside the band are not
 // constraints: grazing crossings stop being forced.
 //
@@ -33,8 +36,8 @@
 //         encroaches one, that constraint is split as in 1. Otherwise the point is inserted in the
 //         face it lands in (put on the input surface, rounded to doubles; or, if the predicate
 //         refuses that, exactly in the face), then Lawson's flips around it. Where the constraint
-//         met cannot be split for what lies beyond it (band_radius reached; a flat contact's
-//         shared faces; curves_fixed), points nearer the shortest edge on the same bisector are
+//         met cannot be split for what lies beyond it (a flat contact's shared faces, frozen
+//         faces, the mesh's own border; curves_fixed), points nearer the shortest edge on the same bisector are
 //         tried instead (0.7, 0.5 and 0.35 of the distance, not nearer than half the edge x
 //         tan(bound), where the new face on that edge has the bound's angles): each lies inside
 //         the face's circumcircle, so the face goes as well. At most four tries per attempt.
@@ -68,8 +71,8 @@
 // below it at the end is reported with its cause (ImproveStats::shortfalls):
 //   input_angle       it is no worse than the input face it comes from, which is below the bound;
 //   constraint_angle  its smallest angle lies between two constraints (two curve segments, a curve
-//                     segment and the band's border, two border edges), or the fix meets a border
-//                     that cannot move (a flat contact, or band_radius reached);
+//                     segment and a fixed border, two fixed border edges), or the fix meets a
+//                     border that cannot move (a flat contact, a frozen face, the mesh's border);
 //   feature_size      the fix would put a point closer than feature_size to another, or split a
 //                     segment shorter than twice that (curves or vertices that close, which no
 //                     merge within the tolerance could remove);
@@ -110,9 +113,6 @@ struct ImproveOptions {
   /// Points closer than this are not made; edges shorter than it are merged where the tolerance
   /// allows. Negative: the larger of `tolerance` and 1/64 of the mean edge length.
   double feature_size = -1.0;
-  /// Faces of the meshes farther than this from the curves join the band only where an edit
-  /// changes them. Negative: 3 mean edge lengths of the coarser mesh.
-  double band_radius = -1.0;
   /// At most this many insertions and splits per face of the initial band.
   std::size_t max_insertions_per_face = 16;
   /// The curves stay as they are: no curve segment is split, no curve point merged along a segment

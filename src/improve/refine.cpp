@@ -483,7 +483,7 @@ template <class K> Outcome Refiner<K>::split_constraint(std::size_t m, H h) {
   if (curve && s_.options.curves_fixed) return {false, ShortfallCause::constraint_angle};
   if (!curve && beyond != M::null_face() && !s_.face_in_band(m, beyond)) {
     // The band's border: the face beyond joins the band (nothing changes in the surface), or, out
-    // of reach (farther than band_radius, shared, frozen), the border stays as it is.
+    // of reach (shared, frozen), the border stays as it is.
     if (s_.face_in_band(m, beyond) || !s_.may_join_band(m, beyond)) return {false, ShortfallCause::constraint_angle};
     s_.meshes[m].band[beyond] = true;
     ++s_.stats.faces_absorbed;
@@ -671,7 +671,7 @@ template <class K> Outcome Refiner<K>::insert_circumcenter(std::size_t m, F f) {
 }
 
 /// A constraint split_constraint refuses for what lies beyond it: a border of the band whose face
-/// beyond is not in the band and may not join it (farther than band_radius, shared, frozen), or a
+/// beyond is not in the band and may not join it (shared or frozen), or a
 /// curve segment that stays (ImproveOptions::curves_fixed) or has a shared or frozen face beside
 /// it here (the border of a flat contact).
 template <class K> bool Refiner<K>::border_fixed(std::size_t m, H h) const {

@@ -112,15 +112,6 @@ bool InputSurface::within(const Filtered::Point_3& p, const Filtered::Point_3& q
   return true;
 }
 
-// ---------------------------------------------------------------- curve cells
-
-namespace {
-std::uint64_t cell_key(long i, long j, long k) {
-  auto part = [](long x) { return std::uint64_t(x + (1L << 20)) & ((1ULL << 21) - 1); };
-  return part(i) | (part(j) << 21) | (part(k) << 42);
-}
-}  // namespace
-
 // ---------------------------------------------------------------- state
 
 template <class K> double face_min_angle(const ImproveState<K>& s, std::size_t m, typename ImproveState<K>::F f) {
@@ -132,18 +123,7 @@ template <class K> double face_min_angle(const ImproveState<K>& s, std::size_t m
 template <class K> bool ImproveState<K>::may_join_band(std::size_t m, F f) const {
   const MeshState& ms = meshes[m];
   if (f == M::null_face() || ms.band[f]) return false;
-  if ((ms.has_shared && ms.shared[f]) || (ms.has_frozen && ms.frozen[f])) return false;
-  const auto c = corners(m, f);
-  const Filtered::Point_3 centroid = CGAL::centroid(fpoint(m, c[0]), fpoint(m, c[1]), fpoint(m, c[2]));
-  const long i = long(std::floor(centroid.x() / band_radius)), j = long(std::floor(centroid.y() / band_radius)),
-             k = long(std::floor(centroid.z() / band_radius));
-  for (long a = i - 1; a <= i + 1; ++a)
-    for (long b = j - 1; b <= j + 1; ++b)
-      for (long d = k - 1; d <= k + 1; ++d)
-        if (const auto it = curve_cells.find(cell_key(a, b, d)); it != curve_cells.end())
-          for (const auto& p : it->second)
-            if (CGAL::squared_distance(p, centroid) <= band_radius * band_radius) return true;
-  return false;
+  return !((ms.has_shared && ms.shared[f]) || (ms.has_frozen && ms.frozen[f]));
 }
 
 namespace {
@@ -193,12 +173,6 @@ template <class K> void number_curve_points(ImproveState<K>& s, const SharedCurv
         throw InternalError("improve: a curve runs twice along one segment");
     }
   }
-  for (const auto& p : s.points) {
-    const auto q = to_filtered(p.p);
-    s.curve_cells[cell_key(long(std::floor(q.x() / s.band_radius)), long(std::floor(q.y() / s.band_radius)),
-                           long(std::floor(q.z() / s.band_radius)))]
-        .push_back(q);
-  }
 }
 
 /// The stage's own properties on each mesh, and the provenance properties the embedding made.
@@ -232,16 +206,10 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
                 const ImproveOptions& options) {
   s.options = options;
   s.mean_edge = std::numeric_limits<double>::infinity();
-  double coarsest = 0;
-  for (const auto& im : meshes) {
-    const double l = mean_edge_length<K>(*im.mesh);
-    s.mean_edge = std::min(s.mean_edge, l);
-    coarsest = std::max(coarsest, l);
-  }
-  if (!(s.mean_edge > 0) || !std::isfinite(s.mean_edge)) s.mean_edge = coarsest = 1;
+  for (const auto& im : meshes) s.mean_edge = std::min(s.mean_edge, mean_edge_length<K>(*im.mesh));
+  if (!(s.mean_edge > 0) || !std::isfinite(s.mean_edge)) s.mean_edge = 1;
   s.tolerance = std::max(0.0, options.tolerance);
   s.feature_size = feature_size_of(options, s.tolerance, s.mean_edge);
-  s.band_radius = options.band_radius > 0 ? options.band_radius : 3 * coarsest;
   s.meshes.resize(meshes.size());
   for (std::size_t m = 0; m < meshes.size(); ++m) {
     auto& ms = s.meshes[m];
@@ -253,7 +221,6 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
   number_curve_points<K>(s, curves);
 
   // The band: faces made by the embedding or touching a curve point, not shared or frozen.
-  CGAL::Bbox_3 band_box;
   s.stats.min_angle_deg_before = 180;
   for (std::size_t m = 0; m < s.meshes.size(); ++m) {
     auto& ms = s.meshes[m];
@@ -264,24 +231,17 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
       if (!touches) continue;
       ms.band[f] = true;
       ++s.stats.band_faces;
-      band_box += s.face_box(m, f);
       const double angle = face_min_angle<K>(s, m, f);
       s.stats.min_angle_deg_before = std::min(s.stats.min_angle_deg_before, angle);
       if (angle < s.target_angle(m, f)) ++s.stats.below_bound_before;
     }
   }
   if (s.stats.band_faces == 0) s.stats.min_angle_deg_before = 0;
-  // The grid: every face near the band (the band can grow by band_radius).
+  // The grid: every face (the band may grow anywhere the meshes are not shared or frozen).
   s.grid = FaceGrid(s.mean_edge);
-  const double margin = 2 * s.band_radius;
-  const CGAL::Bbox_3 reach(band_box.xmin() - margin, band_box.ymin() - margin, band_box.zmin() - margin,
-                           band_box.xmax() + margin, band_box.ymax() + margin, band_box.zmax() + margin);
   for (std::size_t m = 0; m < s.meshes.size(); ++m)
-    for (auto f : s.meshes[m].mesh->faces()) {
-      const CGAL::Bbox_3 box = s.face_box(m, f);
-      if (CGAL::do_overlap(box, reach))
-        s.grid.insert({std::uint32_t(m), std::uint32_t(std::size_t(f)), s.meshes[m].version[f]}, box);
-    }
+    for (auto f : s.meshes[m].mesh->faces())
+      s.grid.insert({std::uint32_t(m), std::uint32_t(std::size_t(f)), s.meshes[m].version[f]}, s.face_box(m, f));
   s.insertions_left = options.max_insertions_per_face * std::max<std::size_t>(s.stats.band_faces, 1);
 }
 

@@ -23,7 +23,6 @@
 #include <map>
 #include <functional>
 #include <memory>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -143,10 +142,7 @@ template <class K> struct ImproveState {
   std::map<std::pair<int, int>, int> segment_node;
   FaceGrid grid;
   ImproveOptions options;
-  double tolerance = 0, feature_size = 0, band_radius = 0, mean_edge = 0;
-  /// Cells (of size band_radius) holding a curve point at the start: faces may join the band
-  /// only within band_radius of one.
-  std::unordered_map<std::uint64_t, std::vector<Filtered::Point_3>> curve_cells;
+  double tolerance = 0, feature_size = 0, mean_edge = 0;
   ImproveStats stats;
   std::size_t insertions_left = 0;
   std::uint32_t last_version = 0;  ///< faces made by an edit are numbered on from it
@@ -236,7 +232,7 @@ template <class K> struct ImproveState {
       if (!face_in_band(m, f)) return false;
     return true;
   }
-  /// Whether the face may join the band: not shared or frozen, and within band_radius of a curve.
+  /// Whether the face may join the band: not in it yet, not shared or frozen.
   bool may_join_band(std::size_t m, F f) const;
   /// The angle the input forces on a face: the bound, or its input face's smallest angle where
   /// that is less (a face left below the bound but not below that is reported as input_angle).
