@@ -119,7 +119,7 @@ Command add_embed_command(CLI::App& app) {
   add_number_option(embed, "--min-angle", ea.min_angle,
                     "The angle bound (degrees, 0..60): Delaunay refinement of the re-triangulated faces and the "
                     "quality stage aim for it (default: 20)");
-  add_number_option(embed, "--max-area", ea.max_area, "Largest area of a new triangle; 0: no bound (default: 0)");
+  add_number_option(embed, "--max-area", ea.max_area, "Largest area of a new triangle: the re-triangulation and the quality stage refine to it; 0: no bound (default: 0)");
   add_number_option(embed, "--max-distance", ea.max_distance,
                     "A curve node farther than this from the surface is an error (default: auto, 1.0 x mean edge "
                     "length)");

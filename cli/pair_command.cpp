@@ -154,7 +154,7 @@ Command add_pair_command(CLI::App& app) {
   add_number_option(cmd, "--min-angle", pa.min_angle,
                     "The angle bound (degrees, 0..60): faces next to the curves below it are refined (default: 20)");
   add_number_option(cmd, "--max-area", pa.max_area,
-                    "Largest area of a new triangle; 0: no bound (no quality stage then: it works to angles)");
+                    "Largest area of a new triangle: the re-triangulation and the quality stage refine to it; 0: no bound (default: 0)");
   cmd->add_flag_callback(
       "--no-improve,--no-remesh", [&pa] { pa.options.improve = false; },
       "Keep the curves as embedded, without the quality stage");

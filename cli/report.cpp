@@ -47,6 +47,7 @@ nlohmann::json improve_json(const seam::ImproveStats& s, bool done, const std::v
           {"below_bound_after", s.below_bound_after},
           {"min_angle_before", s.min_angle_deg_before},
           {"min_angle_after", s.min_angle_deg_after},
+          {"above_max_area_after", s.above_max_area_after},
           {"shortfalls", causes},
           {"flat_contact_reasons", flat_reasons},
           {"shortfall_faces", faces},

@@ -381,7 +381,7 @@ Command add_textile_command(CLI::App& app) {
       ->check(CLI::IsMember({"exact", "filtered", "float"}));
   add_number_option(cmd, "--min-angle", ta.min_angle,
                     "Minimum angle (degrees, 0..60) refinement aims for in re-triangulated faces (default: 20)");
-  add_number_option(cmd, "--max-area", ta.max_area, "Largest area of a new triangle; 0: no bound");
+  add_number_option(cmd, "--max-area", ta.max_area, "Largest area of a new triangle: the re-triangulation and the quality stage refine to it; 0: no bound (default: 0)");
   add_number_option(cmd, "--snap-tol", ta.snap_tol,
                     "Move tow vertices within this distance of a curve onto it, then compute those curves again; 0 "
                     "disables (default: auto, 1e-10 x the smallest tow bounding-box diagonal, below seam check's "

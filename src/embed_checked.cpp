@@ -47,7 +47,7 @@ EmbedRunResult<K> embed_checked(Mesh<K>& mesh, const std::vector<Polyline<K>>& c
   // (bundled example, --snap-tol 0: 341 new faces below 20 degrees against 44). The
   // re-triangulation, Delaunay-refined in each face's plane, is then the output.
   const bool improve =
-      options.improve && st.snap_tol > 0 && !(options.embed.max_area > 0) && !result.curves.empty();
+      options.improve && st.snap_tol > 0 && !result.curves.empty();
   std::optional<std::pair<Mesh<K>, EmbedResult<K>>> embedded;  // the fallback: as embedded
   // Back to the embedded mesh and its curves; what the quality stage did and the stage times stay.
   auto back_to_embedded = [&] {
@@ -65,6 +65,7 @@ EmbedRunResult<K> embed_checked(Mesh<K>& mesh, const std::vector<Polyline<K>>& c
     ImproveOptions io = options.quality;
     io.tolerance = st.snap_tol;
     io.min_angle_deg = options.embed.min_angle_deg;
+    io.max_area = options.embed.max_area;
     io.min_separation = min_vertex_separation * diagonal;
     const auto t = std::chrono::steady_clock::now();
     try {

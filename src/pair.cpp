@@ -253,6 +253,7 @@ void improve_pair(Mesh<K>& a, Mesh<K>& b, PairResult<K>& result, const PairOptio
   ImproveOptions io = options.quality;
   io.tolerance = result.stats.snap_tol;
   io.min_angle_deg = options.embed.min_angle_deg;
+  io.max_area = options.embed.max_area;
   io.min_separation = min_vertex_separation * internal::bbox_diagonal<K>(a, b);
   result.stats.improve = internal::improve<K>(meshes, shared, io);
   result.stats.improved = true;
@@ -273,15 +274,15 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   const double diagonal = internal::bbox_diagonal<K>(a, b), separation = min_vertex_separation * diagonal;
   const double la = mean_edge_length<K>(a), lb = mean_edge_length<K>(b);
   const double snap_tol = options.embed.snap_tol < 0 ? 0.1 * std::min(la, lb) : options.embed.snap_tol;
-  // The quality stage works to angles, not to an area: with --max-area the faces are left as the
-  // re-triangulation bounded them.
-  const bool improve = options.improve && !(options.embed.max_area > 0);
+  const bool improve = options.improve;
   // Flat contacts are refined to the quality stage's bound and feature size when that stage runs
   // (it then refines the faces beyond their split borders).
   internal::FlatContactOptions contact_options;
   if (improve) {
     contact_options.min_angle_deg = options.embed.min_angle_deg;
-    contact_options.feature_size = internal::feature_size_of(options.quality, snap_tol, std::min(la, lb));
+    ImproveOptions stage = options.quality;  // as improve_pair sets it
+    stage.max_area = options.embed.max_area;
+    contact_options.feature_size = internal::feature_size_of(stage, snap_tol, std::min(la, lb));
   }
   // Stages 1-3 on the inputs: as they are; with the vertices within the separation of a curve and
   // of a point of the too close pairs found so far closed onto the curve; or with every vertex

@@ -731,7 +731,7 @@ std::optional<PairResult<K>> pair_onto_given(Mesh<K>& a, Mesh<K>& b, const std::
   r.curves = moved;
   st.given_curves = true;
   // The quality stage on the moved meshes (they are its input surfaces), the curves kept.
-  if (options.improve && !(options.embed.max_area > 0)) {
+  if (options.improve) {
     PairOptions fixed = options;
     fixed.quality.curves_fixed = true;
     improve_pair<K>(a, b, r, fixed);
@@ -796,7 +796,7 @@ PairResult<K> pair_with_curves(Mesh<K>& a, Mesh<K>& b, const std::vector<Polylin
     restore();
     throw FoldError(std::string(e.what()) + " (before: " + tried + ")");
   }
-  if (options.improve && !(options.embed.max_area > 0)) {
+  if (options.improve) {
     PairOptions fixed = options;
     fixed.quality.curves_fixed = true;
     improve_pair<K>(a, b, *result, fixed);

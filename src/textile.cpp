@@ -368,6 +368,7 @@ void improve_tows(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& inpu
   first[result.pairs.size()] = shared.curves.size();
   ImproveOptions io = options.quality;
   io.min_angle_deg = options.embed.min_angle_deg;
+  io.max_area = options.embed.max_area;
   if (io.tolerance < 0) io.tolerance = 0.1 * smallest_mean_edge;
   // No new point closer to a vertex than the vertex separation seam check requires of a pair
   // (min_vertex_separation x the diagonal of the two tows), for the widest pair: so for every pair.
@@ -424,7 +425,7 @@ void improve_and_verify(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>
                         const TextileOptions& options) {
   auto& st = result.stats;
   const double snapped = snap_tol.empty() ? 0.0 : *std::max_element(snap_tol.begin(), snap_tol.end());
-  const bool improve = options.improve && st.intersecting_pairs > 0 && !(options.embed.max_area > 0);
+  const bool improve = options.improve && st.intersecting_pairs > 0;
   std::optional<std::pair<std::vector<Mesh<K>>, std::vector<TextilePair<K>>>> before;
   if (improve) {
     if (options.verify_output) before.emplace(meshes, result.pairs);

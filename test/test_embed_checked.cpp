@@ -94,6 +94,36 @@ TEMPLATE_TEST_CASE("embed_checked: given rings off the facets come out embedded,
   }
 }
 
+TEST_CASE("embed_checked: under an area bound the quality stage refines to it as well as to the angle bound",
+          "[embed][improve][max-area]") {
+  using K = seam::Exact;
+  const auto given = tow_and_rings(seam::Section::elliptical);
+  const auto input = seam::mesh_from_soup<K>(given.tow, "tow");
+  const auto curves = seam::to_kernel<K>(given.rings);
+  // Half the input's mean face area: the re-triangulation alone leaves larger faces. (At a
+  // quarter, without the quality stage, its Steiner points come closer than the vertex separation
+  // and the output is refused; the stage's merges remove them.)
+  const double area = CGAL::to_double(CGAL::Polygon_mesh_processing::area(input));
+  seam::EmbedRunOptions o;
+  o.embed.max_area = 0.5 * area / double(input.number_of_faces());
+  auto mesh = input, embedded = input;
+  o.improve = false;
+  const auto r0 = seam::embed_checked<K>(embedded, curves, o);
+  o.improve = true;
+  const auto r = seam::embed_checked<K>(mesh, curves, o);
+  REQUIRE(r.verified);
+  REQUIRE(r0.verified);
+  CHECK(r.improved);
+  INFO("above the bound " << r.stats.new_faces_above_max_area << " (without the stage " << r0.stats.new_faces_above_max_area
+                          << "), below 20 degrees " << r.stats.new_faces_below_20 << " (" << r0.stats.new_faces_below_20 << ")");
+  // The figures embed reports are what a count here finds, and the stage leaves fewer of both.
+  CHECK(r.stats.new_faces_above_max_area == seam_test::new_faces_larger_than<K>(mesh, o.embed.max_area));
+  CHECK(r0.stats.new_faces_above_max_area > 0);
+  CHECK(r.stats.new_faces_above_max_area < r0.stats.new_faces_above_max_area);
+  CHECK(r.stats.new_faces_below_20 < r0.stats.new_faces_below_20);
+  CHECK(seam::check_embedding<K>(input, mesh, r.curves, r.verify_tolerance, &curves).ok());
+}
+
 TEST_CASE("embed_checked: under the float kernel a result is verified or refused, never given unverified",
           "[embed][improve]") {
   using K = seam::Float;

@@ -23,7 +23,11 @@
 //   1. Constraints encroached by a vertex of the band (it sees them at more than 90 degrees) are
 //      split at their middle: a curve segment in every mesh holding it (its middle lies on all of
 //      their surfaces), a border edge by letting the face beyond join the band.
-//   2. Each face below `min_angle_deg`, worst first:
+//   2. Each face below `min_angle_deg`, worst first, then each face larger than `max_area` among
+//      those made within the input faces of the band at the start (a face only too large goes
+//      to b at once). Faces made within faces that joined the band later are held to the angle
+//      bound only: the area bound would refine each face the band reaches, whose border then
+//      needs the next face, and the band would spread over the whole mesh.
 //      a. an edge of it shorter than `feature_size` goes (never at a vertex the stage made): a free vertex merges into the other end
 //         (onto a curve point: the report's snapping of nodes near the curve), or two curve points
 //         merge along their segment, in every mesh holding the curve. An edge shorter than
@@ -56,7 +60,8 @@
 // Termination. A vertex the stage made (an insertion or a split) is never merged away, so a
 // merge removes a vertex of the input or of the embedding: at most as many merges as those
 // vertices, and no insertion is undone. Insertions and splits each use one of
-// `max_insertions_per_face` x (band faces at the start), and between two changes of the vertices
+// `max_insertions_per_face` x (band faces at the start), plus, with `max_area`, the band's area at
+// the start over max_area (n points make about 2n faces); between two changes of the vertices
 // flips strictly raise the sorted vector of angles, of which there are finitely many: the stage
 // ends. A face left when that budget runs out is reported as `budget`. Why the budget is rarely
 // reached: every inserted point lies at least `feature_size` from the vertices around the face it
@@ -82,6 +87,9 @@
 //   budget            max_insertions_per_face ran out;
 //   flat_contact      a face of a flat contact's common triangulation (in both meshes: seam pair's
 //                     flat contacts), which the stage leaves as it is (not a face of the band).
+// A face held to `max_area` and left larger (feature_size or the budget stopped it) is counted in
+// ImproveStats::above_max_area_after; the callers' figures (EmbedStats::new_faces_above_max_area)
+// count every new face larger, those of the graded zone and of flat contacts included.
 //
 // What is exact: decisions on intersections and degeneracy use the kernel's predicates (exact
 // under Exact and Filtered, on the coordinates as they are); curve splits use the exact middle of
@@ -113,7 +121,12 @@ struct ImproveOptions {
   /// Points closer than this are not made; edges shorter than it are merged where the tolerance
   /// allows. Negative: the larger of `tolerance` and 1/64 of the mean edge length.
   double feature_size = -1.0;
-  /// At most this many insertions and splits per face of the initial band.
+  /// Largest area of a face made within the input faces of the band at the start (the faces the
+  /// curves cross or touch); larger ones are refined like faces below the angle bound (after
+  /// them: worst angle first). 0: no bound.
+  double max_area = 0.0;
+  /// At most this many insertions and splits per face of the initial band (and, with max_area,
+  /// one more per max_area of the initial band's area).
   std::size_t max_insertions_per_face = 16;
   /// The curves stay as they are: no curve segment is split, no curve point merged along a segment
   /// (given curves, after the meshes moved onto them: every curve point stays on them).
@@ -159,6 +172,11 @@ struct ImproveStats {
   /// Faces of the band below the bound at the start and at the end.
   std::size_t below_bound_before = 0, below_bound_after = 0;
   double min_angle_deg_before = 0, min_angle_deg_after = 0;  ///< smallest angle in the band
+  /// With max_area: the faces held to it (made within the input faces of the band at the start)
+  /// left larger (feature_size or the budget stopped their refinement). New faces made where the
+  /// band grew later are graded to the input's size and not counted here (the callers' figures,
+  /// such as EmbedStats::new_faces_above_max_area, count every new face).
+  std::size_t above_max_area_after = 0;
   std::vector<Shortfall> shortfalls;  ///< the faces below the bound at the end, with causes
   double seconds = 0;
 };

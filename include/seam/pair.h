@@ -68,8 +68,7 @@ struct PairOptions {
   /// lengths; 0: only edits that keep the surfaces. curve_tol and max_distance are not used with
   /// computed curves.
   EmbedOptions embed;
-  /// Run the quality stage (seam/improve.h). Not run when EmbedOptions::max_area is set: it works
-  /// to angles and would not keep the area bound.
+  /// Run the quality stage (seam/improve.h), to EmbedOptions::min_angle_deg and max_area.
   bool improve = true;
   /// The quality stage's other options (its tolerance and angle bound come from `embed`).
   ImproveOptions quality;

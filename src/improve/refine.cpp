@@ -75,6 +75,16 @@ template <class K> class Refiner {
   void push_encroached(std::size_t m, F f);
 
   double angle(std::size_t m, F f) const { return face_min_angle<K>(s_, m, f); }
+  /// The angle a face of the band is refined to. With no tolerance the input's edges are creases
+  /// (constraints): an input face's own small angle bounds the faces made from it, which are held
+  /// to that instead (refining towards the bound there only cascades into smaller faces).
+  double angle_bound(std::size_t m, F f) const {
+    return s_.tolerance > 0 ? s_.options.min_angle_deg : s_.target_angle(m, f);
+  }
+  /// A face held to ImproveOptions::max_area (MeshState::area_bounded) and larger.
+  bool too_large(std::size_t m, F f) const {
+    return s_.options.max_area > 0 && s_.meshes[m].area_bounded(f) && s_.face_area(m, f) > s_.options.max_area;
+  }
   void push_if_bad(std::size_t m, F f);
   void push_made(const Applied<K>& made) {
     for (const auto& [m, f] : made.faces) push_if_bad(m, f), push_encroached(m, f);
@@ -111,11 +121,7 @@ template <class K> void Refiner<K>::push_if_bad(std::size_t m, F f) {
   const auto& ms = s_.meshes[m];
   if (!ms.band[f]) return;
   const double a = angle(m, f);
-  // With no tolerance the input's edges are creases (constraints): an input face's own small
-  // angle bounds the faces made from it, which are held to that instead (refining towards the
-  // bound there only cascades into smaller faces).
-  const double bound = s_.tolerance > 0 ? s_.options.min_angle_deg : s_.target_angle(m, f);
-  if (a < bound) queue_.push({a, m, f, ms.version[f]});
+  if (a < angle_bound(m, f) || too_large(m, f)) queue_.push({a, m, f, ms.version[f]});
 }
 
 template <class K> std::optional<Verdict> Refiner<K>::attempt(const Edit<K>& edit, Applied<K>* made) {
@@ -363,6 +369,9 @@ template <class K> Outcome Refiner<K>::mend(std::size_t m, F f) {
   const M& g = s_.mesh(m);
   const auto c = s_.corners(m, f);
   const std::array<FP, 3> p = {s_.fpoint(m, c[0]), s_.fpoint(m, c[1]), s_.fpoint(m, c[2])};
+  // Within the angle bound, only too large: its circumcenter (steps a and the constraint test
+  // below are about small angles).
+  if (angle(m, f) >= angle_bound(m, f)) return insert_circumcenter(m, f);
   // a. Edges shorter than the feature size, shortest first: their ends merge.
   std::array<std::size_t, 3> order = {0, 1, 2};  // edge i joins corners i and i + 1
   auto length = [&](std::size_t i) { return std::sqrt(CGAL::squared_distance(p[i], p[(i + 1) % 3])); };
@@ -763,6 +772,8 @@ template <class K> void classify(ImproveState<K>& s) {
           }
         continue;
       }
+      if (s.options.max_area > 0 && ms.area_bounded(f) && s.face_area(m, f) > s.options.max_area * (1 + 1e-9))
+        ++s.stats.above_max_area_after;
       const double a = face_min_angle<K>(s, m, f);
       any = true;
       s.stats.min_angle_deg_after = std::min(s.stats.min_angle_deg_after, a);

@@ -231,6 +231,10 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
       if (!touches) continue;
       ms.band[f] = true;
       ++s.stats.band_faces;
+      if (options.max_area > 0) {
+        if (ms.area_bounded_source.size() <= ms.source[f]) ms.area_bounded_source.resize(std::size_t(ms.source[f]) + 1);
+        ms.area_bounded_source[ms.source[f]] = true;
+      }
       const double angle = face_min_angle<K>(s, m, f);
       s.stats.min_angle_deg_before = std::min(s.stats.min_angle_deg_before, angle);
       if (angle < s.target_angle(m, f)) ++s.stats.below_bound_before;
@@ -243,6 +247,13 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
     for (auto f : s.meshes[m].mesh->faces())
       s.grid.insert({std::uint32_t(m), std::uint32_t(std::size_t(f)), s.meshes[m].version[f]}, s.face_box(m, f));
   s.insertions_left = options.max_insertions_per_face * std::max<std::size_t>(s.stats.band_faces, 1);
+  if (options.max_area > 0) {  // one point per max_area (n points make about 2n faces)
+    double area = 0;
+    for (std::size_t m = 0; m < s.meshes.size(); ++m)
+      for (auto f : s.meshes[m].mesh->faces())
+        if (s.meshes[m].band[f]) area += s.face_area(m, f);
+    s.insertions_left += std::size_t(std::min(area / options.max_area, 1e9));
+  }
 }
 
 template <class K> void finish_state(ImproveState<K>& s, SharedCurves<K>& out) {

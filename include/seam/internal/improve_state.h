@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <functional>
@@ -51,9 +52,14 @@ template <class K>
 ImproveStats improve(std::vector<ImproveMesh<K>>& meshes, SharedCurves<K>& curves, const ImproveOptions& options);
 
 /// The feature size of the quality stage: options.feature_size, or by default the larger of the
-/// tolerance and 1/64 of the mean edge length (of the finer mesh).
+/// tolerance and 1/64 of the mean edge length (of the finer mesh); with max_area, at most
+/// sqrt(max_area) / 2. (A face larger than max_area with every angle at 20 degrees or more has a
+/// circumradius of at least 0.87 sqrt(max_area): its circumcenter is then never refused for the
+/// feature size.)
 inline double feature_size_of(const ImproveOptions& options, double tolerance, double mean_edge) {
-  return options.feature_size >= 0 ? options.feature_size : std::max(tolerance, mean_edge / 64);
+  if (options.feature_size >= 0) return options.feature_size;
+  const double by_default = std::max(tolerance, mean_edge / 64);
+  return options.max_area > 0 ? std::min(by_default, 0.5 * std::sqrt(options.max_area)) : by_default;
 }
 
 /// The smallest angle (degrees, doubles) of each face of `input`, by face index: what
@@ -111,6 +117,16 @@ template <class K> struct ImproveState {
     typename M::template Property_map<F, bool> shared, frozen;  ///< valid when has_shared / has_frozen
     bool has_shared = false, has_frozen = false;
     const std::vector<double>* source_min_angle = nullptr;
+    /// With max_area: by source face (input face index), whether faces made from it are held to
+    /// the area bound: the source faces of the band at the start (crossed by a curve, or touching
+    /// a curve point). Faces made within a face that joined the band later are held to the angle
+    /// bound only, so the band grows for angles alone: an area bound there would refine every
+    /// face the band reaches, which then needs the next one (the band would spread over the mesh).
+    std::vector<bool> area_bounded_source;
+    /// Whether face f is held to max_area.
+    bool area_bounded(F f) const {
+      return is_new[f] && source[f] < area_bounded_source.size() && area_bounded_source[source[f]];
+    }
     /// is_crease's last answer per halfedge, valid while both faces keep the versions it was
     /// found for (an exact coplanarity test with no tolerance: costly on curve points).
     mutable typename M::template Property_map<H, CreaseMemo> crease_memo;
@@ -161,6 +177,12 @@ template <class K> struct ImproveState {
     CGAL::Bbox_3 box;
     for (V v : corners(m, f)) box += mesh(m).point(v).bbox();
     return box;
+  }
+  /// The area of a face (doubles).
+  double face_area(std::size_t m, F f) const {
+    const auto c = corners(m, f);
+    const Filtered::Point_3 p = fpoint(m, c[0]), q = fpoint(m, c[1]), r = fpoint(m, c[2]);
+    return 0.5 * std::sqrt(CGAL::cross_product(q - p, r - p).squared_length());
   }
   /// The node at the start of segment (a, b) of point ids, or -1.
   int segment_start(int a, int b) const {
