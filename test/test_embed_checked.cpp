@@ -116,10 +116,12 @@ TEST_CASE("embed_checked: under an area bound the quality stage refines to it as
   CHECK(r.improved);
   INFO("above the bound " << r.stats.new_faces_above_max_area << " (without the stage " << r0.stats.new_faces_above_max_area
                           << "), below 20 degrees " << r.stats.new_faces_below_20 << " (" << r0.stats.new_faces_below_20 << ")");
-  // The figures embed reports are what a count here finds, and the stage leaves fewer of both.
+  // The figures embed reports are what a count here finds. Without the stage faces are left above
+  // the bound; with it none of those held to it (made within the faces the curves cross or
+  // touch; farther out the band is graded to the input's size), and fewer thin faces.
   CHECK(r.stats.new_faces_above_max_area == seam_test::new_faces_larger_than<K>(mesh, o.embed.max_area));
   CHECK(r0.stats.new_faces_above_max_area > 0);
-  CHECK(r.stats.new_faces_above_max_area < r0.stats.new_faces_above_max_area);
+  CHECK(r.improve.above_max_area_after == 0);
   CHECK(r.stats.new_faces_below_20 < r0.stats.new_faces_below_20);
   CHECK(seam::check_embedding<K>(input, mesh, r.curves, r.verify_tolerance, &curves).ok());
 }

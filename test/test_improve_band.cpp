@@ -62,6 +62,13 @@ TEST_CASE("improve: a face far from the curves may join the band; shared and fro
     CHECK_FALSE(s.face_in_band(0, far_faces[k]));
     CHECK(s.may_join_band(0, far_faces[k]));
   }
+  // The acceptance predicate's index holds the far faces too (a face the band may reach must be
+  // found by the crossing tests).
+  for (F f : far_faces) {
+    bool found = false;
+    for (const auto& e : s.grid.query(s.face_box(0, f))) found = found || e.face == std::uint32_t(std::size_t(f));
+    CHECK(found);
+  }
   CHECK_FALSE(s.may_join_band(0, far_faces[0]));  // frozen
   CHECK_FALSE(s.may_join_band(0, far_faces[1]));  // shared
   for (F f : mesh.faces())

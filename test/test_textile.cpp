@@ -183,6 +183,7 @@ TEST_CASE("textile: an area bound gives verified outputs with every new face's p
   const auto r = seam::textile<K>(meshes, cell.names, options);
   CHECK(r.stats.verified);
   CHECK(r.stats.improved);
+  CHECK(r.stats.improve.above_max_area_after == 0);  // the faces held to the bound all meet it
   CHECK(r.stats.intersecting_pairs == 4);
   std::size_t steiner = 0;
   for (const auto& t : r.tows) steiner += t.steiner_points;

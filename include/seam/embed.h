@@ -88,9 +88,10 @@ struct EmbedStats {
   std::size_t new_faces_below_10 = 0, new_faces_below_20 = 0;
   /// new faces below 10 degrees whose source face's own smallest angle is larger (not forced)
   std::size_t new_faces_below_10_unforced = 0;
-  /// The largest area of a new face, and with max_area the new faces larger than it: a crossed
-  /// face that reached max_steiner_per_face, or whose points would have come closer than the
-  /// vertex separation to others (seam pair, seam textile), keeps larger triangles.
+  /// The largest area of a new face, and with max_area every new face larger than it: faces the
+  /// refinement could not bring below it (ImproveStats::above_max_area_after counts those), and
+  /// faces made where the quality stage's band grew beyond the faces the curve crosses or
+  /// touches, which are graded to the input's size (held to the angle bound only).
   double largest_new_area = 0;
   std::size_t new_faces_above_max_area = 0;
   double max_curve_deviation = 0;     ///< largest distance from an input curve node to the embedded curve

@@ -9,8 +9,8 @@
 // or encroaches it: the face there joins it (nothing in the surface changes), however far from
 // the curves, unless it is shared or frozen. So the band's border is never what holds a face
 // below the bound; only curve segments, shared and frozen faces and the mesh's own border are
-// fixed. (How far it grows is bounded by the budget below, not by a distance.) Every face the
-// stage makes is in the band. Constraints: curve segments
+// fixed. (How far it grows is not bounded by a distance: each face joins at most once, so at
+// most the whole mesh.) Every face the stage makes is in the band. Constraints: curve segments
 // and the band's border (a mesh's own border included). Old mesh edges inside the band are not
 // constraints: grazing crossings stop being forced.
 //
@@ -87,7 +87,8 @@
 //   budget            max_insertions_per_face ran out;
 //   flat_contact      a face of a flat contact's common triangulation (in both meshes: seam pair's
 //                     flat contacts), which the stage leaves as it is (not a face of the band).
-// A face held to `max_area` and left larger (feature_size or the budget stopped it) is counted in
+// A face held to `max_area` and left larger (its refinement was refused: feature_size, a fixed
+// constraint, the acceptance predicate, or the budget) is counted in
 // ImproveStats::above_max_area_after; the callers' figures (EmbedStats::new_faces_above_max_area)
 // count every new face larger, those of the graded zone and of flat contacts included.
 //
@@ -173,7 +174,8 @@ struct ImproveStats {
   std::size_t below_bound_before = 0, below_bound_after = 0;
   double min_angle_deg_before = 0, min_angle_deg_after = 0;  ///< smallest angle in the band
   /// With max_area: the faces held to it (made within the input faces of the band at the start)
-  /// left larger (feature_size or the budget stopped their refinement). New faces made where the
+  /// left larger (their refinement was refused: feature_size, a fixed constraint, the acceptance
+  /// predicate, or the budget). New faces made where the
   /// band grew later are graded to the input's size and not counted here (the callers' figures,
   /// such as EmbedStats::new_faces_above_max_area, count every new face).
   std::size_t above_max_area_after = 0;

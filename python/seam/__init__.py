@@ -289,7 +289,8 @@ def pair(VA, FA, VB, FB, *, curves=None, snap_tol="auto", min_angle=20.0, max_ar
     snap_tol: tolerance of the quality stage, 'auto' (0.1 x the smaller mean edge length) or >= 0;
         0 keeps both surfaces.
     min_angle: the angle bound in degrees, 0..60.
-    max_area: largest area of a new triangle; 0: no bound (and then no quality stage).
+    max_area: largest area of a new triangle within the faces the curves cross or touch (the
+        re-triangulation and the quality stage refine to it); 0: no bound.
     improve: run the quality stage (False: `--no-improve`).
     kernel: 'exact' (default), 'filtered' or 'float'.
 
@@ -317,7 +318,7 @@ def embed(V, F, curves, *, snap_tol="auto", min_angle=20.0, max_area=0.0, max_di
     snap_tol: vertices this close to a curve node move onto it; 'auto' (0.1 x the mean edge
         length) or >= 0 (0: no snapping).
     min_angle: degrees, 0..60, the refinement's aim in re-triangulated faces; 0: no refinement.
-    max_area: largest area of a new triangle; 0: no bound.
+    max_area: largest area of a new triangle within the faces the curve crosses or touches; 0: no bound.
     max_distance: a curve node farther than this from the surface is an InputError; 'auto' (the
         mean edge length) or >= 0.
     curve_tol: keep a curve node between two crossings when dropping it would move the curve by

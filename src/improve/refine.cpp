@@ -371,7 +371,7 @@ template <class K> Outcome Refiner<K>::mend(std::size_t m, F f) {
   const std::array<FP, 3> p = {s_.fpoint(m, c[0]), s_.fpoint(m, c[1]), s_.fpoint(m, c[2])};
   // Within the angle bound, only too large: its circumcenter (steps a and the constraint test
   // below are about small angles).
-  if (angle(m, f) >= angle_bound(m, f)) return insert_circumcenter(m, f);
+  if (too_large(m, f) && angle(m, f) >= angle_bound(m, f)) return insert_circumcenter(m, f);
   // a. Edges shorter than the feature size, shortest first: their ends merge.
   std::array<std::size_t, 3> order = {0, 1, 2};  // edge i joins corners i and i + 1
   auto length = [&](std::size_t i) { return std::sqrt(CGAL::squared_distance(p[i], p[(i + 1) % 3])); };

@@ -53,9 +53,9 @@ ImproveStats improve(std::vector<ImproveMesh<K>>& meshes, SharedCurves<K>& curve
 
 /// The feature size of the quality stage: options.feature_size, or by default the larger of the
 /// tolerance and 1/64 of the mean edge length (of the finer mesh); with max_area, at most
-/// sqrt(max_area) / 2. (A face larger than max_area with every angle at 20 degrees or more has a
-/// circumradius of at least 0.87 sqrt(max_area): its circumcenter is then never refused for the
-/// feature size.)
+/// sqrt(max_area) / 2. (Any triangle larger than max_area has a circumradius of at least
+/// 0.87 sqrt(max_area), so its corners are never what refuses its circumcenter for the feature
+/// size; other vertices near where the point lands still may.)
 inline double feature_size_of(const ImproveOptions& options, double tolerance, double mean_edge) {
   if (options.feature_size >= 0) return options.feature_size;
   const double by_default = std::max(tolerance, mean_edge / 64);
