@@ -125,8 +125,9 @@ struct EmbedRunOptions {
   /// face may lie from the input surface) and min_angle_deg its bound.
   EmbedOptions embed;
   /// Run the quality stage (seam/improve.h) on the faces around the curves, to min_angle_deg and
-  /// max_area. Not run when snap_tol is 0: keeping the surface exactly it cannot flip across the creases of a
-  /// faceted curved surface, and made more thin faces than the re-triangulation leaves.
+  /// max_area. Not run when snap_tol is 0: keeping the surface exactly it cannot flip across the
+  /// creases of a faceted curved surface, and made more thin faces than the re-triangulation
+  /// leaves.
   bool improve = true;
   /// The quality stage's other options (its tolerance and bound come from `embed`).
   ImproveOptions quality;

@@ -41,10 +41,10 @@
 //         face it lands in (put on the input surface, rounded to doubles; or, if the predicate
 //         refuses that, exactly in the face), then Lawson's flips around it. Where the constraint
 //         met cannot be split for what lies beyond it (a flat contact's shared faces, frozen
-//         faces, the mesh's own border; curves_fixed), points nearer the shortest edge on the same bisector are
-//         tried instead (0.7, 0.5 and 0.35 of the distance, not nearer than half the edge x
-//         tan(bound), where the new face on that edge has the bound's angles): each lies inside
-//         the face's circumcircle, so the face goes as well. At most four tries per attempt.
+//         faces, the mesh's own border; curves_fixed), points nearer the shortest edge on the
+//         same bisector are tried instead (0.7, 0.5 and 0.35 of the distance, not nearer than
+//         half the edge x tan(bound), where the new face on that edge has the bound's angles):
+//         each lies inside the face's circumcircle, so the face goes as well. At most four tries per attempt.
 //   Splits and exact insertions keep the surface; flips, merges and rounded insertions change it
 //   and pass the acceptance predicate first.
 //
