@@ -221,6 +221,7 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
   number_curve_points<K>(s, curves);
 
   // The band: faces made by the embedding or touching a curve point, not shared or frozen.
+  double band_area = 0;  // with max_area: for the budget
   s.stats.min_angle_deg_before = 180;
   for (std::size_t m = 0; m < s.meshes.size(); ++m) {
     auto& ms = s.meshes[m];
@@ -234,6 +235,7 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
       if (options.max_area > 0) {
         if (ms.area_bounded_source.size() <= ms.source[f]) ms.area_bounded_source.resize(std::size_t(ms.source[f]) + 1);
         ms.area_bounded_source[ms.source[f]] = true;
+        band_area += s.face_area(m, f);
       }
       const double angle = face_min_angle<K>(s, m, f);
       s.stats.min_angle_deg_before = std::min(s.stats.min_angle_deg_before, angle);
@@ -247,13 +249,8 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
     for (auto f : s.meshes[m].mesh->faces())
       s.grid.insert({std::uint32_t(m), std::uint32_t(std::size_t(f)), s.meshes[m].version[f]}, s.face_box(m, f));
   s.insertions_left = options.max_insertions_per_face * std::max<std::size_t>(s.stats.band_faces, 1);
-  if (options.max_area > 0) {  // one point per max_area (n points make about 2n faces)
-    double area = 0;
-    for (std::size_t m = 0; m < s.meshes.size(); ++m)
-      for (auto f : s.meshes[m].mesh->faces())
-        if (s.meshes[m].band[f]) area += s.face_area(m, f);
-    s.insertions_left += std::size_t(std::min(area / options.max_area, 1e9));
-  }
+  if (options.max_area > 0)  // one point per max_area (n points make about 2n faces)
+    s.insertions_left += std::size_t(std::min(band_area / options.max_area, 1e9));
 }
 
 template <class K> void finish_state(ImproveState<K>& s, SharedCurves<K>& out) {
