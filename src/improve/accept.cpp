@@ -21,6 +21,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <type_traits>
 
 namespace seam::internal {
@@ -46,10 +47,18 @@ template <class K, class PK = K> struct Tri {
   std::array<typename PK::Point_3, 3> p;
   std::array<CornerId<K>, 3> id;
   std::array<certified::IP, 3> ip;
+  bool doubles = false;  ///< every corner's coordinates are doubles exactly: as written, as it is
   void intervals() {
     for (int i = 0; i < 3; ++i) ip[std::size_t(i)] = certified::interval_point(p[std::size_t(i)]);
   }
 };
+
+/// Whether the point's coordinates are doubles exactly (under Exact: intervals that are points,
+/// which then are the exact values; a wider interval says no, conservatively).
+template <class P> bool is_double_point(const P& p) {
+  const certified::IP ip = certified::interval_point(p);
+  return std::all_of(ip.begin(), ip.end(), [](const certified::I& x) { return x.inf() == x.sup(); });
+}
 
 /// Whether (x, y) is a curve segment once the edit is made, held by meshes m1 and m2.
 template <class K>
@@ -129,9 +138,12 @@ template <class K, class PK>
 Tri<K, PK> existing_tri(const ImproveState<K>& s, std::size_t m, typename Mesh<K>::Face_index f) {
   Tri<K, PK> t;
   const auto c = s.corners(m, f);
+  t.doubles = true;
   for (std::size_t i = 0; i < 3; ++i) {
-    t.p[i] = point_in<PK>(s.mesh(m).point(c[i]));
+    const auto& p = s.mesh(m).point(c[i]);
+    t.p[i] = point_in<PK>(p);
     t.id[i] = {m, c[i], false, s.meshes[m].point[c[i]]};
+    t.doubles = t.doubles && is_double_point(p);
   }
   t.intervals();
   return t;
@@ -141,10 +153,12 @@ template <class K, class PK>
 Tri<K, PK> new_tri(const ImproveState<K>& s, const Edit<K>& edit, const EditPart<K>& part, std::size_t i) {
   Tri<K, PK> t;
   const int fresh_id = edit.fresh_curve_point ? int(s.points.size()) : -1;
+  t.doubles = true;
   for (std::size_t k = 0; k < 3; ++k) {
     const auto& c = part.added[i][k];
     t.p[k] = point_in<PK>(c.p);
     t.id[k] = {part.mesh, c.v, c.fresh, c.fresh ? fresh_id : s.meshes[part.mesh].point[c.v]};
+    t.doubles = t.doubles && is_double_point(c.p);
   }
   t.intervals();
   return t;
@@ -169,48 +183,71 @@ template <class K> Verdict near_input(const ImproveState<K>& s, std::size_t m, c
   return Verdict::accepted;
 }
 
-/// The faces of the meshes whose boxes overlap each new face of the edit (by part, by face).
-/// The boxes hold the faces as they are and as written (under Exact, from the intervals of the
-/// corners, which hold both), so one query serves both tests.
-using NearbyFaces = std::vector<std::vector<std::vector<FaceGrid::Entry>>>;
-template <class K> NearbyFaces nearby_faces(const ImproveState<K>& s, const Edit<K>& edit) {
-  NearbyFaces near(edit.parts.size());
-  for (std::size_t k = 0; k < edit.parts.size(); ++k)
-    for (const auto& corners : edit.parts[k].added) {
-      CGAL::Bbox_3 box;
-      for (const auto& c : corners) box += c.p.bbox();
-      near[k].push_back(s.grid.query(box));
-    }
-  return near;
+/// The box of an edit part's new face i: from the corners' boxes (under Exact, their intervals,
+/// which hold the corners as they are and as written).
+template <class K> CGAL::Bbox_3 new_face_box(const EditPart<K>& part, std::size_t i) {
+  CGAL::Bbox_3 box;
+  for (const auto& c : part.added[i]) box += c.p.bbox();
+  return box;
 }
 
-/// Whether the new faces of the edit meet the faces of the meshes (those it keeps; `near`, from
-/// nearby_faces) and each other only as allowed; on the corners as they are (PK = K), or rounded
-/// as written (Filtered).
-template <class K, class PK>
-bool no_crossing(const ImproveState<K>& s, const Edit<K>& edit, const NearbyFaces& near) {
-  std::vector<std::vector<Tri<K, PK>>> made(edit.parts.size());
-  for (std::size_t k = 0; k < edit.parts.size(); ++k)
-    for (std::size_t i = 0; i < edit.parts[k].added.size(); ++i)
-      made[k].push_back(new_tri<K, PK>(s, edit, edit.parts[k], i));
+/// Per part of the edit: the faces of the meshes that the edit keeps (live, not removed by it)
+/// whose boxes overlap the box of the part's new faces, with their boxes; one grid query per part.
+/// Each new face is then tested against those whose boxes overlap its own: the faces one query per
+/// new face would give. The boxes hold the faces as they are and as written, so these serve both
+/// crossing tests.
+using NearbyFaces = std::vector<std::vector<FaceGrid::Item>>;
+template <class K> NearbyFaces nearby_faces(const ImproveState<K>& s, const Edit<K>& edit) {
   auto removed = [&](std::size_t m, typename Mesh<K>::Face_index f) {
     for (const auto& part : edit.parts)
       if (part.mesh == m && std::find(part.removed.begin(), part.removed.end(), f) != part.removed.end()) return true;
     return false;
   };
+  NearbyFaces near(edit.parts.size());
+  for (std::size_t k = 0; k < edit.parts.size(); ++k) {
+    if (edit.parts[k].added.empty()) continue;
+    CGAL::Bbox_3 box;
+    for (std::size_t i = 0; i < edit.parts[k].added.size(); ++i) box += new_face_box(edit.parts[k], i);
+    for (const FaceGrid::Item& item : s.grid.query_items(box)) {
+      const typename Mesh<K>::Face_index f(item.entry.face);
+      if (s.mesh(item.entry.mesh).is_removed(f) || s.meshes[item.entry.mesh].version[f] != item.entry.version ||
+          removed(item.entry.mesh, f))
+        continue;
+      near[k].push_back(item);
+    }
+  }
+  return near;
+}
+
+/// Whether the new faces of the edit meet the faces of the meshes it keeps (`near`, from
+/// nearby_faces) and each other only as allowed; on the corners as they are (PK = K), or rounded
+/// as written (Filtered). `tested_as_they_are`: the test on the corners as they are has passed,
+/// so a pair of triangles whose corners are all doubles (the same as written) is not tested again.
+template <class K, class PK>
+bool no_crossing(const ImproveState<K>& s, const Edit<K>& edit, const NearbyFaces& near, bool tested_as_they_are) {
+  std::vector<std::vector<Tri<K, PK>>> made(edit.parts.size());
   for (std::size_t k = 0; k < edit.parts.size(); ++k)
+    for (std::size_t i = 0; i < edit.parts[k].added.size(); ++i)
+      made[k].push_back(new_tri<K, PK>(s, edit, edit.parts[k], i));
+  auto settled = [&](const Tri<K, PK>& t, const Tri<K, PK>& u) { return tested_as_they_are && t.doubles && u.doubles; };
+  for (std::size_t k = 0; k < edit.parts.size(); ++k) {
+    std::vector<std::optional<Tri<K, PK>>> kept(near[k].size());  // made once per edit, when needed
     for (std::size_t i = 0; i < made[k].size(); ++i) {
       const Tri<K, PK>& t = made[k][i];
-      for (const auto& e : near[k][i]) {
-        const typename Mesh<K>::Face_index f(e.face);
-        const auto& g = s.mesh(e.mesh);
-        if (g.is_removed(f) || s.meshes[e.mesh].version[f] != e.version || removed(e.mesh, f)) continue;
-        if (!meet_as_allowed<K, PK>(s, edit, t, existing_tri<K, PK>(s, e.mesh, f))) return false;
+      const CGAL::Bbox_3 box = new_face_box(edit.parts[k], i);
+      for (std::size_t j = 0; j < near[k].size(); ++j) {
+        const FaceGrid::Item& item = near[k][j];
+        if (!CGAL::do_overlap(item.box, box)) continue;
+        if (!kept[j])
+          kept[j] = existing_tri<K, PK>(s, item.entry.mesh, typename Mesh<K>::Face_index(item.entry.face));
+        if (!settled(t, *kept[j]) && !meet_as_allowed<K, PK>(s, edit, t, *kept[j])) return false;
       }
       for (std::size_t l = k + 1; l < edit.parts.size(); ++l)  // new faces of the other meshes
         for (const Tri<K, PK>& u : made[l])
-          if (edit.parts[l].mesh != edit.parts[k].mesh && !meet_as_allowed<K, PK>(s, edit, t, u)) return false;
+          if (edit.parts[l].mesh != edit.parts[k].mesh && !settled(t, u) && !meet_as_allowed<K, PK>(s, edit, t, u))
+            return false;
     }
+  }
   return true;
 }
 
@@ -274,13 +311,15 @@ template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) 
             v != Verdict::accepted)
           return v;
     near = nearby_faces<K>(s, edit);
-    if (!no_crossing<K, K>(s, edit, near)) return Verdict::crossing;  // exactly
+    if (!no_crossing<K, K>(s, edit, near, false)) return Verdict::crossing;  // exactly
   }
   if constexpr (kernel_traits<K>::exact_constructions) {
     // As written; unless a face it removes already crosses once written (the embedding's
     // rounding): an edit that does not add a crossing where there is one is not refused for it.
-    if (near.empty()) near = nearby_faces<K>(s, edit);
-    if (!no_crossing<K, Filtered>(s, edit, near) && !removes_a_written_crossing<K>(s, edit)) return Verdict::crossing;
+    const bool tested_as_they_are = !edit.keeps_surface;
+    if (edit.keeps_surface) near = nearby_faces<K>(s, edit);
+    if (!no_crossing<K, Filtered>(s, edit, near, tested_as_they_are) && !removes_a_written_crossing<K>(s, edit))
+      return Verdict::crossing;
   }
   return Verdict::accepted;
 }

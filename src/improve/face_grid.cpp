@@ -105,9 +105,17 @@ void FaceGrid::insert(const Entry& entry, const CGAL::Bbox_3& box, const Livenes
 }
 
 std::vector<FaceGrid::Entry> FaceGrid::query(const CGAL::Bbox_3& box) const {
+  const std::vector<Item> items = query_items(box);
   std::vector<Entry> found;
+  found.reserve(items.size());
+  for (const Item& item : items) found.push_back(item.entry);
+  return found;
+}
+
+std::vector<FaceGrid::Item> FaceGrid::query_items(const CGAL::Bbox_3& box) const {
+  std::vector<Item> found;
   for (const Item& item : unplaced_.items)
-    if (CGAL::do_overlap(item.box, box)) found.push_back(item.entry);
+    if (CGAL::do_overlap(item.box, box)) found.push_back(item);
   if (top_ < min_level) return found;
   // Down from the top level, through the cells that overlap the query's range of cells and
   // exist (hold boxes, or cells below that do).
@@ -161,7 +169,7 @@ std::vector<FaceGrid::Entry> FaceGrid::query(const CGAL::Bbox_3& box) const {
         bool here_once = true;
         for (std::size_t d = 0; d < 3 && here_once; ++d)
           here_once = std::floor(std::max(item.box.min(int(d)), box.min(int(d))) / width) == double(index[d]);
-        if (here_once) found.push_back(item.entry);
+        if (here_once) found.push_back(item);
       }
     if (cells.empty()) break;
   }

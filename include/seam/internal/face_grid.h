@@ -48,6 +48,11 @@ class FaceGrid {
   struct Entry {
     std::uint32_t mesh, face, version;
   };
+  /// An entry and the box it was inserted with.
+  struct Item {
+    Entry entry;
+    CGAL::Bbox_3 box;
+  };
   using Liveness = std::function<bool(const Entry&)>;
   FaceGrid() = default;
   /// `typical_width`: the width of a typical face's box (the mean edge length, say); the base
@@ -58,12 +63,11 @@ class FaceGrid {
   /// The entries whose boxes overlap `box`, dead ones included. Each entry inserted once is
   /// returned once (taken from one of its cells); the order is the grid's, not a sorted one.
   std::vector<Entry> query(const CGAL::Bbox_3& box) const;
+  /// The same, with the boxes: a caller with several boxes queries their union once and tests
+  /// each of its boxes against these.
+  std::vector<Item> query_items(const CGAL::Bbox_3& box) const;
 
  private:
-  struct Item {
-    Entry entry;
-    CGAL::Bbox_3 box;
-  };
   struct Cell {
     std::vector<Item> items;
     std::size_t size_at_purge = 0;
