@@ -17,7 +17,6 @@
 #include <seam/check.h>
 #include <seam/pair.h>
 
-#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <array>
@@ -27,10 +26,6 @@
 #include <optional>
 #include <set>
 #include <sstream>
-
-#ifndef CGAL_HAS_THREADS
-#error "seam::pair embeds the two meshes in parallel: CGAL must be thread-aware (CGAL_HAS_THREADS)"
-#endif
 
 namespace seam {
 
@@ -109,9 +104,13 @@ PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     st.note = touching > 0 ? "the meshes touch without crossing: the points of contact are made vertices of both"
                            : "the meshes do not intersect (disjoint, or one inside the other): nothing to embed";
   st.touching_only = curves.empty() && touching > 0;
-  // The two embeddings are independent: they run concurrently. They share the curves, read only;
-  // CGAL's lazy exact numbers are safe to read from several threads when CGAL_HAS_THREADS is
-  // defined (exact values computed once, reference counts atomic).
+  // The two embeddings run one after the other. Run concurrently (they are independent, and
+  // CGAL's lazy exact numbers may be read from several threads), the same input gave different
+  // outputs from run to run on CT tows with flat contacts (rows 5, 6, 9 and 13 of
+  // scripts/real_tows.py: two to four different outputs in six runs, each verified): the
+  // vertices' interval approximations after the embeddings were the same, the flat contacts'
+  // results then were not, and one after the other they are the same in every run. Concurrency
+  // saved about a third of a CT row's embedding time (under a tenth of its run).
   EmbedOptions eo = options.embed;
   eo.snap_tol = 0;
   eo.keep_all_nodes = true;
@@ -139,17 +138,12 @@ PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     result.b = internal::embed_with_known_sites<K>(b, curves, eo, &sites_b, &away);
     seconds_b = seconds_since(ta);
   } else {
-    tbb::parallel_invoke(
-        [&] {
-          const auto ta = Clock::now();
-          result.a = internal::embed_with_known_sites<K>(a, curves, eo, &sites_a);
-          seconds_a = seconds_since(ta);
-        },
-        [&] {
-          const auto tb = Clock::now();
-          result.b = internal::embed_with_known_sites<K>(b, curves, eo, &sites_b);
-          seconds_b = seconds_since(tb);
-        });
+    auto ta = Clock::now();
+    result.a = internal::embed_with_known_sites<K>(a, curves, eo, &sites_a);
+    seconds_a = seconds_since(ta);
+    ta = Clock::now();
+    result.b = internal::embed_with_known_sites<K>(b, curves, eo, &sites_b);
+    seconds_b = seconds_since(ta);
   }
   st.stage_seconds["embed_a"] = seconds_a;
   st.stage_seconds["embed_b"] = seconds_b;

@@ -214,6 +214,7 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
   for (std::size_t m = 0; m < meshes.size(); ++m) {
     auto& ms = s.meshes[m];
     ms.mesh = meshes[m].mesh;
+    for (auto v : ms.mesh->vertices()) fix_rounding(ms.mesh->point(v));
     ms.input = input_surface<K>(meshes[m].input ? *meshes[m].input : *meshes[m].mesh);
     ms.source_min_angle = meshes[m].source_min_angle;
     add_properties<K>(ms);
