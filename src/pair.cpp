@@ -17,7 +17,6 @@
 #include <seam/check.h>
 #include <seam/pair.h>
 
-
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -109,8 +108,10 @@ PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
   // outputs from run to run on CT tows with flat contacts (rows 5, 6, 9 and 13 of
   // scripts/real_tows.py: two to four different outputs in six runs, each verified): the
   // vertices' interval approximations after the embeddings were the same, the flat contacts'
-  // results then were not, and one after the other they are the same in every run. Concurrency
-  // saved about a third of a CT row's embedding time (under a tenth of its run).
+  // results then were not; one after the other, plain runs agreed (rows 5, 6, 13). Not a full
+  // cure: with --report rows 5, 6 and 9 still differed between runs (an order that depends on the
+  // memory layout, not found yet). Concurrency saved about a third of a CT row's embedding time
+  // (under a tenth of its run).
   EmbedOptions eo = options.embed;
   eo.snap_tol = 0;
   eo.keep_all_nodes = true;
