@@ -318,6 +318,11 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   };
   // (the close pairs of the improved outputs only: those are the outputs to mend)
   auto verify = [&](PairResult<K>& r, bool improved_outputs) {
+    // The verification reads both meshes on two threads, and so does the writer: their points
+    // (shared between the meshes and the copies kept for the next way) are made exact first, so
+    // that no thread's evaluation changes the roundings another sees (see fix_rounding).
+    for (auto v : a.vertices()) fix_rounding(a.point(v));
+    for (auto v : b.vertices()) fix_rounding(b.point(v));
     const bool ok = internal::verify_outputs<K>(a0, b0, a, b, r, problem, improved_outputs ? &close_points : nullptr);
     std::sort(close_points.begin(), close_points.end());
     close_points.erase(std::unique(close_points.begin(), close_points.end()), close_points.end());

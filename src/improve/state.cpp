@@ -220,6 +220,7 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
     add_properties<K>(ms);
   }
   number_curve_points<K>(s, curves);
+  for (auto& point : s.points) fix_rounding(point.p);  // (copies of the curves' points may be other objects)
 
   // The band: faces made by the embedding or touching a curve point, not shared or frozen.
   double band_area = 0;  // with max_area: for the budget
