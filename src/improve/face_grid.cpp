@@ -31,6 +31,11 @@ bool cell_index(double x, double width, std::int64_t& index) {
   return true;
 }
 
+/// The octant of cell index i within its parent's (see FaceGrid::Cell::child).
+template <class Index> std::size_t octant(const Index& i) {
+  return std::size_t(i[0] & 1) | std::size_t(i[1] & 1) << 1 | std::size_t(i[2] & 1) << 2;
+}
+
 /// floor(i / 2): the index of the cell one level up holding cell i.
 std::int64_t parent_index(std::int64_t i) { return i >= 0 ? i / 2 : -((1 - i) / 2); }
 
@@ -50,12 +55,14 @@ FaceGrid::FaceGrid(double typical_width) {
   }
 }
 
-void FaceGrid::mark_ancestors(int level, const Index& index) {
-  Index at = index;
-  for (int l = level + 1; l <= top_; ++l) {
-    for (auto& x : at) x = parent_index(x);
-    if (!levels_[l].try_emplace(at).second) return;  // there already: so are its ancestors
+FaceGrid::Cell& FaceGrid::cell_at(int level, const Index& index) {
+  const auto [it, made] = levels_[level].try_emplace(index);
+  if (made && level < top_) {
+    Index up = index;
+    for (auto& x : up) x = parent_index(x);
+    cell_at(level + 1, up).child[octant(index)] = &it->second;
   }
+  return it->second;
 }
 
 void FaceGrid::raise_top(int level) {
@@ -65,10 +72,10 @@ void FaceGrid::raise_top(int level) {
   }
   for (; top_ < level; ++top_) {  // every cell of the top level gets its parent
     Level& up = levels_[top_ + 1];
-    for (const auto& [index, cell] : levels_[top_]) {
+    for (auto& [index, cell] : levels_[top_]) {
       Index p = index;
       for (auto& x : p) x = parent_index(x);
-      up.try_emplace(p);
+      up.try_emplace(p).first->second.child[octant(index)] = &cell;
     }
   }
 }
@@ -97,10 +104,9 @@ void FaceGrid::insert(const Entry& entry, const CGAL::Bbox_3& box, const Livenes
   for (std::int64_t i = lo[0]; i <= hi[0]; ++i)
     for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
       for (std::int64_t k = lo[2]; k <= hi[2]; ++k) {
-        const auto [it, made] = levels_[level].try_emplace(Index{i, j, k});
-        if (made) mark_ancestors(level, it->first);
-        purge_when_grown(it->second, is_live);
-        it->second.items.push_back({entry, box});
+        Cell& cell = cell_at(level, Index{i, j, k});
+        purge_when_grown(cell, is_live);
+        cell.items.push_back({entry, box});
       }
 }
 
@@ -148,14 +154,15 @@ std::vector<FaceGrid::Item> FaceGrid::query_items(const CGAL::Bbox_3& box) const
       }
     } else {
       below.clear();
-      for (const auto& [parent, unused] : cells) {
+      for (const auto& [parent, parent_cell] : cells) {
         if (std::abs(parent[0]) >= parent_limit || std::abs(parent[1]) >= parent_limit ||
             std::abs(parent[2]) >= parent_limit)
           continue;  // no cell below it can be indexed
         for (int child = 0; child < 8; ++child) {
+          const Cell* const there = parent_cell->child[std::size_t(child)];
+          if (!there) continue;
           const Index c{2 * parent[0] + (child & 1), 2 * parent[1] + ((child >> 1) & 1), 2 * parent[2] + (child >> 2)};
-          if (!in_range(c)) continue;
-          if (const auto it = here.find(c); it != here.end()) below.emplace_back(c, &it->second);
+          if (in_range(c)) below.emplace_back(c, there);
         }
       }
       std::swap(cells, below);

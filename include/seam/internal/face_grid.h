@@ -6,7 +6,8 @@
 // division by a power of two) and cell i of level L holds cells 2i and 2i + 1 of level L - 1. A box
 // is stored at the coarsest-needed level: the smallest L whose cell is at least as wide as the
 // box, in every cell it overlaps (at most two per axis). A cell exists when it holds a box or a
-// cell below it exists. A query walks down from the top level through the existing cells that
+// cell below it exists, and links to the cells below it that exist (no hash lookup below the top
+// level). A query walks down from the top level through the existing cells that
 // overlap its range of cells, and takes a box from one of its cells only (the cell of the lowest
 // corner of the box's overlap with the query). So a query costs O(levels + cells met + entries in
 // them), and at levels much finer than the query it meets only the cells where faces that small
@@ -71,6 +72,9 @@ class FaceGrid {
   struct Cell {
     std::vector<Item> items;
     std::size_t size_at_purge = 0;
+    /// The cells below that exist, by octant (bit 0: odd x index, bit 1: y, bit 2: z); the cells
+    /// of a level are nodes of an unordered_map, which keeps them in place when it grows.
+    std::array<Cell*, 8> child{};
   };
   using Index = std::array<std::int64_t, 3>;
   struct IndexHash {
@@ -82,8 +86,9 @@ class FaceGrid {
   std::map<int, Level> levels_;
   int top_ = min_level - 1;  ///< the coarsest level (below min_level: none yet)
   Cell unplaced_;            ///< boxes outside the grid's reach
-  /// Makes the cells above a new cell of `level` exist, up to the top level.
-  void mark_ancestors(int level, const Index& index);
+  /// The cell of `level` at `index`, made if missing, with the cells above it up to the top
+  /// level (each linked to the one below).
+  Cell& cell_at(int level, const Index& index);
   /// Makes `level` the top level: the cells of each level up to it get their parents.
   void raise_top(int level);
 };
