@@ -209,10 +209,22 @@ template <class K, class CDT> class PatchRefiner {
   }
 
   void run() {
+    // In the order of the point ids, not the triangulation's storage order: CGAL's triangulation
+    // places its faces in memory in an order that can depend on addresses, and the points
+    // inserted here are numbered in the order they come.
+    std::vector<std::pair<std::array<std::size_t, 2>, std::pair<VH, VH>>> constraints;
     for (const auto& e : cdt_.finite_edges())
-      if (e.first->is_constrained(e.second)) encroach_checks_.push_back(ends(e.first, e.second));
+      if (e.first->is_constrained(e.second)) {
+        const auto [s, t] = ends(e.first, e.second);
+        constraints.push_back({{std::min(s->info(), t->info()), std::max(s->info(), t->info())}, {s, t}});
+      }
+    std::sort(constraints.begin(), constraints.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (const auto& c : constraints) encroach_checks_.push_back(c.second);
+    std::vector<std::pair<std::array<std::size_t, 3>, std::array<VH, 3>>> bad_faces;
     for (FH f : cdt_.finite_face_handles())
-      if (bad(f)) bad_faces_.push_back(corners(f));
+      if (bad(f)) bad_faces.push_back({key(f), corners(f)});
+    std::sort(bad_faces.begin(), bad_faces.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (const auto& b : bad_faces) bad_faces_.push_back(b.second);
     while (budget_ > 0) {
       if (!encroach_checks_.empty()) {
         const auto [s, t] = encroach_checks_.front();
@@ -492,10 +504,18 @@ bool triangulate(Patch<K>& patch, double expected_area, const FlatContactOptions
     refiner->run();
   }
   double area = 0;
+  // In the order of their corners' ids (each from its smallest id, which keeps its orientation),
+  // not the triangulation's storage order (see PatchRefiner::run).
+  std::vector<std::pair<std::array<std::size_t, 3>, FH>> inside;
   for (FH f : cdt.finite_face_handles()) {
     if (f->info().nesting % 2 != 1) continue;
     std::array<std::size_t, 3> t;
     for (int i = 0; i < 3; ++i) t[i] = f->vertex(i)->info();
+    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+    inside.push_back({t, f});
+  }
+  std::sort(inside.begin(), inside.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  for (const auto& [t, f] : inside) {
     patch.triangles.push_back(t);
     patch.reasons.push_back(0);
     if (refiner && min_angle_2(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()) < options.min_angle_deg) {
