@@ -103,15 +103,12 @@ PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     st.note = touching > 0 ? "the meshes touch without crossing: the points of contact are made vertices of both"
                            : "the meshes do not intersect (disjoint, or one inside the other): nothing to embed";
   st.touching_only = curves.empty() && touching > 0;
-  // The two embeddings run one after the other. Run concurrently (they are independent, and
-  // CGAL's lazy exact numbers may be read from several threads), the same input gave different
-  // outputs from run to run on CT tows with flat contacts (rows 5, 6, 9 and 13 of
-  // scripts/real_tows.py: two to four different outputs in six runs, each verified): the
-  // vertices' interval approximations after the embeddings were the same, the flat contacts'
-  // results then were not; one after the other, plain runs agreed (rows 5, 6, 13). Not a full
-  // cure: with --report rows 5, 6 and 9 still differed between runs (an order that depends on the
-  // memory layout, not found yet). Concurrency saved about a third of a CT row's embedding time
-  // (under a tenth of its run).
+  // The two embeddings run one after the other. Run concurrently, they refined shared lazy
+  // numbers in the threads' order, and the same input gave different (each verified) outputs from
+  // run to run: CT rows 5, 6, 9 and 13 of scripts/real_tows.py, up to three in six runs. The
+  // quality stage now fixes its roundings itself (fix_rounding), which may make concurrency safe
+  // again: not measured. It saved about a third of a CT row's embedding time (under a tenth of
+  // its run).
   EmbedOptions eo = options.embed;
   eo.snap_tol = 0;
   eo.keep_all_nodes = true;
