@@ -33,6 +33,16 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
+/// The quality stage's options in a pair run: options.quality, with the angle bound and the area
+/// bound of options.embed and the given tolerance (improve_pair adds the vertex separation).
+ImproveOptions stage_options(const PairOptions& options, double tolerance) {
+  ImproveOptions io = options.quality;
+  io.tolerance = tolerance;
+  io.min_angle_deg = options.embed.min_angle_deg;
+  io.max_area = options.embed.max_area;
+  return io;
+}
+
 /// The curve counts of a result from its curves.
 template <class K> void count_curves(PairResult<K>& result) {
   auto& st = result.stats;
@@ -242,10 +252,7 @@ void improve_pair(Mesh<K>& a, Mesh<K>& b, PairResult<K>& result, const PairOptio
   std::vector<internal::ImproveMesh<K>> meshes{{&a, nullptr, input_a ? &angles_a : nullptr},
                                                {&b, nullptr, input_b ? &angles_b : nullptr}};
   internal::SharedCurves<K> shared{result.curves, {result.a.curve_vertices, result.b.curve_vertices}};
-  ImproveOptions io = options.quality;
-  io.tolerance = result.stats.snap_tol;
-  io.min_angle_deg = options.embed.min_angle_deg;
-  io.max_area = options.embed.max_area;
+  ImproveOptions io = stage_options(options, result.stats.snap_tol);
   io.min_separation = min_vertex_separation * internal::bbox_diagonal<K>(a, b);
   result.stats.improve = internal::improve<K>(meshes, shared, io);
   result.stats.improved = true;
@@ -272,9 +279,8 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
   internal::FlatContactOptions contact_options;
   if (improve) {
     contact_options.min_angle_deg = options.embed.min_angle_deg;
-    ImproveOptions stage = options.quality;  // as improve_pair sets it
-    stage.max_area = options.embed.max_area;
-    contact_options.feature_size = internal::feature_size_of(stage, snap_tol, std::min(la, lb));
+    contact_options.feature_size =
+        internal::feature_size_of(stage_options(options, snap_tol), snap_tol, std::min(la, lb));
   }
   // Stages 1-3 on the inputs: as they are; with the vertices within the separation of a curve and
   // of a point of the too close pairs found so far closed onto the curve; or with every vertex
