@@ -80,7 +80,7 @@ void measure_meshes(const Mesh<K>& a, const Mesh<K>& b, PairResult<K>& result, d
 /// (a vertex of one mesh that close to the other surface: a crossing as thin as that cannot be
 /// written in doubles, nor meshed by TetGen) are first closed: such vertices move onto the curve
 /// there (exactly), and the curves are computed again; with `near`, only those within
-/// `separation` of one of its points.
+/// `separation` of one of its points or corners of a face that is (see snap_vertices_to_segments).
 template <class K>
 PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options, double separation,
                               const std::vector<std::array<double, 3>>* near,

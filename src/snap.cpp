@@ -129,6 +129,32 @@ template <class K> bool in_flat_contact(const Mesh<K>& mesh, typename MeshTypes<
   }
   return false;
 }
+
+/// Per vertex: whether it lies within `distance` of one of `points`, or is a corner of a face
+/// that does (in doubles). The corners of the faces holding a point, whatever their distance to it:
+/// a vertex poking 1e-7 through the other surface leaves a curve around it 1e-6 across (CT row 10
+/// of docs/real_tows.md), whose points are farther than that from it.
+template <class K>
+std::vector<bool> corners_next_to(const Mesh<K>& mesh, const std::vector<std::array<double, 3>>& points, double distance) {
+  using DK = CGAL::Exact_predicates_inexact_constructions_kernel;
+  std::vector<bool> result(mesh.number_of_vertices() + mesh.number_of_removed_vertices(), false);
+  const double d2 = distance * distance;
+  for (const auto& p : points) {
+    const DK::Point_3 q(p[0], p[1], p[2]);
+    const CGAL::Bbox_3 box(p[0] - distance, p[1] - distance, p[2] - distance, p[0] + distance, p[1] + distance,
+                           p[2] + distance);
+    for (auto v : mesh.vertices())
+      if (CGAL::squared_distance(q, to_filtered(mesh.point(v))) <= d2) result[std::size_t(v)] = true;
+    for (auto f : mesh.faces()) {
+      const auto h = mesh.halfedge(f);
+      const DK::Triangle_3 t(to_filtered(mesh.point(mesh.source(h))), to_filtered(mesh.point(mesh.target(h))),
+                             to_filtered(mesh.point(mesh.target(mesh.next(h)))));
+      if (!CGAL::do_overlap(box, t.bbox()) || t.is_degenerate() || CGAL::squared_distance(q, t) > d2) continue;
+      for (auto v : CGAL::vertices_around_face(h, mesh)) result[std::size_t(v)] = true;
+    }
+  }
+  return result;
+}
 }  // namespace
 
 template <class K>
@@ -153,16 +179,14 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
   CGAL::AABB_tree<CGAL::AABB_traits<DK, Prim>> tree(segments.cbegin(), segments.cend());
   tree.accelerate_distance_queries();
   using V = typename MeshTypes<K>::V;
+  const std::vector<bool> next_to_near = near ? corners_next_to<K>(mesh, *near, tolerance) : std::vector<bool>();
   std::vector<std::tuple<double, std::size_t, std::size_t>> candidates;
   for (V v : mesh.vertices()) {
+    if (near && !next_to_near[std::size_t(v)]) continue;
     const auto q = to_filtered(mesh.point(v));
     const auto [cp, it] = tree.closest_point_and_primitive(q);
     const double d = std::sqrt(CGAL::squared_distance(q, cp));
     if (!(d <= tolerance)) continue;
-    if (near && std::none_of(near->begin(), near->end(), [&](const std::array<double, 3>& p) {
-          return CGAL::squared_distance(q, DK::Point_3(p[0], p[1], p[2])) <= tolerance * tolerance;
-        }))
-      continue;
     candidates.emplace_back(d, std::size_t(v), std::size_t(it - segments.cbegin()));
   }
   std::sort(candidates.begin(), candidates.end());

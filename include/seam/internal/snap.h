@@ -30,7 +30,8 @@ SnapReport<K> snap_vertices(Mesh<K>& mesh, const std::vector<Polyline<K>>& curve
 /// `other`: vertices of a face that lies in one plane with a face of `other` and meets it (a
 /// flat contact) stay (exact tests): moving one would tilt the face out of the contact, and the
 /// part of the contact it held would be lost.
-/// `near`: when given, only vertices within `tolerance` of one of these points (in doubles) move.
+/// `near`: when given, only vertices within `tolerance` of one of these points, or corners of a
+/// face within `tolerance` of one, move (in doubles).
 template <class K>
 SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, double tolerance,
                                         bool round_to_doubles = false, bool skip_on_curves = false,
