@@ -80,10 +80,20 @@ TEST_CASE("snap to segments: with points given, only the vertices next to them m
     CHECK(a2.point(left) == a.point(left));
     CHECK(K::Segment_3(curves[0][0], curves[0][1]).has_on(a2.point(right)));
   }
-  SECTION("points farther than the tolerance from both: none moves") {
-    const std::vector<std::array<double, 3>> near{{1.0, 0.5, 0}, {1.5, 0.5, 1e-6}};
+  SECTION("points farther than the tolerance from both and from their faces: none moves") {
+    const std::vector<std::array<double, 3>> near{{1.5, 0.5, 1e-6}, {3.0, 0.5, 0}};
     const auto r = seam::internal::snap_vertices_to_segments<K>(a2, curves, tolerance, false, true, nullptr, &near);
     CHECK(r.snapped == 0);
+  }
+  SECTION("a point on a face of the left centre, far from it: the corners of that face may move") {
+    // (A vertex poking through the other surface leaves a curve around it whose points can lie
+    // farther than the tolerance from it: CT row 10.) Of the corners, only the centre lies within
+    // the tolerance of the curve.
+    const std::vector<std::array<double, 3>> near{{0.5, 0.1, 0}};
+    const auto r = seam::internal::snap_vertices_to_segments<K>(a2, curves, tolerance, false, true, nullptr, &near);
+    CHECK(r.snapped == 1);
+    CHECK(a2.point(right) == a.point(right));
+    CHECK(K::Segment_3(curves[0][0], curves[0][1]).has_on(a2.point(left)));
   }
   SECTION("no list: both move") {
     const auto r = seam::internal::snap_vertices_to_segments<K>(a2, curves, tolerance, false, true);
