@@ -39,7 +39,10 @@
 //         unfolded into the plane of the last. If the walk meets a constraint, or the point
 //         encroaches one, that constraint is split as in 1. Otherwise the point is inserted in the
 //         face it lands in (put on the input surface, rounded to doubles; or, if the predicate
-//         refuses that, exactly in the face), then Lawson's flips around it. Where the constraint
+//         refuses that, exactly in the face), then Lawson's flips around it (the rounded point
+//         and its flips, found first without the predicate, are judged as one edit: the point's
+//         fan over the faces the flips remove, every edge they make ending at the point; where
+//         that is refused, the point alone, then each flip; splits alike). Where the constraint
 //         met cannot be split for what lies beyond it (a flat contact's shared faces, frozen
 //         faces, the mesh's own border; curves_fixed), points nearer the shortest edge on the
 //         same bisector are tried instead (0.7, 0.5 and 0.35 of the distance, not nearer than

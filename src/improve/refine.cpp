@@ -115,6 +115,8 @@ template <class K> class Refiner {
   Outcome insert_circumcenter(std::size_t m, F f);
   bool walk(std::size_t m, F f, FP target, F& landed, FP& at, H& crossed) const;
   Outcome insert_at(std::size_t m, F g, const FP& at);
+  std::vector<F> flip_cavity(std::size_t m, std::vector<F> region, const FP& x, std::size_t& flips) const;
+  bool attempt_with_flips(const Edit<K>& edit, const std::vector<std::pair<V, V>>& split, Applied<K>& made);
 };
 
 template <class K> void Refiner<K>::push_if_bad(std::size_t m, F f) {
@@ -506,6 +508,7 @@ template <class K> Outcome Refiner<K>::split_constraint(std::size_t m, H h) {
   make_exact(edit.fresh_point);
   edit.keeps_surface = kernel_traits<K>::exact_constructions;
   const EditCorner<K> fresh{M::null_vertex(), true, edit.fresh_point};
+  std::vector<std::pair<V, V>> split_ends;  // per part
   auto faces_of = [&](std::size_t k, V a, V b, std::vector<F>& region) {
     const M& gk = s_.mesh(k);
     for (H e : {gk.halfedge(a, b), gk.halfedge(b, a)}) {
@@ -541,15 +544,20 @@ template <class K> Outcome Refiner<K>::split_constraint(std::size_t m, H h) {
       edit.parts.emplace_back();
       const std::pair<V, V> ends{s_.points[std::size_t(px)].vertex[k], s_.points[std::size_t(py)].vertex[k]};
       if (!make_fan<K>(s_, k, region, fresh, edit.parts.back(), ends)) return {false, ShortfallCause::shape};
+      split_ends.push_back(ends);
     }
   } else {
     std::vector<F> region;
     if (!faces_of(m, x, y, region)) return {false, ShortfallCause::constraint_angle};
     edit.parts.emplace_back();
     if (!make_fan<K>(s_, m, region, fresh, edit.parts.back(), {x, y})) return {false, ShortfallCause::shape};
+    split_ends.push_back({x, y});
   }
   Applied<K> made;
-  if (const auto refused = attempt(edit, &made)) return {false, cause_of(*refused)};
+  // The split and the flips around it in each mesh as one edit first (see insert_at), then the
+  // split alone.
+  if (!attempt_with_flips(edit, split_ends, made))
+    if (const auto refused = attempt(edit, &made)) return {false, cause_of(*refused)};
   --s_.insertions_left;
   ++(curve ? s_.stats.curve_splits : s_.stats.edge_splits);
   for (std::size_t k = 0; k < edit.parts.size(); ++k) legalize(edit.parts[k].mesh, made.fresh[k]);
@@ -698,8 +706,82 @@ template <class K> bool Refiner<K>::border_fixed(std::size_t m, H h) const {
   return !s_.may_join_band(m, beyond);
 }
 
+/// The faces Lawson's flips around a point x would remove, x fanned over `region` (a disk: the
+/// face it is inserted in, the faces beside the edge it splits): the region, and the face beyond
+/// each edge flipped (try_flip's test: the flip raises the two faces' smallest angle, the edge is
+/// no constraint), simulated on the mesh as it is, without the predicate. Every edge those flips
+/// make ends at x, so their result is x's fan over the faces returned. `flips`: how many.
+template <class K>
+std::vector<typename Refiner<K>::F> Refiner<K>::flip_cavity(std::size_t m, std::vector<F> region, const FP& x,
+                                                            std::size_t& flips) const {
+  const M& mesh = s_.mesh(m);
+  std::vector<F>& cavity = region;
+  std::vector<V> border;  // the region's vertices (a flip to one of them would pinch it)
+  std::vector<H> todo;    // halfedges of the region's border, from inside
+  for (F f : region)
+    for (H h : CGAL::halfedges_around_face(mesh.halfedge(f), mesh)) {
+      if (std::find(border.begin(), border.end(), mesh.target(h)) == border.end()) border.push_back(mesh.target(h));
+      const F across = mesh.face(mesh.opposite(h));
+      if (across == M::null_face() || std::find(region.begin(), region.end(), across) == region.end()) todo.push_back(h);
+    }
+  flips = 0;
+  for (std::size_t budget = 64 + 8 * todo.size(); !todo.empty() && budget > 0; --budget) {
+    const H h = todo.back();
+    todo.pop_back();
+    const H o = mesh.opposite(h);
+    if (mesh.is_border(o)) continue;
+    const V u = mesh.source(h), v = mesh.target(h), q = mesh.target(mesh.next(o));
+    if (std::find(border.begin(), border.end(), q) != border.end()) continue;
+    const FP fu = s_.fpoint(m, u), fv = s_.fpoint(m, v), fq = s_.fpoint(m, q);
+    const double before = std::min(min_angle_deg(x, fu, fv), angle(m, mesh.face(o)));
+    const double after = std::min(min_angle_deg(x, fu, fq), min_angle_deg(x, fq, fv));
+    if (!(after > before + 1e-6)) continue;
+    // A constraint (ImproveState::is_constraint), its crease test on the quad the flip would
+    // change, the one with x: the flip moves the surface by the distance between its diagonals.
+    if (!s_.face_in_band(m, mesh.face(o)) || s_.is_curve_edge(m, u, v)) continue;
+    const FV n = CGAL::cross_product(fv - fu, fq - x);
+    const double d = (x - fu) * n;
+    if (!(n.squared_length() > 0) || d * d > 0.25 * s_.tolerance * s_.tolerance * n.squared_length()) continue;
+    cavity.push_back(mesh.face(o));
+    border.push_back(q);
+    ++flips;
+    todo.push_back(mesh.next(o));  // (u, q)
+    todo.push_back(mesh.prev(o));  // (q, v)
+  }
+  return cavity;
+}
+
+/// Makes the edit of a fresh point (an insertion, a split) together with Lawson's flips around
+/// it, as one edit: each part's region grown by flip_cavity, the point fanned over it (`split`:
+/// per part, the ends of the edge it splits, for make_fan). False, nothing made, where no flip
+/// would be made or the predicate refuses it (the fan's faces are judged as one edit: the flips'
+/// end state). With no tolerance never: flips then keep the surface only inside one plane.
+template <class K>
+bool Refiner<K>::attempt_with_flips(const Edit<K>& edit, const std::vector<std::pair<V, V>>& split, Applied<K>& made) {
+  if (!(s_.tolerance > 0)) return false;
+  const FP x = to_filtered(edit.fresh_point);
+  Edit<K> grown = edit;
+  grown.keeps_surface = false;
+  std::size_t flips = 0;
+  for (std::size_t k = 0; k < edit.parts.size(); ++k) {
+    const EditPart<K>& part = edit.parts[k];
+    std::size_t part_flips = 0;
+    const std::vector<F> cavity = flip_cavity(part.mesh, part.removed, x, part_flips);
+    if (part_flips == 0) continue;
+    EditPart<K> fan;
+    if (!make_fan<K>(s_, part.mesh, cavity, {M::null_vertex(), true, edit.fresh_point}, fan, split[k])) return false;
+    grown.parts[k] = std::move(fan);
+    flips += part_flips;
+  }
+  if (flips == 0 || attempt(grown, &made)) return false;
+  s_.stats.flips += flips;
+  return true;
+}
+
 /// Inserts a point in face g (rounded to doubles; if the predicate refuses it, exactly in g), then
-/// Lawson's flips around it.
+/// Lawson's flips around it. The rounded point and its flips are judged first as one edit (the
+/// point's fan over flip_cavity): the flips' end state, one test instead of one per flip. Where
+/// the predicate refuses that, the point alone, then each flip.
 template <class K> Outcome Refiner<K>::insert_at(std::size_t m, F g, const FP& at) {
   const M& mesh = s_.mesh(m);
   // Closer than feature_size to a vertex around g: refused (the point inserted in the end, on the
@@ -727,6 +809,12 @@ template <class K> Outcome Refiner<K>::insert_at(std::size_t m, F g, const FP& a
     return {false, ShortfallCause::shape};
   Applied<K> made;
   // (With no tolerance, exactly in g at once.)
+  if (!rounded_too_close && attempt_with_flips(edit, {{M::null_vertex(), M::null_vertex()}}, made)) {
+    --s_.insertions_left;
+    ++s_.stats.insertions;
+    legalize(m, made.fresh.front());
+    return {true, ShortfallCause::constraint_angle};
+  }
   if (auto refused = s_.tolerance > 0 && !rounded_too_close ? attempt(edit, &made)
                                                              : std::optional<Verdict>(Verdict::tolerance)) {
     // Exactly in g: barycentric coordinates (doubles) of the point, the point made from them.
