@@ -392,16 +392,29 @@ template <class K, class CDT> class PatchRefiner {
 
   /// After inserting w: the nesting of its faces, its bad faces queued, the constraints it may
   /// encroach (those opposite it) queued for the test.
+  /// In the order of the point ids, not the circulator's: where it starts follows the CDT's
+  /// flips, whose order followed addresses (CT row 6 numbered two points in either order, and
+  /// listed two faces so, depending on the output file names).
   template <class NestingOf> void after_insertion(VH w, NestingOf nesting_of) {
+    std::vector<std::pair<std::array<std::size_t, 3>, FH>> faces;
     auto h = cdt_.incident_faces(w);
     const auto first = h;
     do {
-      if (cdt_.is_infinite(h)) continue;
-      h->info().nesting = nesting_of(FH(h));
-      for (int j = 0; j < 3; ++j)
-        if (h->is_constrained(j)) encroach_checks_.push_back(ends(h, j));
-      if (bad(h)) bad_faces_.push_back(corners(h));
+      if (!cdt_.is_infinite(h)) faces.push_back({key(FH(h)), FH(h)});
     } while (++h != first);
+    std::sort(faces.begin(), faces.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    std::vector<std::pair<std::array<std::size_t, 2>, std::pair<VH, VH>>> constrained;
+    for (const auto& [k, f] : faces) {
+      f->info().nesting = nesting_of(f);
+      for (int j = 0; j < 3; ++j)
+        if (f->is_constrained(j)) {
+          const auto [s, t] = ends(f, j);
+          constrained.push_back({{std::min(s->info(), t->info()), std::max(s->info(), t->info())}, {s, t}});
+        }
+      if (bad(f)) bad_faces_.push_back(corners(f));
+    }
+    std::sort(constrained.begin(), constrained.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (const auto& c : constrained) encroach_checks_.push_back(c.second);
   }
 
   CDT& cdt_;

@@ -253,19 +253,21 @@ inline std::optional<CrossingGraph> crossing_graph(const std::vector<FacePairRes
   return g;
 }
 
-/// The crossing points (exact under the exact kernel, rounded otherwise), on all cores.
+/// The crossing points (exact under the exact kernel, rounded otherwise), one after the other.
+/// On all cores, the same input gave different outputs from run to run where a vertex had been
+/// closed onto a curve (CT row 9 of docs/real_tows.md, two ways of seam pair: three different
+/// meshes in five runs; on one core, or with this loop sequential, the same mesh in every run):
+/// the lazy exact points built from the same mesh points were evaluated in the threads' order.
 template <class K>
 std::vector<typename K::Point_3> crossing_points(const Mesh<K>& a, const Mesh<K>& b, const std::vector<CrossingKey>& keys) {
   using F = typename Mesh<K>::Face_index;
   std::vector<typename K::Point_3> points(keys.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size(), 64), [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      const auto& k = keys[i];
-      points[i] = k.edge_of_b ? crossing_point<K>(b, typename Mesh<K>::Edge_index(k.edge), a, F(k.face))
-                              : crossing_point<K>(a, typename Mesh<K>::Edge_index(k.edge), b, F(k.face));
-      make_exact(points[i]);  // kept points: cut the expression trees once
-    }
-  });
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    const auto& k = keys[i];
+    points[i] = k.edge_of_b ? crossing_point<K>(b, typename Mesh<K>::Edge_index(k.edge), a, F(k.face))
+                            : crossing_point<K>(a, typename Mesh<K>::Edge_index(k.edge), b, F(k.face));
+    make_exact(points[i]);  // kept points: cut the expression trees once
+  }
   return points;
 }
 
