@@ -256,8 +256,9 @@ inline std::optional<CrossingGraph> crossing_graph(const std::vector<FacePairRes
 /// The crossing points (exact under the exact kernel, rounded otherwise), one after the other.
 /// On all cores, the same input gave different outputs from run to run where a vertex had been
 /// closed onto a curve (CT row 9 of docs/real_tows.md, two ways of seam pair: three different
-/// meshes in five runs; on one core, or with this loop sequential, the same mesh in every run):
-/// the lazy exact points built from the same mesh points were evaluated in the threads' order.
+/// meshes in five runs; on one core, or with this loop sequential, the same mesh in every run).
+/// What in the threaded loop made the difference is not pinned down: presumably lazy values
+/// shared by points of both threads, evaluated in the threads' order.
 template <class K>
 std::vector<typename K::Point_3> crossing_points(const Mesh<K>& a, const Mesh<K>& b, const std::vector<CrossingKey>& keys) {
   using F = typename Mesh<K>::Face_index;
