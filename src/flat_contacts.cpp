@@ -192,6 +192,12 @@ template <class K> typename K::Point_3 lifted(const Patch<K>& patch, const typen
 
 /// Ruppert's refinement of the inside of a patch (its faces of odd nesting), see the header for
 /// the rules, the bound and why it ends.
+/// Sorts (key, item) pairs by key alone: the order of point ids in which the flat contacts'
+/// refinement takes its work, not the triangulation's storage order (see PatchRefiner::run).
+template <class Pairs> void sort_by_key(Pairs& pairs) {
+  std::sort(pairs.begin(), pairs.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+}
+
 template <class K, class CDT> class PatchRefiner {
  public:
   using FH = typename CDT::Face_handle;
@@ -214,16 +220,13 @@ template <class K, class CDT> class PatchRefiner {
     // inserted here are numbered in the order they come.
     std::vector<std::pair<std::array<std::size_t, 2>, std::pair<VH, VH>>> constraints;
     for (const auto& e : cdt_.finite_edges())
-      if (e.first->is_constrained(e.second)) {
-        const auto [s, t] = ends(e.first, e.second);
-        constraints.push_back({{std::min(s->info(), t->info()), std::max(s->info(), t->info())}, {s, t}});
-      }
-    std::sort(constraints.begin(), constraints.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+      if (e.first->is_constrained(e.second)) constraints.push_back(keyed(e.first, e.second));
+    sort_by_key(constraints);
     for (const auto& c : constraints) encroach_checks_.push_back(c.second);
     std::vector<std::pair<std::array<std::size_t, 3>, std::array<VH, 3>>> bad_faces;
     for (FH f : cdt_.finite_face_handles())
       if (bad(f)) bad_faces.push_back({key(f), corners(f)});
-    std::sort(bad_faces.begin(), bad_faces.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    sort_by_key(bad_faces);
     for (const auto& b : bad_faces) bad_faces_.push_back(b.second);
     while (budget_ > 0) {
       if (!encroach_checks_.empty()) {
@@ -376,6 +379,12 @@ template <class K, class CDT> class PatchRefiner {
     gave_up_[key(f)] = why;
     return false;
   }
+  /// A constraint edge (the edge i of f) with its point ids, smaller first: the order it is
+  /// queued in (see run).
+  static std::pair<std::array<std::size_t, 2>, std::pair<VH, VH>> keyed(FH f, int i) {
+    const auto [s, t] = ends(f, i);
+    return {{std::min(s->info(), t->info()), std::max(s->info(), t->info())}, {s, t}};
+  }
   static std::array<std::size_t, 3> key(FH f) {
     std::array<std::size_t, 3> k = {f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()};
     std::sort(k.begin(), k.end());
@@ -402,18 +411,15 @@ template <class K, class CDT> class PatchRefiner {
     do {
       if (!cdt_.is_infinite(h)) faces.push_back({key(FH(h)), FH(h)});
     } while (++h != first);
-    std::sort(faces.begin(), faces.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    sort_by_key(faces);
     std::vector<std::pair<std::array<std::size_t, 2>, std::pair<VH, VH>>> constrained;
     for (const auto& [k, f] : faces) {
       f->info().nesting = nesting_of(f);
       for (int j = 0; j < 3; ++j)
-        if (f->is_constrained(j)) {
-          const auto [s, t] = ends(f, j);
-          constrained.push_back({{std::min(s->info(), t->info()), std::max(s->info(), t->info())}, {s, t}});
-        }
+        if (f->is_constrained(j)) constrained.push_back(keyed(f, j));
       if (bad(f)) bad_faces_.push_back(corners(f));
     }
-    std::sort(constrained.begin(), constrained.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    sort_by_key(constrained);
     for (const auto& c : constrained) encroach_checks_.push_back(c.second);
   }
 
@@ -527,7 +533,7 @@ bool triangulate(Patch<K>& patch, double expected_area, const FlatContactOptions
     std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
     inside.push_back({t, f});
   }
-  std::sort(inside.begin(), inside.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  sort_by_key(inside);
   for (const auto& [t, f] : inside) {
     patch.triangles.push_back(t);
     patch.reasons.push_back(0);

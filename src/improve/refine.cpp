@@ -715,7 +715,6 @@ template <class K>
 std::vector<typename Refiner<K>::F> Refiner<K>::flip_cavity(std::size_t m, std::vector<F> region, const FP& x,
                                                             std::size_t& flips) const {
   const M& mesh = s_.mesh(m);
-  std::vector<F>& cavity = region;
   std::vector<V> border;  // the region's vertices (a flip to one of them would pinch it)
   std::vector<H> todo;    // halfedges of the region's border, from inside
   for (F f : region)
@@ -739,16 +738,14 @@ std::vector<typename Refiner<K>::F> Refiner<K>::flip_cavity(std::size_t m, std::
     // A constraint (ImproveState::is_constraint), its crease test on the quad the flip would
     // change, the one with x: the flip moves the surface by the distance between its diagonals.
     if (!s_.face_in_band(m, mesh.face(o)) || s_.is_curve_edge(m, u, v)) continue;
-    const FV n = CGAL::cross_product(fv - fu, fq - x);
-    const double d = (x - fu) * n;
-    if (!(n.squared_length() > 0) || d * d > 0.25 * s_.tolerance * s_.tolerance * n.squared_length()) continue;
-    cavity.push_back(mesh.face(o));
+    if (s_.flip_moves_surface(fu, fv, x, fq).value_or(true)) continue;
+    region.push_back(mesh.face(o));
     border.push_back(q);
     ++flips;
     todo.push_back(mesh.next(o));  // (u, q)
     todo.push_back(mesh.prev(o));  // (q, v)
   }
-  return cavity;
+  return region;
 }
 
 /// Makes the edit of a fresh point (an insertion, a split) together with Lawson's flips around

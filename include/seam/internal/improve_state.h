@@ -25,6 +25,7 @@
 #include <functional>
 #include <memory>
 #include <utility>
+#include <optional>
 #include <vector>
 
 namespace seam::internal {
@@ -232,11 +233,18 @@ template <class K> struct ImproveState {
     const M& g = mesh(m);
     const V u = g.source(h), v = g.target(h), p = g.target(g.next(h)), q = g.target(g.next(g.opposite(h)));
     if (!(tolerance > 0)) return !CGAL::coplanar(g.point(u), g.point(v), g.point(p), g.point(q));
-    const Filtered::Point_3 fu = fpoint(m, u), fp = fpoint(m, p);
-    const Filtered::Vector_3 n = CGAL::cross_product(fpoint(m, v) - fu, fpoint(m, q) - fp);
+    // (parallel diagonals: a degenerate quad, which the flip's own tests refuse)
+    return flip_moves_surface(fpoint(m, u), fpoint(m, v), fpoint(m, p), fpoint(m, q)).value_or(false);
+  }
+  /// With a tolerance: whether flipping diagonal uv of the quad (u, v, p, q) to pq moves the
+  /// surface by more than half the tolerance (the distance between the diagonals' lines,
+  /// doubles); nothing where the diagonals are parallel.
+  std::optional<bool> flip_moves_surface(const Filtered::Point_3& u, const Filtered::Point_3& v,
+                                         const Filtered::Point_3& p, const Filtered::Point_3& q) const {
+    const Filtered::Vector_3 n = CGAL::cross_product(v - u, q - p);
     const double nn = n.squared_length();
-    if (!(nn > 0)) return false;  // parallel diagonals: a degenerate quad, which the flip's own tests refuse
-    const double d = (fp - fu) * n;
+    if (!(nn > 0)) return std::nullopt;
+    const double d = (p - u) * n;
     return d * d > 0.25 * tolerance * tolerance * nn;
   }
   /// The edge of halfedge h may not be flipped: a curve segment, the band's border or the mesh's,
