@@ -1,6 +1,7 @@
 // seam: isolated points of contact made vertices. See seam/internal/contact_points.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/internal/contact_points.h>
+#include <seam/internal/on_triangle.h>
 
 #include <CGAL/boost/graph/Euler_operations.h>
 
@@ -30,7 +31,7 @@ std::vector<typename MeshTypes<K>::V> insert_points(Mesh<K>& mesh, const std::ve
       if (!CGAL::do_overlap(fb, box)) continue;
       const auto &a = mesh.point(mesh.source(hs[0])), &b = mesh.point(mesh.target(hs[0])),
                  &c = mesh.point(mesh.target(hs[1]));
-      if (!typename K::Triangle_3(a, b, c).has_on(p)) continue;
+      if (!on_triangle<K>(a, b, c, p)) continue;
       for (H h : hs)
         if (mesh.point(mesh.target(h)) == p) found = mesh.target(h);
       if (found) break;

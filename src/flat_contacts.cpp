@@ -63,10 +63,24 @@ template <class P> double projected_area(const P& p, const P& q, const P& r, int
   return std::abs((y[u] - x[u]) * (z[v] - x[v]) - (y[v] - x[v]) * (z[u] - x[u])) / 2;
 }
 
-/// Orientation of the projection of (p, q, r) along `axis` (exact under the exact kernel).
+/// Orientation of the projection of (p, q, r) along `axis` (exact under the exact kernel: the
+/// points' intervals first, then, where their sign is not certain, their exact values; not the
+/// lazy numbers' arithmetic, which allocates a node per operation).
 template <class P> CGAL::Sign projected_orientation(const P& p, const P& q, const P& r, int axis) {
   const auto [u, v] = kept_coordinates(axis);
-  return CGAL::sign_of_determinant(q[u] - p[u], q[v] - p[v], r[u] - p[u], r[v] - p[v]);
+  if constexpr (std::is_same_v<typename CGAL::Kernel_traits<P>::Kernel, Exact>) {
+    {
+      CGAL::Protect_FPU_rounding<true> rounding;
+      const certified::IP a = certified::interval_point(p), b = certified::interval_point(q),
+                          c = certified::interval_point(r);
+      const int sure = certified::sure_sign((b[u] - a[u]) * (c[v] - a[v]) - (b[v] - a[v]) * (c[u] - a[u]));
+      if (sure != 0) return sure > 0 ? CGAL::POSITIVE : CGAL::NEGATIVE;
+    }
+    const auto &a = CGAL::exact(p), &b = CGAL::exact(q), &c = CGAL::exact(r);
+    return CGAL::sign_of_determinant(b[u] - a[u], b[v] - a[v], c[u] - a[u], c[v] - a[v]);
+  } else {
+    return CGAL::sign_of_determinant(q[u] - p[u], q[v] - p[v], r[u] - p[u], r[v] - p[v]);
+  }
 }
 
 /// Two coplanar triangles, projected along `axis` (where neither is degenerate), overlap with

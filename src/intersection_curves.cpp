@@ -1,8 +1,10 @@
 // seam: the intersection curves of two triangle meshes (pair stage 1). See
 // seam/internal/intersection_curves.h and, for what the curves are, seam/pair.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include <seam/internal/certified.h>
 #include <seam/internal/general_position_curves.h>
 #include <seam/internal/intersection_curves.h>
+#include <seam/internal/on_triangle.h>
 
 #include <CGAL/box_intersection_d.h>
 #include <CGAL/Polygon_mesh_processing/bbox.h>
@@ -160,11 +162,16 @@ template <class K> void orient_curves(const Mesh<K>& a, const Mesh<K>& b, std::v
                           const Point& q) {
       std::vector<std::array<Point, 3>> result;
       const CGAL::Bbox_3 box = p.bbox() + q.bbox();
+      const certified::IP pi = certified::interval_point(p), qi = certified::interval_point(q);
       for (const auto& [f, fbox] : faces) {
         if (!CGAL::do_overlap(box, fbox)) continue;
         const auto c = corners(m, f);
-        const typename K::Triangle_3 t(c[0], c[1], c[2]);
-        if (!t.is_degenerate() && t.has_on(p) && t.has_on(q)) result.push_back(c);
+        const certified::IP c0 = certified::interval_point(c[0]), c1 = certified::interval_point(c[1]),
+                            c2 = certified::interval_point(c[2]);
+        if (certified::surely_off_triangle(c0, c1, c2, pi) || certified::surely_off_triangle(c0, c1, c2, qi)) continue;
+        if (!CGAL::collinear(c[0], c[1], c[2]) && on_triangle<K>(c[0], c[1], c[2], p) &&
+            on_triangle<K>(c[0], c[1], c[2], q))
+          result.push_back(c);
       }
       return result;
     };
@@ -329,10 +336,18 @@ template <class K> class SegmentClassifier {
   /// Exactly: the faces of m that contain the segment, among the candidates.
   std::vector<F> faces_containing(const Mesh<K>& m, const std::vector<F>& candidates, std::size_t s) const {
     std::vector<F> result;
+    const certified::IP p = certified::interval_point(*segments_[s].first);
+    const certified::IP q = certified::interval_point(*segments_[s].second);
     for (F f : candidates) {
+      // (most candidates of a flat contact lie in the segment's plane: settled in intervals when
+      // the segment is surely beyond an edge; the exact test below is the kernel's)
+      const auto ci = face_intervals(m, f);
+      if (certified::surely_off_triangle(ci[0], ci[1], ci[2], p) ||
+          certified::surely_off_triangle(ci[0], ci[1], ci[2], q))
+        continue;
       const auto c = corners(m, f);
-      const typename K::Triangle_3 t(c[0], c[1], c[2]);
-      if (t.has_on(*segments_[s].first) && t.has_on(*segments_[s].second)) result.push_back(f);
+      if (on_triangle<K>(c[0], c[1], c[2], *segments_[s].first) && on_triangle<K>(c[0], c[1], c[2], *segments_[s].second))
+        result.push_back(f);
     }
     return result;
   }

@@ -354,11 +354,19 @@ template <class K> class FaceRetriangulation {
   }
 
   // X = L (p - a).u and Y = (p - a).v: no division, so exact coordinates stay small rationals.
+  // Under the exact kernel on the exact values directly: one lazy node per point, not one per
+  // operation (each evaluated once, behind a lock).
   Point2 to_2d(const Point3& p) const {
-    const Vector3 d = p - a_;
-    Point2 q((d * u_) * L_, d * v_);
-    make_exact(q);
-    return q;
+    if constexpr (std::is_same_v<K, Exact>) {
+      const auto d = CGAL::exact(p) - CGAL::exact(a_);
+      using EK = typename CGAL::Kernel_traits<std::decay_t<decltype(d)>>::Kernel;
+      return Point2(typename EK::Point_2((d * CGAL::exact(u_)) * CGAL::exact(L_), d * CGAL::exact(v_)));
+    } else {
+      const Vector3 d = p - a_;
+      Point2 q((d * u_) * L_, d * v_);
+      make_exact(q);
+      return q;
+    }
   }
   Point3 to_3d(const Point2& q) const {
     Point3 p = a_ + u_ * (q.x() / Luu_) + v_ * (q.y() / vv_);

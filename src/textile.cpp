@@ -6,6 +6,7 @@
 #include <seam/internal/embed_known_sites.h>
 #include <seam/internal/provenance.h>
 #include <seam/internal/improve_state.h>
+#include <seam/internal/on_triangle.h>
 #include <seam/internal/snap.h>
 #include <seam/internal/verify_output.h>
 #include <seam/pair.h>
@@ -266,7 +267,7 @@ template <class K> bool insert_vertex(Mesh<K>& m, const typename K::Point_3& p, 
     const auto h = m.halfedge(f);
     const auto &a = m.point(m.source(h)), &b = m.point(m.target(h)), &c = m.point(m.target(m.next(h)));
     if (!CGAL::do_overlap(a.bbox() + b.bbox() + c.bbox(), box)) continue;
-    if (!typename K::Triangle_3(a, b, c).has_on(p)) continue;
+    if (!internal::on_triangle<K>(a, b, c, p)) continue;
     if (p == a || p == b || p == c) return false;
     prov.start<K>(m);
     // On an edge of f?
