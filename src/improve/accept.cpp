@@ -82,6 +82,30 @@ bool segment_after(const ImproveState<K>& s, const Edit<K>& edit, int x, int y, 
   return curve >= 0 && s.holds_curve(m1, curve) && s.holds_curve(m2, curve);
 }
 
+/// Triangles (p, a, b) and (p, c, d) meet only in p (true) or in more (false), decided with the
+/// kernel's predicates where each meets the other's plane in one of its edges from p: at a curve
+/// point, the curve runs along the line where the two planes meet, and the next curve point of
+/// each face lies exactly in the other's plane. Both edges then lie on that line, and the faces
+/// share only p when the edges point away from each other. Otherwise (or a degenerate triangle)
+/// unknown: the caller's general test. Exact under the exact and filtered kernels, and cheap: the
+/// interval filters fail only on the corners exactly in the other plane (one determinant each).
+template <class P>
+std::optional<bool> only_vertex_along_edges(const P& p, const P& a, const P& b, const P& c, const P& d) {
+  const auto oc = CGAL::orientation(p, a, b, c), od = CGAL::orientation(p, a, b, d);
+  if (oc != CGAL::COPLANAR && oc == od) return true;
+  const auto oa = CGAL::orientation(p, c, d, a), ob = CGAL::orientation(p, c, d, b);
+  if (oa != CGAL::COPLANAR && oa == ob) return true;
+  // (one corner in the other's plane and one off it: that triangle meets the plane in an edge)
+  auto edge_end = [](CGAL::Orientation o1, CGAL::Orientation o2, const P& x1, const P& x2) -> const P* {
+    if ((o1 == CGAL::COPLANAR) == (o2 == CGAL::COPLANAR)) return nullptr;
+    return o1 == CGAL::COPLANAR ? &x1 : &x2;
+  };
+  const P* x = edge_end(oa, ob, a, b);
+  const P* y = edge_end(oc, od, c, d);
+  if (!x || !y) return std::nullopt;
+  return CGAL::angle(*x, p, *y) == CGAL::OBTUSE;
+}
+
 /// Whether triangles t and u meet only as allowed (see the top of this file). Exact under the
 /// exact and filtered kernels.
 template <class K, class PK>
@@ -106,6 +130,7 @@ bool meet_as_allowed(const ImproveState<K>& s, const Edit<K>& edit, const Tri<K,
     const std::size_t j1 = std::size_t((j + 1) % 3), j2 = std::size_t((j + 2) % 3);
     const auto sure = certified::surely_only_vertex(t.ip[std::size_t(i)], t.ip[i1], t.ip[i2], u.ip[j1], u.ip[j2]);
     if (sure) return *sure;
+    if (const auto along = only_vertex_along_edges(tp[std::size_t(i)], tp[i1], tp[i2], up[j1], up[j2])) return *along;
     return !CGAL::do_intersect(S3(tp[i1], tp[i2]), T3(up[0], up[1], up[2])) &&
            !CGAL::do_intersect(S3(up[j1], up[j2]), T3(tp[0], tp[1], tp[2]));
   }
