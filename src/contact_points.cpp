@@ -1,7 +1,7 @@
 // seam: isolated points of contact made vertices. See seam/internal/contact_points.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/internal/contact_points.h>
-#include <seam/internal/on_triangle.h>
+#include <seam/internal/triangle_predicates.h>
 
 #include <CGAL/boost/graph/Euler_operations.h>
 

@@ -4,7 +4,7 @@
 #include <seam/internal/certified.h>
 #include <seam/internal/general_position_curves.h>
 #include <seam/internal/intersection_curves.h>
-#include <seam/internal/on_triangle.h>
+#include <seam/internal/triangle_predicates.h>
 
 #include <CGAL/box_intersection_d.h>
 #include <CGAL/Polygon_mesh_processing/bbox.h>

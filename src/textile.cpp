@@ -6,7 +6,7 @@
 #include <seam/internal/embed_known_sites.h>
 #include <seam/internal/provenance.h>
 #include <seam/internal/improve_state.h>
-#include <seam/internal/on_triangle.h>
+#include <seam/internal/triangle_predicates.h>
 #include <seam/internal/snap.h>
 #include <seam/internal/verify_output.h>
 #include <seam/pair.h>

@@ -18,6 +18,7 @@
 
 #include <seam/internal/certified.h>
 #include <seam/internal/improve_state.h>
+#include <seam/internal/triangle_predicates.h>
 
 #include <algorithm>
 #include <cmath>
@@ -80,45 +81,6 @@ bool segment_after(const ImproveState<K>& s, const Edit<K>& edit, int x, int y, 
       curve = s.curve_of_segment(x == edit.merged_into ? y : x, edit.merged_point);
   }
   return curve >= 0 && s.holds_curve(m1, curve) && s.holds_curve(m2, curve);
-}
-
-/// Triangles (p, a, b) and (p, c, d) meet only in p (true) or in more (false), decided with the
-/// kernel's predicates where at least one of them meets the other's plane in one of its edges
-/// from p: at a curve point, the curve runs along the line L where the two planes meet, and the
-/// next curve point of a face lies exactly in the other's plane. Each face meets L in a segment
-/// from p (the face's part in the other's plane), and the faces share only p when those point
-/// away from each other:
-///   - both are edges, [p, x] and [p, y]: when x and y lie on opposite sides of p;
-///   - [p, x] an edge of one, the other straddling the first one's plane (its segment on L lies
-///     strictly inside its corner at p): when x lies outside that corner.
-/// Otherwise (both straddle, or a degenerate triangle) unknown: the caller's general test. Exact
-/// under the exact and filtered kernels, and cheap: the interval filters fail only on the corners
-/// exactly in the other plane (one determinant each).
-template <class P>
-std::optional<bool> only_vertex_along_edges(const P& p, const P& a, const P& b, const P& c, const P& d) {
-  const auto oc = CGAL::orientation(p, a, b, c), od = CGAL::orientation(p, a, b, d);
-  if (oc != CGAL::COPLANAR && oc == od) return true;
-  const auto oa = CGAL::orientation(p, c, d, a), ob = CGAL::orientation(p, c, d, b);
-  if (oa != CGAL::COPLANAR && oa == ob) return true;
-  // (one corner in the other's plane and one off it: that triangle meets the plane in an edge)
-  auto edge_end = [](CGAL::Orientation o1, CGAL::Orientation o2, const P& x1, const P& x2) -> const P* {
-    if ((o1 == CGAL::COPLANAR) == (o2 == CGAL::COPLANAR)) return nullptr;
-    return o1 == CGAL::COPLANAR ? &x1 : &x2;
-  };
-  auto straddles = [](CGAL::Orientation o1, CGAL::Orientation o2) {
-    return o1 != CGAL::COPLANAR && o2 != CGAL::COPLANAR && o1 != o2;
-  };
-  // z (in the plane of corner (p, q, r)) lies strictly inside that corner
-  auto inside_corner = [](const P& p, const P& q, const P& r, const P& z) {
-    return CGAL::coplanar_orientation(p, q, r, z) == CGAL::POSITIVE &&
-           CGAL::coplanar_orientation(p, r, q, z) == CGAL::POSITIVE;
-  };
-  const P* x = edge_end(oa, ob, a, b);
-  const P* y = edge_end(oc, od, c, d);
-  if (x && y) return CGAL::angle(*x, p, *y) == CGAL::OBTUSE;
-  if (x && straddles(oc, od)) return !inside_corner(p, c, d, *x);
-  if (y && straddles(oa, ob)) return !inside_corner(p, a, b, *y);
-  return std::nullopt;
 }
 
 /// Whether triangles t and u meet only as allowed (see the top of this file). Exact under the
