@@ -55,6 +55,11 @@ struct PointLess {
 
 constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
 constexpr std::size_t max_examples = 5;  ///< face pairs named in one problem line
+/// box_intersection_d's cutoff: a range of fewer boxes is scanned pair by pair instead of split
+/// further. CGAL's default is 10; its own self-intersection test (Polygon_mesh_processing) uses
+/// 2000: fewer levels of recursion, each of which copies and partitions the boxes. The pairs
+/// found are the same; only the order in which they are reported can differ.
+constexpr std::ptrdiff_t box_cutoff = 2000;
 
 // Certified fast tests (seam/internal/certified.h): interval arithmetic that settles nearly
 // every degenerate face pair next to the curves in doubles.
@@ -216,9 +221,9 @@ void check_self_intersections(const MeshView<K>& view, std::vector<std::string>&
     // The pairs with a face in focus: those boxes against all (a pair of two faces in focus is
     // seen twice, and reported twice).
     std::vector<Box> focused = face_boxes(view, focus, 1);
-    CGAL::box_intersection_d(focused.begin(), focused.end(), boxes.begin(), boxes.end(), callback);
+    CGAL::box_intersection_d(focused.begin(), focused.end(), boxes.begin(), boxes.end(), callback, box_cutoff);
   } else {
-    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), callback);
+    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), callback, box_cutoff);
   }
   if (count) {
     std::string list;
@@ -434,7 +439,7 @@ void check_vertex_separation(std::initializer_list<const Mesh<K>*> input_meshes,
     }
     if (count++ == 0)
       first = say("(", p[0], ", ", p[1], ", ", p[2], ") and (", q[0], ", ", q[1], ", ", q[2], "), ", d, " apart");
-  });
+  }, box_cutoff);
   report.close_vertex_pairs = count;
   if (count)
     report.problems.push_back(say(count, " pairs of distinct vertices of ", subject, " are closer than ", r,
@@ -563,7 +568,7 @@ void check_coverage(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyli
                                  sample(FP(x0 / n, y0 / n, z0 / n));
                                }
                              }
-                           });
+                           }, box_cutoff);
   report.uncovered_samples = uncovered;
   if (uncovered)
     report.problems.push_back(say(uncovered, " points of the intersection of A and B are farther than the tolerance ",
@@ -749,12 +754,12 @@ std::vector<char> check_no_intersection_off_curves(MeshView<K>& va, MeshView<K>&
     // The pairs with a face in focus: A2's in focus against all of B2, the rest of A2 against
     // B2's in focus.
     std::vector<Box> focused_a = face_boxes(va, focus_a, 1), all_b = face_boxes(vb);
-    CGAL::box_intersection_d(focused_a.begin(), focused_a.end(), all_b.begin(), all_b.end(), callback);
+    CGAL::box_intersection_d(focused_a.begin(), focused_a.end(), all_b.begin(), all_b.end(), callback, box_cutoff);
     std::vector<Box> rest_a = face_boxes(va, focus_a, 0), focused_b = face_boxes(vb, focus_b, 1);
-    CGAL::box_intersection_d(rest_a.begin(), rest_a.end(), focused_b.begin(), focused_b.end(), callback);
+    CGAL::box_intersection_d(rest_a.begin(), rest_a.end(), focused_b.begin(), focused_b.end(), callback, box_cutoff);
   } else {
     std::vector<Box> boxes_a = face_boxes(va), boxes_b = face_boxes(vb);
-    CGAL::box_intersection_d(boxes_a.begin(), boxes_a.end(), boxes_b.begin(), boxes_b.end(), callback);
+    CGAL::box_intersection_d(boxes_a.begin(), boxes_a.end(), boxes_b.begin(), boxes_b.end(), callback, box_cutoff);
   }
   if (report.intersecting_face_pairs_off_curve) {
     std::string list;
