@@ -339,8 +339,8 @@ template <class K> class SegmentClassifier {
     const certified::IP p = certified::interval_point(*segments_[s].first);
     const certified::IP q = certified::interval_point(*segments_[s].second);
     for (F f : candidates) {
-      // (most candidates of a flat contact lie in the segment's plane: settled in intervals when
-      // the segment is surely beyond an edge; the exact test below is the kernel's)
+      // (a face whose plane or edges the segment surely lies off is settled in intervals; the
+      // others by the kernel's exact predicates)
       const auto ci = face_intervals(m, f);
       if (certified::surely_off_triangle(ci[0], ci[1], ci[2], p) ||
           certified::surely_off_triangle(ci[0], ci[1], ci[2], q))

@@ -19,14 +19,15 @@ namespace seam::internal {
 namespace {
 
 /// The mesh with its coordinates rounded to doubles, as an exact-kernel mesh (the same
-/// connectivity, vertices and faces in the same order).
+/// connectivity, vertices and faces in the same order). Its points are doubles or made exact
+/// (see check_as_written): their intervals are then as tight as they get, and to_filtered rounds
+/// them as to_double(p.x()) would, without a lazy number per coordinate.
 template <class K> Mesh<Exact> rounded(const Mesh<K>& mesh) {
   Mesh<Exact> out;
   std::vector<MeshTypes<Exact>::V> index(mesh.number_of_vertices() + mesh.number_of_removed_vertices());
   for (auto v : mesh.vertices()) {
-    const auto& p = mesh.point(v);
-    index[std::size_t(v)] = out.add_vertex(Exact::Point_3(CGAL::to_double(p.x()), CGAL::to_double(p.y()),
-                                                          CGAL::to_double(p.z())));
+    const Filtered::Point_3 p = to_filtered(mesh.point(v));
+    index[std::size_t(v)] = out.add_vertex(Exact::Point_3(p.x(), p.y(), p.z()));
   }
   std::vector<std::array<MeshTypes<Exact>::V, 3>> triangles;
   triangles.reserve(mesh.number_of_faces());
