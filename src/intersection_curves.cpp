@@ -1,7 +1,6 @@
 // seam: the intersection curves of two triangle meshes (pair stage 1). See
 // seam/internal/intersection_curves.h and, for what the curves are, seam/pair.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include <seam/internal/certified.h>
 #include <seam/internal/general_position_curves.h>
 #include <seam/internal/intersection_curves.h>
 #include <seam/internal/triangle_predicates.h>
@@ -21,6 +20,44 @@
 namespace seam {
 namespace internal {
 namespace {
+
+// Certified interval tests of this file. The curve computation has its own, as seam check has
+// its own (seam/internal/certified.h): the verification shares no code with what it verifies.
+using CI = CGAL::Interval_nt<false>;  // needs the rounding mode set by Protect_FPU_rounding
+using CIP = std::array<CI, 3>;
+
+/// Intervals that hold the point's coordinates (under Exact its approximation).
+template <class P> CIP interval_of(const P& p) {
+  if constexpr (std::is_same_v<typename CGAL::Kernel_traits<P>::Kernel, Exact>) {
+    const auto& x = CGAL::approx(p);
+    return {x.x(), x.y(), x.z()};
+  } else {
+    return {CI(CGAL::to_double(p.x())), CI(CGAL::to_double(p.y())), CI(CGAL::to_double(p.z()))};
+  }
+}
+
+/// Point p surely lies off the closed triangle (a, b, c): off its plane, or, in an axis projection
+/// where the triangle is surely not degenerate (one to one on its plane), strictly beyond one of
+/// its edges. False when not certain.
+inline bool surely_off_triangle(const CIP& a, const CIP& b, const CIP& c, const CIP& p) {
+  CGAL::Protect_FPU_rounding<true> rounding;
+  auto sign = [](const CI& x) { return x.inf() > 0 ? 1 : (x.sup() < 0 ? -1 : 0); };
+  auto orient2 = [](const CIP& u, const CIP& v, const CIP& w, int i, int j) {
+    return (v[i] - u[i]) * (w[j] - u[j]) - (v[j] - u[j]) * (w[i] - u[i]);
+  };
+  const CI ax = a[0] - p[0], ay = a[1] - p[1], az = a[2] - p[2];
+  const CI bx = b[0] - p[0], by = b[1] - p[1], bz = b[2] - p[2];
+  const CI cx = c[0] - p[0], cy = c[1] - p[1], cz = c[2] - p[2];
+  if (sign(ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx)) != 0) return true;
+  for (int axis = 0; axis < 3; ++axis) {
+    const int i = (axis + 1) % 3, j = (axis + 2) % 3;
+    const int o = sign(orient2(a, b, c, i, j));
+    if (o == 0) continue;
+    if (sign(orient2(a, b, p, i, j)) == -o || sign(orient2(b, c, p, i, j)) == -o || sign(orient2(c, a, p, i, j)) == -o)
+      return true;
+  }
+  return false;
+}
 
 template <class Point> struct PointLess {
   bool operator()(const Point& a, const Point& b) const { return CGAL::compare_xyz(a, b) == CGAL::SMALLER; }
@@ -162,13 +199,12 @@ template <class K> void orient_curves(const Mesh<K>& a, const Mesh<K>& b, std::v
                           const Point& q) {
       std::vector<std::array<Point, 3>> result;
       const CGAL::Bbox_3 box = p.bbox() + q.bbox();
-      const certified::IP pi = certified::interval_point(p), qi = certified::interval_point(q);
+      const CIP pi = interval_of(p), qi = interval_of(q);
       for (const auto& [f, fbox] : faces) {
         if (!CGAL::do_overlap(box, fbox)) continue;
         const auto c = corners(m, f);
-        const certified::IP c0 = certified::interval_point(c[0]), c1 = certified::interval_point(c[1]),
-                            c2 = certified::interval_point(c[2]);
-        if (certified::surely_off_triangle(c0, c1, c2, pi) || certified::surely_off_triangle(c0, c1, c2, qi)) continue;
+        const CIP c0 = interval_of(c[0]), c1 = interval_of(c[1]), c2 = interval_of(c[2]);
+        if (surely_off_triangle(c0, c1, c2, pi) || surely_off_triangle(c0, c1, c2, qi)) continue;
         if (!CGAL::collinear(c[0], c[1], c[2]) && on_triangle<K>(c[0], c[1], c[2], p) &&
             on_triangle<K>(c[0], c[1], c[2], q))
           result.push_back(c);
@@ -336,14 +372,12 @@ template <class K> class SegmentClassifier {
   /// Exactly: the faces of m that contain the segment, among the candidates.
   std::vector<F> faces_containing(const Mesh<K>& m, const std::vector<F>& candidates, std::size_t s) const {
     std::vector<F> result;
-    const certified::IP p = certified::interval_point(*segments_[s].first);
-    const certified::IP q = certified::interval_point(*segments_[s].second);
+    const CIP p = interval(*segments_[s].first), q = interval(*segments_[s].second);
     for (F f : candidates) {
       // (a face whose plane or edges the segment surely lies off is settled in intervals; the
       // others by the kernel's exact predicates)
       const auto ci = face_intervals(m, f);
-      if (certified::surely_off_triangle(ci[0], ci[1], ci[2], p) ||
-          certified::surely_off_triangle(ci[0], ci[1], ci[2], q))
+      if (surely_off_triangle(ci[0], ci[1], ci[2], p) || surely_off_triangle(ci[0], ci[1], ci[2], q))
         continue;
       const auto c = corners(m, f);
       if (on_triangle<K>(c[0], c[1], c[2], *segments_[s].first) && on_triangle<K>(c[0], c[1], c[2], *segments_[s].second))

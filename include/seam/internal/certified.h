@@ -1,5 +1,5 @@
 // seam internal: certified interval tests for triangle pairs (used by seam check and by the
-// collapse step of pair) and for a point on a triangle (used by the intersection curves).
+// collapse step of pair).
 //
 // Interval coordinates that contain the exact ones (the exact kernel's approximation, or the
 // doubles themselves). A test below returns true only when the interval arithmetic proves the
@@ -105,21 +105,6 @@ inline bool surely_only_edge(const IP& p, const IP& q, const IP& r, const IP& s)
   for (int ax = 0; ax < 3; ++ax) {
     const int o_r = sure_sign(orient2(p, q, r, ax));
     if (o_r != 0 && sure_sign(orient2(p, q, s, ax)) == -o_r) return true;
-  }
-  return false;
-}
-
-/// Point p lies off the closed triangle (a, b, c): off its plane, or, in an axis projection where
-/// the triangle is not degenerate (one to one on its plane), strictly beyond one of its edges.
-inline bool surely_off_triangle(const IP& a, const IP& b, const IP& c, const IP& p) {
-  CGAL::Protect_FPU_rounding<true> rounding;
-  if (sure_sign(orient3(a, b, c, p)) != 0) return true;
-  for (int ax = 0; ax < 3; ++ax) {
-    const int o = sure_sign(orient2(a, b, c, ax));
-    if (o == 0) continue;
-    if (sure_sign(orient2(a, b, p, ax)) == -o || sure_sign(orient2(b, c, p, ax)) == -o ||
-        sure_sign(orient2(c, a, p, ax)) == -o)
-      return true;
   }
   return false;
 }
