@@ -36,24 +36,32 @@ template <class P> CIP interval_of(const P& p) {
   }
 }
 
+/// The sign of x when certain, else 0.
+inline int sure_sign(const CI& x) { return x.inf() > 0 ? 1 : (x.sup() < 0 ? -1 : 0); }
+
+/// Point p surely lies off the plane of (a, b, c). Needs Protect_FPU_rounding.
+inline bool surely_off_plane(const CIP& a, const CIP& b, const CIP& c, const CIP& p) {
+  const CI ax = a[0] - p[0], ay = a[1] - p[1], az = a[2] - p[2];
+  const CI bx = b[0] - p[0], by = b[1] - p[1], bz = b[2] - p[2];
+  const CI cx = c[0] - p[0], cy = c[1] - p[1], cz = c[2] - p[2];
+  return sure_sign(ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx)) != 0;
+}
+
 /// Point p surely lies off the closed triangle (a, b, c): off its plane, or, in an axis projection
 /// where the triangle is surely not degenerate (one to one on its plane), strictly beyond one of
 /// its edges. False when not certain.
 inline bool surely_off_triangle(const CIP& a, const CIP& b, const CIP& c, const CIP& p) {
   CGAL::Protect_FPU_rounding<true> rounding;
-  auto sign = [](const CI& x) { return x.inf() > 0 ? 1 : (x.sup() < 0 ? -1 : 0); };
+  if (surely_off_plane(a, b, c, p)) return true;
   auto orient2 = [](const CIP& u, const CIP& v, const CIP& w, int i, int j) {
     return (v[i] - u[i]) * (w[j] - u[j]) - (v[j] - u[j]) * (w[i] - u[i]);
   };
-  const CI ax = a[0] - p[0], ay = a[1] - p[1], az = a[2] - p[2];
-  const CI bx = b[0] - p[0], by = b[1] - p[1], bz = b[2] - p[2];
-  const CI cx = c[0] - p[0], cy = c[1] - p[1], cz = c[2] - p[2];
-  if (sign(ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx)) != 0) return true;
   for (int axis = 0; axis < 3; ++axis) {
     const int i = (axis + 1) % 3, j = (axis + 2) % 3;
-    const int o = sign(orient2(a, b, c, i, j));
+    const int o = sure_sign(orient2(a, b, c, i, j));
     if (o == 0) continue;
-    if (sign(orient2(a, b, p, i, j)) == -o || sign(orient2(b, c, p, i, j)) == -o || sign(orient2(c, a, p, i, j)) == -o)
+    if (sure_sign(orient2(a, b, p, i, j)) == -o || sure_sign(orient2(b, c, p, i, j)) == -o ||
+        sure_sign(orient2(c, a, p, i, j)) == -o)
       return true;
   }
   return false;
@@ -313,24 +321,10 @@ template <class K> class SegmentClassifier {
   // on both surfaces, so each candidate contains it; where rounded points of an inexact kernel do
   // not, "kept" is the default anyway). No exact evaluation then: on a face that contains the
   // segment the exact kernel's own filters always fail.
-  using I = CGAL::Interval_nt<false>;  // needs the rounding mode set by Protect_FPU_rounding
-  using IP = std::array<I, 3>;
-
-  static IP interval(const Point& p) {
-    if constexpr (std::is_same_v<K, Exact>) {
-      const auto& x = CGAL::approx(p);
-      return {x.x(), x.y(), x.z()};
-    } else {
-      return {I(CGAL::to_double(p.x())), I(CGAL::to_double(p.y())), I(CGAL::to_double(p.z()))};
-    }
-  }
-  /// p is surely not in the plane of c.
+  using IP = CIP;  // (the file's interval tests, at the top)
+  static IP interval(const Point& p) { return interval_of(p); }
   static bool surely_off_plane(const std::array<IP, 3>& c, const IP& p) {
-    const I ax = c[0][0] - p[0], ay = c[0][1] - p[1], az = c[0][2] - p[2];
-    const I bx = c[1][0] - p[0], by = c[1][1] - p[1], bz = c[1][2] - p[2];
-    const I cx = c[2][0] - p[0], cy = c[2][1] - p[1], cz = c[2][2] - p[2];
-    const I det = ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
-    return det.inf() > 0 || det.sup() < 0;
+    return internal::surely_off_plane(c[0], c[1], c[2], p);
   }
   static std::array<IP, 3> face_intervals(const Mesh<K>& m, F f) {
     const auto h = m.halfedge(f);
