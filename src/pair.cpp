@@ -75,24 +75,41 @@ void measure_meshes(const Mesh<K>& a, const Mesh<K>& b, PairResult<K>& result, d
   }
 }
 
+/// Which features thinner than the vertex separation stages 1-3 close (a vertex of one mesh that
+/// close to the other surface: a crossing as thin as that cannot be written in doubles, nor
+/// meshed by TetGen): the vertices within the separation of a curve and
+///   - crowded: of a curve point with a vertex or another curve point within the separation
+///     (internal::crowded_curve_points: embedded, those would be a pair of vertices too close);
+///   - none: no vertex (where the crowded way closed some and its outputs failed);
+///   - near_close_pairs: of a point of the pairs too close in outputs verified before, or corners
+///     of a face that is;
+///   - all: every one.
+enum class Closing { crowded, none, near_close_pairs, all };
+
 /// Stages 1-3 of seam::pair: the exact intersection curves, embedded into both meshes (at once),
-/// and the isolated points of contact made vertices of both. Features thinner than `separation`
-/// (a vertex of one mesh that close to the other surface: a crossing as thin as that cannot be
-/// written in doubles, nor meshed by TetGen) are first closed: such vertices move onto the curve
-/// there (exactly), and the curves are computed again; with `near`, only those within
-/// `separation` of one of its points or corners of a face that is (see snap_vertices_to_segments).
+/// and the isolated points of contact made vertices of both. The features thinner than
+/// `separation` that `closing` says (with `close_points`, the points of near_close_pairs) are
+/// first closed: such vertices move onto the curve there (exactly), and the curves are computed
+/// again. A vertex of a flat contact stays, and so does one whose move would take a part of the
+/// intersection farther than `tolerance` (see snap_vertices_to_segments).
 template <class K>
-PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options, double separation,
-                              const std::vector<std::array<double, 3>>* near,
+PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options, Closing closing,
+                              double separation, double tolerance,
+                              const std::vector<std::array<double, 3>>& close_points,
                               std::vector<std::pair<int, std::size_t>>* closed) {
   PairResult<K> result;
   PairStats& st = result.stats;
   auto t = Clock::now();
   auto found = internal::compute_intersection_curves<K>(a, b);
-  if (!found.curves.empty() && separation > 0) {
-    // (not a vertex of a flat contact: see snap_vertices_to_segments)
-    const auto sa = internal::snap_vertices_to_segments<K>(a, found.curves, separation, false, true, &b, near);
-    const auto sb = internal::snap_vertices_to_segments<K>(b, found.curves, separation, false, true, &a, near);
+  std::vector<std::array<double, 3>> crowded;
+  if (closing == Closing::crowded && !found.curves.empty())
+    crowded = internal::crowded_curve_points<K>(found.curves, a, b, separation);
+  const std::vector<std::array<double, 3>>* near = closing == Closing::crowded           ? &crowded
+                                                   : closing == Closing::near_close_pairs ? &close_points
+                                                                                         : nullptr;
+  if (!found.curves.empty() && closing != Closing::none && !(near && near->empty())) {
+    const auto sa = internal::snap_vertices_to_segments<K>(a, found.curves, separation, false, true, &b, near, tolerance);
+    const auto sb = internal::snap_vertices_to_segments<K>(b, found.curves, separation, false, true, &a, near, tolerance);
     st.vertices_closed = sa.snapped + sb.snapped;
     if (closed) {  // (mesh, vertex) of each vertex closed, sorted
       for (auto v : sa.moved) closed->emplace_back(0, std::size_t(v));
@@ -282,10 +299,8 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     contact_options.feature_size =
         internal::feature_size_of(stage_options(options, snap_tol), snap_tol, std::min(la, lb));
   }
-  // Stages 1-3 on the inputs: as they are; with the vertices within the separation of a curve and
-  // of a point of the too close pairs found so far closed onto the curve; or with every vertex
-  // within the separation of a curve closed.
-  enum class Closing { none, near_close_pairs, all };
+  // Stages 1-3 on the inputs, with the features thinner than the separation that `closing` says
+  // closed (see Closing).
   std::vector<std::array<double, 3>> close_points;  // of the pairs every failed candidate left too close
   std::vector<std::pair<int, std::size_t>> closed_vertices, closed_before;  // by this way and the last
   auto embedded = [&](Closing closing) {
@@ -293,9 +308,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     b = b0;
     closed_before = std::move(closed_vertices);
     closed_vertices.clear();
-    PairResult<K> r = embed_into_both<K>(a, b, options, closing == Closing::none ? 0.0 : separation,
-                                         closing == Closing::near_close_pairs ? &close_points : nullptr,
-                                         &closed_vertices);
+    PairResult<K> r = embed_into_both<K>(a, b, options, closing, separation, snap_tol, close_points, &closed_vertices);
     r.stats.snap_tol = snap_tol;
     unify_contacts<K>(a, b, r, contact_options);
     return r;
@@ -331,7 +344,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
     close_points.erase(std::unique(close_points.begin(), close_points.end()), close_points.end());
     return ok;
   };
-  for (Closing closing = Closing::none;;) {
+  for (Closing closing = Closing::crowded;;) {
     if (closing == Closing::near_close_pairs) {
       if (close_points.size() == close_points_used || close_pair_rounds == max_close_pair_rounds) {
         closing = Closing::all;  // no new pair to close
@@ -340,12 +353,17 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
       close_points_used = close_points.size();
       ++close_pair_rounds;
     }
-    const std::string closed = closing == Closing::none ? ""
-                               : closing == Closing::all
-                                   ? "with features thinner than the vertex separation closed"
-                                   : internal::say("with the vertices next to ", close_points.size(),
-                                                   " points of too close pairs closed onto the curves");
-    const Closing next = closing == Closing::all ? closing : Closing::near_close_pairs;
+    std::string closed = closing == Closing::crowded ? ""
+                         : closing == Closing::none ? "with no feature closed"
+                         : closing == Closing::all  ? "with features thinner than the vertex separation closed"
+                                                    : internal::say("with the vertices next to ", close_points.size(),
+                                                                    " points of too close pairs closed onto the curves");
+    // (after the crowded way: the same without its closing, if it closed any)
+    auto next = [&] {
+      return closing == Closing::all                                   ? closing
+             : closing == Closing::crowded && !closed_vertices.empty() ? Closing::none
+                                                                       : Closing::near_close_pairs;
+    };
     PairResult<K> result;
     try {
       result = embedded(closing);
@@ -353,12 +371,16 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
       problem = e.what();
       failed(closed.empty() ? "" : closed + ": ");
       if (closing == Closing::all) break;
-      closing = next;
+      closing = next();
       continue;
     }
-    // The same meshes as the first way (nothing closed), or as the way before (the same vertices
-    // closed): the next way.
-    if (closing != Closing::none && (result.stats.vertices_closed == 0 || closed_vertices == closed_before)) {
+    if (closing == Closing::crowded && result.stats.vertices_closed > 0)
+      closed = internal::say("with ", result.stats.vertices_closed,
+                             " vertices next to crowded curve points closed onto the curves");
+    // The same meshes as a way before (nothing closed, or the same vertices as the way before):
+    // the next way.
+    if ((closing == Closing::near_close_pairs || closing == Closing::all) &&
+        (result.stats.vertices_closed == 0 || closed_vertices == closed_before)) {
       if (closing == Closing::all) break;
       closing = Closing::all;
       continue;
@@ -396,7 +418,7 @@ template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions&
       failed((closed.empty() ? "" : closed + ", ") + "without the quality stage: ");
     }
     if (closing == Closing::all) break;
-    closing = next;
+    closing = next();
   }
   a = a0;
   b = b0;

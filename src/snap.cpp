@@ -1,6 +1,7 @@
 // seam, pipeline step 1: snapping. See seam/internal/snap.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/internal/snap.h>
+#include <seam/internal/triangle_predicates.h>
 
 #include <CGAL/boost/graph/Euler_operations.h>
 #include <set>
@@ -16,6 +17,8 @@
 #include <CGAL/property_map.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <map>
 #include <cmath>
 #include <tuple>
 
@@ -130,6 +133,66 @@ template <class K> bool in_flat_contact(const Mesh<K>& mesh, typename MeshTypes<
   return false;
 }
 
+/// Where the faces around v meet `other` (exact intersections, rounded to doubles): as segments,
+/// a point as a segment of length 0, a triangle or polygon of a flat contact as its edges.
+template <class K>
+std::vector<std::array<DPoint, 2>> contact_around(const Mesh<K>& mesh, typename MeshTypes<K>::V v, const Mesh<K>& other) {
+  std::vector<std::array<DPoint, 2>> pieces;
+  for (auto f : CGAL::faces_around_target(mesh.halfedge(v), mesh)) {
+    if (f == MeshTypes<K>::M::null_face()) continue;
+    const auto t = face_triangle<K>(mesh, f);
+    if (t.is_degenerate()) continue;
+    const CGAL::Bbox_3 box = t.bbox();
+    for (auto g : other.faces()) {
+      const auto k = other.halfedge(g);
+      const auto &a = other.point(other.source(k)), &b = other.point(other.target(k)),
+                 &c = other.point(other.target(other.next(k)));
+      if (!CGAL::do_overlap(box, a.bbox() + b.bbox() + c.bbox())) continue;
+      const typename K::Triangle_3 u(a, b, c);
+      if (u.is_degenerate()) continue;
+      const auto meet = CGAL::intersection(t, u);
+      if (!meet) continue;
+      auto ring = [&](const std::vector<typename K::Point_3>& ps) {
+        for (std::size_t i = 0; i < ps.size(); ++i)
+          pieces.push_back({to_filtered(ps[i]), to_filtered(ps[(i + 1) % ps.size()])});
+      };
+      if (const auto* p = boost::get<typename K::Point_3>(&*meet)) pieces.push_back({to_filtered(*p), to_filtered(*p)});
+      else if (const auto* s = boost::get<typename K::Segment_3>(&*meet))
+        pieces.push_back({to_filtered(s->source()), to_filtered(s->target())});
+      else if (const auto* w = boost::get<typename K::Triangle_3>(&*meet)) ring({w->vertex(0), w->vertex(1), w->vertex(2)});
+      else if (const auto* ps = boost::get<std::vector<typename K::Point_3>>(&*meet)) ring(*ps);
+    }
+  }
+  return pieces;
+}
+
+/// Moving v to `target` keeps every point where the faces around v met `other` within
+/// `distance` of where they meet it after the move: a move onto a curve must not take a part of
+/// the intersection with it (a vertex next to an edge that lies on the other surface, CT row 9 of
+/// docs/real_tows.md: 3e-7 up, and the edge's contact, 0.028 long, was gone).
+template <class K>
+bool move_keeps_contact(Mesh<K>& mesh, typename MeshTypes<K>::V v, const typename K::Point_3& target,
+                        const Mesh<K>& other, double distance) {
+  const auto before = contact_around<K>(mesh, v, other);
+  if (before.empty()) return true;
+  const auto old = mesh.point(v);
+  mesh.point(v) = target;
+  const auto after = contact_around<K>(mesh, v, other);
+  mesh.point(v) = old;
+  auto near_after = [&](const DPoint& p) {
+    for (const auto& s : after) {
+      const auto d = s[1] - s[0];
+      const double l2 = d.squared_length();
+      const double t = l2 > 0 ? std::clamp(((p - s[0]) * d) / l2, 0.0, 1.0) : 0.0;
+      if (CGAL::squared_distance(p, s[0] + t * d) <= distance * distance) return true;
+    }
+    return false;
+  };
+  for (const auto& s : before)
+    if (!near_after(s[0]) || !near_after(s[1])) return false;
+  return true;
+}
+
 /// Per vertex: whether it lies within `distance` of one of `points`, or is a corner of a face
 /// that does (in doubles). The corners of the faces holding a point, whatever their distance to it:
 /// a vertex poking 1e-7 through the other surface leaves a curve around it 1e-6 across (CT row 10
@@ -160,7 +223,7 @@ std::vector<bool> corners_next_to(const Mesh<K>& mesh, const std::vector<std::ar
 template <class K>
 SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, double tolerance,
                                         bool round_to_doubles, bool skip_on_curves, const Mesh<K>* other,
-                                        const std::vector<std::array<double, 3>>* near) {
+                                        const std::vector<std::array<double, 3>>* near, double contact_tolerance) {
   SnapReport<K> report;
   if (!(tolerance > 0)) return report;
   using Point = typename K::Point_3;
@@ -210,7 +273,7 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
     make_exact(target);
     if (round_to_doubles)
       target = Point(CGAL::to_double(target.x()), CGAL::to_double(target.y()), CGAL::to_double(target.z()));
-    if (!move_keeps_faces<K>(mesh, v, target)) {
+    if (!move_keeps_faces<K>(mesh, v, target) || (other && contact_tolerance > 0 && !move_keeps_contact<K>(mesh, v, target, *other, contact_tolerance))) {
       ++report.refused;
       continue;
     }
@@ -315,17 +378,66 @@ EdgeSnapReport<K> snap_edges_to_points(Mesh<K>& mesh, const std::vector<Polyline
   return report;
 }
 
+template <class K>
+std::vector<std::array<double, 3>> crowded_curve_points(const std::vector<Polyline<K>>& curves, const Mesh<K>& a,
+                                                        const Mesh<K>& b, double distance) {
+  std::vector<std::array<double, 3>> result;
+  if (!(distance > 0)) return result;
+  // A hash grid of cells `distance` wide over every curve point and vertex (doubles): the points
+  // within `distance` of a point lie in its cell or the 26 around it.
+  auto doubles = [](const typename K::Point_3& p) {
+    const auto q = to_filtered(p);
+    return std::array<double, 3>{q.x(), q.y(), q.z()};
+  };
+  std::vector<std::array<double, 3>> points;
+  for (const auto& c : curves)
+    for (const auto& p : c) points.push_back(doubles(p));
+  const std::size_t curve_points = points.size();
+  for (const Mesh<K>* m : {&a, &b})
+    for (auto v : m->vertices()) points.push_back(doubles(m->point(v)));
+  using Cell = std::array<std::int64_t, 3>;
+  auto cell_of = [distance](const std::array<double, 3>& p) {
+    return Cell{std::int64_t(std::floor(p[0] / distance)), std::int64_t(std::floor(p[1] / distance)),
+                std::int64_t(std::floor(p[2] / distance))};
+  };
+  std::map<Cell, std::vector<std::size_t>> grid;
+  for (std::size_t i = 0; i < points.size(); ++i) grid[cell_of(points[i])].push_back(i);
+  const double d2 = distance * distance;
+  std::set<std::array<double, 3>> seen;
+  for (std::size_t i = 0; i < curve_points; ++i) {
+    const auto& p = points[i];
+    const Cell c = cell_of(p);
+    bool crowded = false;
+    for (std::int64_t dx = -1; dx <= 1 && !crowded; ++dx)
+      for (std::int64_t dy = -1; dy <= 1 && !crowded; ++dy)
+        for (std::int64_t dz = -1; dz <= 1 && !crowded; ++dz) {
+          const auto it = grid.find(Cell{c[0] + dx, c[1] + dy, c[2] + dz});
+          if (it == grid.end()) continue;
+          for (std::size_t j : it->second) {
+            const auto& q = points[j];
+            const double x = p[0] - q[0], y = p[1] - q[1], z = p[2] - q[2], s = x * x + y * y + z * z;
+            if (s > 0 && s < d2) crowded = true;
+          }
+        }
+    if (crowded && seen.insert(p).second) result.push_back(p);
+  }
+  return result;
+}
+
 template SnapReport<Exact> snap_vertices<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double);
-template SnapReport<Exact> snap_vertices_to_segments<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double, bool, bool, const Mesh<Exact>*, const std::vector<std::array<double, 3>>*);
+template SnapReport<Exact> snap_vertices_to_segments<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double, bool, bool, const Mesh<Exact>*, const std::vector<std::array<double, 3>>*, double);
 template EdgeSnapReport<Exact> snap_edges_to_points<Exact>(Mesh<Exact>&, const std::vector<Polyline<Exact>>&, double);
+template std::vector<std::array<double, 3>> crowded_curve_points<Exact>(const std::vector<Polyline<Exact>>&, const Mesh<Exact>&, const Mesh<Exact>&, double);
 template bool move_keeps_faces<Exact>(const Mesh<Exact>&, typename MeshTypes<Exact>::V, const Exact::Point_3&);
 template SnapReport<Filtered> snap_vertices<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double);
-template SnapReport<Filtered> snap_vertices_to_segments<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double, bool, bool, const Mesh<Filtered>*, const std::vector<std::array<double, 3>>*);
+template SnapReport<Filtered> snap_vertices_to_segments<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double, bool, bool, const Mesh<Filtered>*, const std::vector<std::array<double, 3>>*, double);
 template EdgeSnapReport<Filtered> snap_edges_to_points<Filtered>(Mesh<Filtered>&, const std::vector<Polyline<Filtered>>&, double);
+template std::vector<std::array<double, 3>> crowded_curve_points<Filtered>(const std::vector<Polyline<Filtered>>&, const Mesh<Filtered>&, const Mesh<Filtered>&, double);
 template bool move_keeps_faces<Filtered>(const Mesh<Filtered>&, typename MeshTypes<Filtered>::V, const Filtered::Point_3&);
 template SnapReport<Float> snap_vertices<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double);
-template SnapReport<Float> snap_vertices_to_segments<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double, bool, bool, const Mesh<Float>*, const std::vector<std::array<double, 3>>*);
+template SnapReport<Float> snap_vertices_to_segments<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double, bool, bool, const Mesh<Float>*, const std::vector<std::array<double, 3>>*, double);
 template EdgeSnapReport<Float> snap_edges_to_points<Float>(Mesh<Float>&, const std::vector<Polyline<Float>>&, double);
+template std::vector<std::array<double, 3>> crowded_curve_points<Float>(const std::vector<Polyline<Float>>&, const Mesh<Float>&, const Mesh<Float>&, double);
 template bool move_keeps_faces<Float>(const Mesh<Float>&, typename MeshTypes<Float>::V, const Float::Point_3&);
 
 }  // namespace seam::internal

@@ -100,3 +100,59 @@ TEST_CASE("snap to segments: with points given, only the vertices next to them m
     CHECK(r.snapped == 2);
   }
 }
+
+TEST_CASE("snap to segments: a move that would take a part of the intersection is refused", "[snap]") {
+  // A: one face whose edge [p0, p1] lies on B (the square [-2, 2]^2 in z = 0): A meets B in that
+  // edge, 1 long. The curve passes 1e-8 above p1; moving p1 onto it lifts the edge off B, and
+  // the faces then meet B in p0 alone: 1 away from the part of the contact at p1.
+  const M a = mesh_of({P(0, 0, 0), P(1, 0, 0), P(0.5, 1, 1)}, {{0, 1, 2}});
+  const M b = mesh_of({P(-2, -2, 0), P(2, -2, 0), P(2, 2, 0), P(-2, 2, 0)}, {{0, 1, 2}, {0, 2, 3}});
+  const std::vector<seam::Polyline<K>> curves{{P(1, -1, 1e-8), P(1, 1, 1e-8)}};
+  const M::Vertex_index p1(1);
+  const double tolerance = 1e-7;
+  M a2 = a;
+  SECTION("without a contact tolerance p1 moves") {
+    const auto r = seam::internal::snap_vertices_to_segments<K>(a2, curves, tolerance, false, true, &b);
+    CHECK(r.snapped == 1);
+    CHECK(a2.point(p1) != a.point(p1));
+  }
+  SECTION("with one, under the contact's length, p1 stays") {
+    const auto r = seam::internal::snap_vertices_to_segments<K>(a2, curves, tolerance, false, true, &b, nullptr, 0.1);
+    CHECK(r.snapped == 0);
+    CHECK(r.refused == 1);
+    CHECK(a2.point(p1) == a.point(p1));
+  }
+  SECTION("with one over the contact's length, p1 moves") {
+    const auto r = seam::internal::snap_vertices_to_segments<K>(a2, curves, tolerance, false, true, &b, nullptr, 2.0);
+    CHECK(r.snapped == 1);
+  }
+  SECTION("a crossing moved by less than the tolerance: p1 moves") {
+    // B tilted so that it crosses A's face along a line through the face: the move shifts that
+    // line by about 1e-8, far under the tolerance.
+    const M tilted = mesh_of({P(-2, 0.5, -2), P(2, 0.5, -2), P(2, 0.5, 2), P(-2, 0.5, 2)}, {{0, 1, 2}, {0, 2, 3}});
+    const auto r = seam::internal::snap_vertices_to_segments<K>(a2, curves, tolerance, false, true, &tilted, nullptr, 0.1);
+    CHECK(r.snapped == 1);
+  }
+}
+
+TEST_CASE("crowded curve points: a curve point with a vertex or another curve point that close", "[snap]") {
+  const M a = mesh_of({P(0, 0, 0), P(1, 0, 0), P(0, 1, 0)}, {{0, 1, 2}});
+  const M b = mesh_of({P(0, 0, 1), P(1, 0, 1), P(0, 1, 1)}, {{0, 1, 2}});
+  const double distance = 1e-6;
+  SECTION("a curve point 1e-7 from a vertex of A is crowded; one at a vertex, or far, is not") {
+    const std::vector<seam::Polyline<K>> curves{{P(1e-7, 0, 0), P(0.5, 0.5, 0), P(0, 1, 0)}};
+    const auto c = seam::internal::crowded_curve_points<K>(curves, a, b, distance);
+    REQUIRE(c.size() == 1);
+    CHECK(c[0] == std::array<double, 3>{1e-7, 0, 0});
+  }
+  SECTION("two curve points 1e-7 apart (of two curves) are both crowded") {
+    const std::vector<seam::Polyline<K>> curves{{P(0.5, 0.5, 0.5), P(0.6, 0.5, 0.5)},
+                                                {P(0.5, 0.5, 0.5 + 1e-7), P(0.5, 0.6, 0.5)}};
+    const auto c = seam::internal::crowded_curve_points<K>(curves, a, b, distance);
+    CHECK(c.size() == 2);
+  }
+  SECTION("a point repeated (a closed curve's ends) is not crowded by itself") {
+    const std::vector<seam::Polyline<K>> curves{{P(0.5, 0.5, 0.5), P(0.6, 0.5, 0.5), P(0.5, 0.6, 0.5), P(0.5, 0.5, 0.5)}};
+    CHECK(seam::internal::crowded_curve_points<K>(curves, a, b, distance).empty());
+  }
+}

@@ -11,6 +11,7 @@
 #include <seam/internal/surface_point.h>
 
 #include <array>
+#include <vector>
 
 namespace seam::internal {
 
@@ -32,11 +33,24 @@ SnapReport<K> snap_vertices(Mesh<K>& mesh, const std::vector<Polyline<K>>& curve
 /// part of the contact it held would be lost.
 /// `near`: when given, only vertices within `tolerance` of one of these points, or corners of a
 /// face within `tolerance` of one, move (in doubles).
+/// `contact_tolerance` (with `other`, when > 0): a vertex moves only if every point where its
+/// faces met `other` stays within that distance of where they meet it after the move (exact
+/// intersections, compared in doubles): a move must not take a part of the intersection with it.
 template <class K>
 SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, double tolerance,
                                         bool round_to_doubles = false, bool skip_on_curves = false,
                                         const Mesh<K>* other = nullptr,
-                                        const std::vector<std::array<double, 3>>* near = nullptr);
+                                        const std::vector<std::array<double, 3>>* near = nullptr,
+                                        double contact_tolerance = 0);
+
+/// The curve points that will make a pair of vertices closer than `distance` once embedded: a
+/// curve point with a vertex of `a` or `b`, or another curve point, within `distance` of it but
+/// not at it (in doubles: the outputs are written in doubles). Each is returned once, in the
+/// curves' order. For snap_vertices_to_segments' `near`: the features that thin are closed
+/// before the embedding rather than found by verifying its outputs.
+template <class K>
+std::vector<std::array<double, 3>> crowded_curve_points(const std::vector<Polyline<K>>& curves, const Mesh<K>& a,
+                                                        const Mesh<K>& b, double distance);
 
 /// Would moving v to `target` keep every incident face non-degenerate, with its orientation?
 /// Exact under the exact kernel.
