@@ -280,149 +280,188 @@ void improve_pair(Mesh<K>& a, Mesh<K>& b, PairResult<K>& result, const PairOptio
   result.stats.stage_seconds["improve"] = seconds_since(t);
 }
 
+namespace {
+
+/// One seam::pair run after its input checks: stages 1-5 on the inputs kept, then stage 6, the
+/// verification as written. Outputs that fail it are not given; the run tries the next way (see
+/// Closing): the embedded meshes without the quality stage first, then the crowded way's meshes
+/// without its closing (if it closed any); then, where the improved outputs failed only on pairs
+/// of vertices too close (check 5), the same two with the vertices of those pairs closed, if they
+/// lie within the separation of a curve, again while that finds new pairs, at most
+/// max_close_pair_rounds times; then with every feature thinner than the separation closed.
+/// Each is verified alike.
+template <class K> class PairRun {
+ public:
+  PairRun(Mesh<K>& a, Mesh<K>& b, const PairOptions& options);
+  /// The outputs of the first way that passes, in a and b; the inputs back and InternalError when
+  /// none does.
+  PairResult<K> run();
+
+ private:
+  static constexpr int max_close_pair_rounds = 3;
+  /// One way: its result when its outputs (improved, or else without the quality stage) pass;
+  /// sets next_.
+  std::optional<PairResult<K>> attempt(Closing closing);
+  /// Stages 1-3 and the flat contacts on the inputs.
+  PairResult<K> embedded(Closing closing);
+  /// Stage 5 and the figures.
+  void finish(PairResult<K>& r);
+  /// Stage 6 on a and b; the close pairs of improved outputs are kept (those are the outputs to
+  /// mend); the note says which way passed.
+  bool passes(PairResult<K>& r, bool improved_outputs, const std::string& way);
+  /// Whether the near_close_pairs way has new points to close (and rounds left).
+  bool new_close_points();
+  void failed(const std::string& what) { problems_ += (problems_.empty() ? "" : "; ") + what + problem_; }
+
+  Mesh<K>&a_, &b_;
+  const PairOptions& options_;
+  const Mesh<K> a0_, b0_;  // the inputs
+  const std::array<std::vector<double>, 2> input_angles_;
+  double separation_ = 0, snap_tol_ = 0;
+  internal::FlatContactOptions contact_options_;
+  std::vector<std::array<double, 3>> close_points_;  // of the pairs every failed way left too close
+  std::size_t close_points_used_ = 0;
+  int close_pair_rounds_ = 0;
+  std::vector<std::pair<int, std::size_t>> closed_vertices_, closed_before_;  // by this way and the last
+  Closing next_ = Closing::all;
+  std::string problem_, problems_;
+};
+
+template <class K>
+PairRun<K>::PairRun(Mesh<K>& a, Mesh<K>& b, const PairOptions& options)
+    : a_(a), b_(b), options_(options), a0_(a), b0_(b),
+      input_angles_{internal::face_min_angles<K>(a0_), internal::face_min_angles<K>(b0_)} {
+  separation_ = min_vertex_separation * internal::bbox_diagonal<K>(a, b);
+  const double la = mean_edge_length<K>(a), lb = mean_edge_length<K>(b);
+  snap_tol_ = options.embed.snap_tol < 0 ? 0.1 * std::min(la, lb) : options.embed.snap_tol;
+  // Flat contacts are refined to the quality stage's bound and feature size when that stage runs
+  // (it then refines the faces beyond their split borders).
+  if (options.improve) {
+    contact_options_.min_angle_deg = options.embed.min_angle_deg;
+    contact_options_.feature_size =
+        internal::feature_size_of(stage_options(options, snap_tol_), snap_tol_, std::min(la, lb));
+  }
+}
+
+template <class K> PairResult<K> PairRun<K>::embedded(Closing closing) {
+  a_ = a0_;
+  b_ = b0_;
+  closed_before_ = std::move(closed_vertices_);
+  closed_vertices_.clear();
+  PairResult<K> r =
+      embed_into_both<K>(a_, b_, options_, closing, separation_, snap_tol_, close_points_, &closed_vertices_);
+  r.stats.snap_tol = snap_tol_;
+  unify_contacts<K>(a_, b_, r, contact_options_);
+  return r;
+}
+
+template <class K> void PairRun<K>::finish(PairResult<K>& r) {
+  collapse_tiny_edges<K>(a_, b_, r, separation_);
+  drop_repeated_curve_points<K>(r);
+  measure_meshes<K>(a_, b_, r, options_.embed.max_area, input_angles_);
+}
+
+template <class K> bool PairRun<K>::passes(PairResult<K>& r, bool improved_outputs, const std::string& way) {
+  // The verification reads both meshes on two threads, and so does the writer: their points
+  // (shared between the meshes and the copies kept for the next way) are made exact first, so
+  // that no thread's evaluation changes the roundings another sees (see fix_rounding).
+  for (auto v : a_.vertices()) fix_rounding(a_.point(v));
+  for (auto v : b_.vertices()) fix_rounding(b_.point(v));
+  const bool ok =
+      internal::verify_outputs<K>(a0_, b0_, a_, b_, r, problem_, improved_outputs ? &close_points_ : nullptr);
+  std::sort(close_points_.begin(), close_points_.end());
+  close_points_.erase(std::unique(close_points_.begin(), close_points_.end()), close_points_.end());
+  if (!ok) return false;
+  if (!problems_.empty())
+    r.stats.note += (r.stats.note.empty() ? "" : "; ") + std::string("seam check failed on (") + problems_ +
+                    "): these outputs are " + (way.empty() ? "" : way + ", ") +
+                    (!improved_outputs ? "the embedded meshes without the quality stage"
+                     : options_.improve ? "improved"
+                                        : "the embedded meshes");
+  return true;
+}
+
+template <class K> bool PairRun<K>::new_close_points() {
+  if (close_points_.size() == close_points_used_ || close_pair_rounds_ == max_close_pair_rounds) return false;
+  close_points_used_ = close_points_.size();
+  ++close_pair_rounds_;
+  return true;
+}
+
+template <class K> std::optional<PairResult<K>> PairRun<K>::attempt(Closing closing) {
+  std::string way = closing == Closing::crowded ? ""
+                    : closing == Closing::none ? "with no feature closed"
+                    : closing == Closing::all  ? "with features thinner than the vertex separation closed"
+                                               : internal::say("with the vertices next to ", close_points_.size(),
+                                                               " points of too close pairs closed onto the curves");
+  auto prefix = [&](const std::string& more) { return way.empty() ? more : way + (more.empty() ? ": " : ", " + more); };
+  PairResult<K> result;
+  bool embedding_failed = false;
+  try {
+    result = embedded(closing);
+  } catch (const InternalError& e) {  // (a flat contact that does not fit, say): the next way
+    problem_ = e.what();
+    embedding_failed = true;
+  }
+  // (after the crowded way: the same without its closing, if it closed any)
+  const bool crowded_closed = closing == Closing::crowded && !closed_vertices_.empty();
+  next_ = crowded_closed ? Closing::none : Closing::near_close_pairs;
+  if (crowded_closed)
+    way = internal::say("with ", closed_vertices_.size(), " vertices next to crowded curve points closed onto the curves");
+  if (embedding_failed) {
+    failed(prefix(""));
+    return std::nullopt;
+  }
+  // The same meshes as a way before (nothing closed, or the same vertices as the way before).
+  if ((closing == Closing::near_close_pairs || closing == Closing::all) &&
+      (result.stats.vertices_closed == 0 || closed_vertices_ == closed_before_)) {
+    next_ = Closing::all;
+    return std::nullopt;
+  }
+  std::optional<std::tuple<Mesh<K>, Mesh<K>, PairResult<K>>> before_improve;
+  if (options_.improve && options_.verify_output && !result.curves.empty()) before_improve.emplace(a_, b_, result);
+  bool improved = true;  // false: the quality stage stopped (an edit it could not make)
+  try {
+    if (options_.improve) improve_pair<K>(a_, b_, result, options_, &a0_, &b0_);
+  } catch (const InternalError& e) {
+    if (!before_improve) throw;
+    problem_ = e.what();
+    improved = false;
+  }
+  if (improved) finish(result);
+  if (!options_.verify_output) return result;
+  if (improved && passes(result, true, way)) return result;
+  failed(prefix(""));
+  if (before_improve) {
+    a_ = std::move(std::get<0>(*before_improve));
+    b_ = std::move(std::get<1>(*before_improve));
+    result = std::move(std::get<2>(*before_improve));
+    finish(result);
+    if (passes(result, false, way)) return result;
+    failed(prefix("without the quality stage: "));
+  }
+  return std::nullopt;
+}
+
+template <class K> PairResult<K> PairRun<K>::run() {
+  for (Closing closing = Closing::crowded;;) {
+    if (closing == Closing::near_close_pairs && !new_close_points()) closing = Closing::all;
+    if (auto result = attempt(closing)) return std::move(*result);
+    if (closing == Closing::all) break;
+    closing = next_;
+  }
+  a_ = a0_;
+  b_ = b0_;
+  throw InternalError("pair: the outputs fail seam check's tests, so none is given (" + problems_ + ")");
+}
+
+}  // namespace
+
 template <class K> PairResult<K> pair(Mesh<K>& a, Mesh<K>& b, const PairOptions& options) {
   check_coordinate_range<K>(a, "A");
   check_coordinate_range<K>(b, "B");
   validate_options(options.embed);
-  const Mesh<K> a0 = a, b0 = b;
-  const std::array<std::vector<double>, 2> input_angles{internal::face_min_angles<K>(a0),
-                                                        internal::face_min_angles<K>(b0)};
-  const double diagonal = internal::bbox_diagonal<K>(a, b), separation = min_vertex_separation * diagonal;
-  const double la = mean_edge_length<K>(a), lb = mean_edge_length<K>(b);
-  const double snap_tol = options.embed.snap_tol < 0 ? 0.1 * std::min(la, lb) : options.embed.snap_tol;
-  const bool improve = options.improve;
-  // Flat contacts are refined to the quality stage's bound and feature size when that stage runs
-  // (it then refines the faces beyond their split borders).
-  internal::FlatContactOptions contact_options;
-  if (improve) {
-    contact_options.min_angle_deg = options.embed.min_angle_deg;
-    contact_options.feature_size =
-        internal::feature_size_of(stage_options(options, snap_tol), snap_tol, std::min(la, lb));
-  }
-  // Stages 1-3 on the inputs, with the features thinner than the separation that `closing` says
-  // closed (see Closing).
-  std::vector<std::array<double, 3>> close_points;  // of the pairs every failed candidate left too close
-  std::vector<std::pair<int, std::size_t>> closed_vertices, closed_before;  // by this way and the last
-  auto embedded = [&](Closing closing) {
-    a = a0;
-    b = b0;
-    closed_before = std::move(closed_vertices);
-    closed_vertices.clear();
-    PairResult<K> r = embed_into_both<K>(a, b, options, closing, separation, snap_tol, close_points, &closed_vertices);
-    r.stats.snap_tol = snap_tol;
-    unify_contacts<K>(a, b, r, contact_options);
-    return r;
-  };
-  // Stage 5 and the figures.
-  auto finish = [&](PairResult<K>& r) {
-    collapse_tiny_edges<K>(a, b, r, separation);
-    drop_repeated_curve_points<K>(r);
-    measure_meshes<K>(a, b, r, options.embed.max_area, input_angles);
-  };
-  // Stage 6. Outputs that fail once written in doubles: the embedded meshes without the quality
-  // stage; then, where the improved outputs failed only on pairs of vertices too close (check 5),
-  // the same two with the vertices of those pairs closed, if they lie within the separation of a
-  // curve (a vertex of one mesh a few units in the last place from the other surface, say), again
-  // while that finds new pairs, at most max_close_pair_rounds times; then with every feature
-  // thinner than the separation closed. Each is verified alike.
-  constexpr int max_close_pair_rounds = 3;
-  int close_pair_rounds = 0;
-  std::size_t close_points_used = 0;
-  std::string problem, problems;
-  auto failed = [&](const std::string& what) {
-    problems += (problems.empty() ? "" : "; ") + what + problem;
-  };
-  // (the close pairs of the improved outputs only: those are the outputs to mend)
-  auto verify = [&](PairResult<K>& r, bool improved_outputs) {
-    // The verification reads both meshes on two threads, and so does the writer: their points
-    // (shared between the meshes and the copies kept for the next way) are made exact first, so
-    // that no thread's evaluation changes the roundings another sees (see fix_rounding).
-    for (auto v : a.vertices()) fix_rounding(a.point(v));
-    for (auto v : b.vertices()) fix_rounding(b.point(v));
-    const bool ok = internal::verify_outputs<K>(a0, b0, a, b, r, problem, improved_outputs ? &close_points : nullptr);
-    std::sort(close_points.begin(), close_points.end());
-    close_points.erase(std::unique(close_points.begin(), close_points.end()), close_points.end());
-    return ok;
-  };
-  for (Closing closing = Closing::crowded;;) {
-    if (closing == Closing::near_close_pairs) {
-      if (close_points.size() == close_points_used || close_pair_rounds == max_close_pair_rounds) {
-        closing = Closing::all;  // no new pair to close
-        continue;
-      }
-      close_points_used = close_points.size();
-      ++close_pair_rounds;
-    }
-    std::string closed = closing == Closing::crowded ? ""
-                         : closing == Closing::none ? "with no feature closed"
-                         : closing == Closing::all  ? "with features thinner than the vertex separation closed"
-                                                    : internal::say("with the vertices next to ", close_points.size(),
-                                                                    " points of too close pairs closed onto the curves");
-    // (after the crowded way: the same without its closing, if it closed any)
-    auto next = [&] {
-      return closing == Closing::all                                   ? closing
-             : closing == Closing::crowded && !closed_vertices.empty() ? Closing::none
-                                                                       : Closing::near_close_pairs;
-    };
-    PairResult<K> result;
-    try {
-      result = embedded(closing);
-    } catch (const InternalError& e) {  // (a flat contact that does not fit, say): the next way
-      problem = e.what();
-      failed(closed.empty() ? "" : closed + ": ");
-      if (closing == Closing::all) break;
-      closing = next();
-      continue;
-    }
-    if (closing == Closing::crowded && result.stats.vertices_closed > 0)
-      closed = internal::say("with ", result.stats.vertices_closed,
-                             " vertices next to crowded curve points closed onto the curves");
-    // The same meshes as a way before (nothing closed, or the same vertices as the way before):
-    // the next way.
-    if ((closing == Closing::near_close_pairs || closing == Closing::all) &&
-        (result.stats.vertices_closed == 0 || closed_vertices == closed_before)) {
-      if (closing == Closing::all) break;
-      closing = Closing::all;
-      continue;
-    }
-    std::optional<std::tuple<Mesh<K>, Mesh<K>, PairResult<K>>> before_improve;
-    if (improve && options.verify_output && !result.curves.empty()) before_improve.emplace(a, b, result);
-    bool improved = true;  // false: the quality stage stopped (an edit it could not make)
-    try {
-      if (improve) improve_pair<K>(a, b, result, options, &a0, &b0);
-    } catch (const InternalError& e) {
-      if (!before_improve) throw;
-      problem = e.what();
-      improved = false;
-    }
-    if (improved) finish(result);
-    if (!options.verify_output) return result;
-    auto passes = [&](bool without_improve) {
-      if (!verify(result, !without_improve)) return false;
-      if (!problems.empty())
-        result.stats.note += (result.stats.note.empty() ? "" : "; ") + std::string("seam check failed on (") +
-                             problems + "): these outputs are " + (closed.empty() ? "" : closed + ", ") +
-                             (without_improve ? "the embedded meshes without the quality stage"
-                              : improve       ? "improved"
-                                              : "the embedded meshes");
-      return true;
-    };
-    if (improved && passes(false)) return result;
-    failed(closed.empty() ? "" : closed + ": ");
-    if (before_improve) {
-      a = std::move(std::get<0>(*before_improve));
-      b = std::move(std::get<1>(*before_improve));
-      result = std::move(std::get<2>(*before_improve));
-      finish(result);
-      if (passes(true)) return result;
-      failed((closed.empty() ? "" : closed + ", ") + "without the quality stage: ");
-    }
-    if (closing == Closing::all) break;
-    closing = next();
-  }
-  a = a0;
-  b = b0;
-  throw InternalError("pair: the outputs fail seam check's tests, so none is given (" + problems + ")");
+  return PairRun<K>(a, b, options).run();
 }
 
 #define SEAM_INSTANTIATE(K)                                                                                   \
