@@ -142,6 +142,60 @@ template <class CDT> bool encroaches_constraint(const CDT& cdt, const typename C
   return false;
 }
 
+/// Whether the three vertices still form a face of the triangulation (the face in `out`),
+/// circulating around all three in turn: the cost is 3 x the smallest degree (CDT::is_face
+/// circulates around the first vertex, and a corner facing a curve that zig-zags 100,000 times
+/// along an edge has a fan that large).
+template <class CDT>
+bool find_face(const CDT& cdt, const std::array<typename CDT::Vertex_handle, 3>& v, typename CDT::Face_handle& out) {
+  using FC = typename CDT::Face_circulator;
+  std::array<FC, 3> c, start;
+  for (int k = 0; k < 3; ++k) start[k] = c[k] = cdt.incident_faces(v[k]);
+  for (;;)
+    for (int k = 0; k < 3; ++k) {
+      const typename CDT::Face_handle f = c[k];
+      if (f->has_vertex(v[0]) && f->has_vertex(v[1]) && f->has_vertex(v[2])) {
+        out = f;
+        return true;
+      }
+      if (++c[k] == start[k]) return false;
+    }
+}
+
+/// The points to insert for a bad triangle with corners `v` (doubles), its shortest edge pq
+/// opposite corner r (of length `shortest`), in the order to try: the circumcenter when it is
+/// closer to pq than the off-center, then the off-center.
+inline std::vector<std::array<double, 2>> steiner_candidates(const std::array<std::array<double, 2>, 3>& v, int r,
+                                                             double shortest, double min_angle_deg) {
+  const auto &p = v[std::size_t(r + 1) % 3], &q = v[std::size_t(r + 2) % 3], &o = v[std::size_t(r)];
+  // The circumcenter in doubles (not CGAL::circumcenter, whose precondition a triangle that is
+  // flat after rounding violates: found by fuzzing); a flat one gives a non-finite candidate.
+  const std::array<double, 2> cc = [&] {
+    const double bx = v[1][0] - v[0][0], by = v[1][1] - v[0][1], cx = v[2][0] - v[0][0], cy = v[2][1] - v[0][1];
+    const double den = 2 * (bx * cy - by * cx), b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
+    if (den == 0) return std::array<double, 2>{HUGE_VAL, HUGE_VAL};
+    return std::array<double, 2>{v[0][0] + (cy * b2 - by * c2) / den, v[0][1] + (bx * c2 - cx * b2) / den};
+  }();
+  const double mx = 0.5 * (p[0] + q[0]), my = 0.5 * (p[1] + q[1]);
+  double nx = -(q[1] - p[1]), ny = q[0] - p[0];  // normal of pq, towards r
+  if (nx * (o[0] - mx) + ny * (o[1] - my) < 0) nx = -nx, ny = -ny;
+  const double nlen = std::hypot(nx, ny);
+  // Ungor's off-center: the apex of the triangle on pq whose angle at the apex is just above
+  // the bound, so that each inserted point is as far from pq as a good triangle allows and the
+  // refinement grades geometrically (an equilateral apex would creep along a sliver).
+  const double apex = std::min(60.0, 1.1 * min_angle_deg) * M_PI / 180.0;
+  // ...but never beyond r's height over pq: the point stays inside the bad triangle.
+  const double height = std::abs(nx * (o[0] - mx) + ny * (o[1] - my)) / std::hypot(nx, ny);
+  const double h = std::min(0.5 * shortest / std::tan(0.5 * apex), 0.9 * height);
+  const std::array<double, 2> off{mx + nx / nlen * h, my + ny / nlen * h};
+  // The circumcenter when it is closer to pq than the off-center; the off-center when the
+  // circumcenter falls outside the patch (it would need a split constraint).
+  std::vector<std::array<double, 2>> candidates;
+  if (std::hypot(cc[0] - mx, cc[1] - my) < h) candidates.push_back(cc);
+  candidates.push_back(off);
+  return candidates;
+}
+
 /// Delaunay refinement that never splits a constrained edge (the face's edges and the curve).
 /// CGAL's Delaunay_mesher_no_edge_refinement_2 rejects every point that encroaches on a
 /// constrained edge, and in a face bounded by constraints on all sides every circumcenter does,
@@ -176,23 +230,6 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
     }
   };
   std::priority_queue<Bad> queue;
-  // Whether the three vertices still form a face, circulating around all three in turn: the
-  // cost is 3 x the smallest degree (CDT::is_face circulates around the first vertex, and a
-  // corner facing a curve that zig-zags 100,000 times along an edge has a fan that large).
-  auto find_face = [&](const std::array<VH, 3>& v, FH& out) {
-    using FC = typename CDT::Face_circulator;
-    std::array<FC, 3> c, start;
-    for (int k = 0; k < 3; ++k) start[k] = c[k] = cdt.incident_faces(v[k]);
-    for (;;)
-      for (int k = 0; k < 3; ++k) {
-        const FH f = c[k];
-        if (f->has_vertex(v[0]) && f->has_vertex(v[1]) && f->has_vertex(v[2])) {
-          out = f;
-          return true;
-        }
-        if (++c[k] == start[k]) return false;
-      }
-  };
   auto consider = [&](FH f) {
     if (cdt.is_infinite(f) || outside.count(&*f)) return;
     const auto a = xy(f->vertex(0)->point()), b = xy(f->vertex(1)->point()), c = xy(f->vertex(2)->point());
@@ -211,7 +248,7 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
     const Bad top = queue.top();
     queue.pop();
     FH worst;
-    if (!find_face(top.v, worst)) continue;  // stale
+    if (!find_face(cdt, top.v, worst)) continue;  // stale
     const double worst_area_ratio = top.area_ratio;
     const double worst_angle = std::asin(std::sqrt(std::min(1.0, top.sine2))) * 180.0 / M_PI;
 
@@ -225,40 +262,14 @@ void refine_without_splitting(CDT& cdt, double min_angle_deg, double max_area, s
       const double len = std::hypot(q[0] - p[0], q[1] - p[1]);
       if (len < shortest) shortest = len, r = i;
     }
-    const auto &p = v[(r + 1) % 3], &q = v[(r + 2) % 3], &o = v[r];
     const bool angle_bad = worst_angle < min_angle_deg;
     // The small angle sits at r. It is forced when the wedge at r between the two constrained
     // edges enclosing this triangle is itself narrower than the bound: no point inside helps.
     if (angle_bad && worst_area_ratio <= 1 && constrained_wedge_deg(cdt, worst, r, min_angle_deg) < min_angle_deg) continue;
-    // The circumcenter in doubles (not CGAL::circumcenter, whose precondition a triangle that is
-    // flat after rounding violates: found by fuzzing); a flat one gives a non-finite candidate.
-    const std::array<double, 2> cc = [&] {
-      const double bx = v[1][0] - v[0][0], by = v[1][1] - v[0][1], cx = v[2][0] - v[0][0], cy = v[2][1] - v[0][1];
-      const double den = 2 * (bx * cy - by * cx), b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
-      if (den == 0) return std::array<double, 2>{HUGE_VAL, HUGE_VAL};
-      return std::array<double, 2>{v[0][0] + (cy * b2 - by * c2) / den, v[0][1] + (bx * c2 - cx * b2) / den};
-    }();
-    const double mx = 0.5 * (p[0] + q[0]), my = 0.5 * (p[1] + q[1]);
-    double nx = -(q[1] - p[1]), ny = q[0] - p[0];  // normal of pq, towards r
-    if (nx * (o[0] - mx) + ny * (o[1] - my) < 0) nx = -nx, ny = -ny;
-    const double nlen = std::hypot(nx, ny);
-    // Ungor's off-center: the apex of the triangle on pq whose angle at the apex is just above
-    // the bound, so that each inserted point is as far from pq as a good triangle allows and the
-    // refinement grades geometrically (an equilateral apex would creep along a sliver).
-    const double apex = std::min(60.0, 1.1 * min_angle_deg) * M_PI / 180.0;
-    // ...but never beyond r's height over pq: the point stays inside the bad triangle.
-    const double height = std::abs(nx * (o[0] - mx) + ny * (o[1] - my)) / std::hypot(nx, ny);
-    const double h = std::min(0.5 * shortest / std::tan(0.5 * apex), 0.9 * height);
-    const std::array<double, 2> off{mx + nx / nlen * h, my + ny / nlen * h};
-    // The circumcenter when it is closer to pq than the off-center; the off-center when the
-    // circumcenter falls outside the patch (it would need a split constraint).
-    std::vector<std::array<double, 2>> candidates;
-    if (std::hypot(cc[0] - mx, cc[1] - my) < h) candidates.push_back(cc);
-    candidates.push_back(off);
     FH fh;
     Point2 P;
     bool found = false;
-    for (const auto& cand : candidates) {
+    for (const auto& cand : steiner_candidates(v, r, shortest, min_angle_deg)) {
       if (!std::isfinite(cand[0]) || !std::isfinite(cand[1])) continue;  // a triangle too thin for doubles
       P = Point2{FT{cand[0]}, FT{cand[1]}};
       typename CDT::Locate_type lt;

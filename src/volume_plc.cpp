@@ -375,17 +375,12 @@ void check_no_crossing_at_edges(const Plc& plc, const std::vector<std::string>& 
   }
 }
 
-std::vector<TriangleSoup> close_clipped_tows(Plc& plc, const ClippedTows& clipped, const AxisBox& box,
-                                             const std::vector<std::string>& names) {
-  const std::vector<TriangleSoup>& uncut = clipped.uncut;
-  std::vector<TriangleSoup> closed = clipped.surfaces;
-  if (std::none_of(clipped.clipped.begin(), clipped.clipped.end(), [](char c) { return c != 0; })) return closed;
+namespace {
+
+/// The box face of each box triangle of the PLC (axis * 2 + 1 for the upper face), -1 for tow
+/// triangles (exact: the corners' coordinates equal the face's).
+std::vector<int> box_faces_of(const Plc& plc, const AxisBox& box) {
   const std::size_t n = plc.triangles.size(), first = plc.tow_triangle_count;
-  auto edge_key = [](std::size_t a, std::size_t b) { return std::make_pair(std::min(a, b), std::max(a, b)); };
-  std::set<std::pair<std::size_t, std::size_t>> tow_edges;
-  for (std::size_t f = 0; f < first; ++f)
-    for (int k = 0; k < 3; ++k) tow_edges.insert(edge_key(plc.triangles[f][k], plc.triangles[f][(k + 1) % 3]));
-  // The box face of each box triangle (axis * 2 + 1 for the upper face), -1 for tow triangles.
   std::vector<int> face_of(n, -1);
   for (std::size_t f = first; f < n; ++f) {
     if (plc.owner[f].tow_a >= 0) continue;  // a tow face lying in the box face
@@ -397,6 +392,46 @@ std::vector<TriangleSoup> close_clipped_tows(Plc& plc, const ClippedTows& clippe
       }
     if (face_of[f] < 0) throw InternalError("a box triangle lies in no face of the box");
   }
+  return face_of;
+}
+
+/// Closes clipped tow `tow` (its surface `closed`) with its caps (PLC triangles, oriented), and
+/// finds its components again.
+void add_caps(Plc& plc, int tow, const std::vector<std::array<std::size_t, 3>>& caps, TriangleSoup& closed) {
+  std::map<Point3d, std::size_t> local;
+  for (std::size_t v = 0; v < closed.points.size(); ++v) local.emplace(closed.points[v], v);
+  std::vector<std::array<std::size_t, 3>> in_plc;
+  for (const auto& t : closed.triangles)
+    in_plc.push_back({plc.index.at(closed.points[t[0]]), plc.index.at(closed.points[t[1]]), plc.index.at(closed.points[t[2]])});
+  for (const auto& t : caps) {
+    std::array<std::size_t, 3> m;
+    for (int k = 0; k < 3; ++k) {
+      const auto [it, added] = local.emplace(plc.points[t[k]], closed.points.size());
+      if (added) closed.points.push_back(plc.points[t[k]]);
+      m[k] = it->second;
+    }
+    closed.triangles.push_back(m);
+    in_plc.push_back(t);
+  }
+  plc.components.erase(std::remove_if(plc.components.begin(), plc.components.end(),
+                                      [&](const TowComponent& c) { return c.tow == tow; }),
+                       plc.components.end());
+  add_components(plc, tow, in_plc);
+}
+
+}  // namespace
+
+std::vector<TriangleSoup> close_clipped_tows(Plc& plc, const ClippedTows& clipped, const AxisBox& box,
+                                             const std::vector<std::string>& names) {
+  const std::vector<TriangleSoup>& uncut = clipped.uncut;
+  std::vector<TriangleSoup> closed = clipped.surfaces;
+  if (std::none_of(clipped.clipped.begin(), clipped.clipped.end(), [](char c) { return c != 0; })) return closed;
+  const std::size_t n = plc.triangles.size(), first = plc.tow_triangle_count;
+  auto edge_key = [](std::size_t a, std::size_t b) { return std::make_pair(std::min(a, b), std::max(a, b)); };
+  std::set<std::pair<std::size_t, std::size_t>> tow_edges;
+  for (std::size_t f = 0; f < first; ++f)
+    for (int k = 0; k < 3; ++k) tow_edges.insert(edge_key(plc.triangles[f][k], plc.triangles[f][(k + 1) % 3]));
+  const std::vector<int> face_of = box_faces_of(plc, box);
   // Regions: box triangles of one face joined across edges that are no tow edge.
   Components regions(n);
   std::map<std::pair<std::size_t, std::size_t>, std::size_t> first_face;
@@ -490,31 +525,8 @@ std::vector<TriangleSoup> close_clipped_tows(Plc& plc, const ClippedTows& clippe
       caps[i].push_back(t);
     }
   }
-  // The closed tows, and their components again.
-  for (std::size_t i = 0; i < uncut.size(); ++i) {
-    if (!clipped.clipped[i]) continue;
-    std::map<Point3d, std::size_t> local;
-    for (std::size_t v = 0; v < closed[i].points.size(); ++v) local.emplace(closed[i].points[v], v);
-    std::vector<std::array<std::size_t, 3>> in_plc;
-    for (const auto& t : closed[i].triangles)
-      in_plc.push_back({plc.index.at(closed[i].points[t[0]]), plc.index.at(closed[i].points[t[1]]),
-                        plc.index.at(closed[i].points[t[2]])});
-    for (const auto& t : caps[i]) {
-      std::array<std::size_t, 3> m;
-      for (int k = 0; k < 3; ++k) {
-        const auto [it, added] = local.emplace(plc.points[t[k]], closed[i].points.size());
-        if (added) closed[i].points.push_back(plc.points[t[k]]);
-        m[k] = it->second;
-      }
-      closed[i].triangles.push_back(m);
-      in_plc.push_back(t);
-    }
-    const int tow = int(i);
-    plc.components.erase(std::remove_if(plc.components.begin(), plc.components.end(),
-                                        [&](const TowComponent& c) { return c.tow == tow; }),
-                         plc.components.end());
-    add_components(plc, tow, in_plc);
-  }
+  for (std::size_t i = 0; i < uncut.size(); ++i)
+    if (clipped.clipped[i]) add_caps(plc, int(i), caps[i], closed[i]);
   return closed;
 }
 
