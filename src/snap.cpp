@@ -1,7 +1,6 @@
 // seam, pipeline step 1: snapping. See seam/internal/snap.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/internal/snap.h>
-#include <seam/internal/triangle_predicates.h>
 
 #include <CGAL/boost/graph/Euler_operations.h>
 #include <set>
@@ -169,16 +168,23 @@ std::vector<std::array<DPoint, 2>> contact_around(const Mesh<K>& mesh, typename 
 /// Moving v to `target` keeps every point where the faces around v met `other` within
 /// `distance` of where they meet it after the move: a move onto a curve must not take a part of
 /// the intersection with it (a vertex next to an edge that lies on the other surface, CT row 9 of
-/// docs/real_tows.md: 3e-7 up, and the edge's contact, 0.028 long, was gone).
+/// docs/real_tows.md: 5e-8 up, and the edge's contact, 0.028 long, was gone). A precondition of
+/// a rounded kernel failing in the intersections refuses the move.
 template <class K>
 bool move_keeps_contact(Mesh<K>& mesh, typename MeshTypes<K>::V v, const typename K::Point_3& target,
                         const Mesh<K>& other, double distance) {
-  const auto before = contact_around<K>(mesh, v, other);
-  if (before.empty()) return true;
+  std::vector<std::array<DPoint, 2>> before, after;
   const auto old = mesh.point(v);
-  mesh.point(v) = target;
-  const auto after = contact_around<K>(mesh, v, other);
-  mesh.point(v) = old;
+  try {
+    before = contact_around<K>(mesh, v, other);
+    if (before.empty()) return true;
+    mesh.point(v) = target;
+    after = contact_around<K>(mesh, v, other);
+    mesh.point(v) = old;
+  } catch (const CGAL::Failure_exception&) {
+    mesh.point(v) = old;
+    return false;
+  }
   auto near_after = [&](const DPoint& p) {
     for (const auto& s : after) {
       const auto d = s[1] - s[0];
@@ -273,7 +279,9 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
     make_exact(target);
     if (round_to_doubles)
       target = Point(CGAL::to_double(target.x()), CGAL::to_double(target.y()), CGAL::to_double(target.z()));
-    if (!move_keeps_faces<K>(mesh, v, target) || (other && contact_tolerance > 0 && !move_keeps_contact<K>(mesh, v, target, *other, contact_tolerance))) {
+    const bool keeps_contact =
+        !other || !(contact_tolerance > 0) || move_keeps_contact<K>(mesh, v, target, *other, contact_tolerance);
+    if (!move_keeps_faces<K>(mesh, v, target) || !keeps_contact) {
       ++report.refused;
       continue;
     }
