@@ -108,8 +108,9 @@ PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
                                                    : closing == Closing::near_close_pairs ? &close_points
                                                                                          : nullptr;
   if (!found.curves.empty() && closing != Closing::none && !(near && near->empty())) {
-    const auto sa = internal::snap_vertices_to_segments<K>(a, found.curves, separation, false, true, &b, near, tolerance);
-    const auto sb = internal::snap_vertices_to_segments<K>(b, found.curves, separation, false, true, &a, near, tolerance);
+    const auto& curves = found.curves;
+    const auto sa = internal::snap_vertices_to_segments<K>(a, curves, separation, false, true, &b, near, tolerance);
+    const auto sb = internal::snap_vertices_to_segments<K>(b, curves, separation, false, true, &a, near, tolerance);
     st.vertices_closed = sa.snapped + sb.snapped;
     if (closed) {  // (mesh, vertex) of each vertex closed, sorted
       for (auto v : sa.moved) closed->emplace_back(0, std::size_t(v));
@@ -313,7 +314,8 @@ template <class K> class PairRun {
   bool new_close_points();
   void failed(const std::string& what) { problems_ += (problems_.empty() ? "" : "; ") + what + problem_; }
 
-  Mesh<K>&a_, &b_;
+  Mesh<K>& a_;
+  Mesh<K>& b_;
   const PairOptions& options_;
   const Mesh<K> a0_, b0_;  // the inputs
   const std::array<std::vector<double>, 2> input_angles_;
@@ -407,7 +409,8 @@ template <class K> std::optional<PairResult<K>> PairRun<K>::attempt(Closing clos
   const bool crowded_closed = closing == Closing::crowded && !closed_vertices_.empty();
   next_ = crowded_closed ? Closing::none : Closing::near_close_pairs;
   if (crowded_closed)
-    way = internal::say("with ", closed_vertices_.size(), " vertices next to crowded curve points closed onto the curves");
+    way = internal::say("with ", closed_vertices_.size(),
+                        " vertices next to crowded curve points closed onto the curves");
   if (embedding_failed) {
     failed(prefix(""));
     return std::nullopt;

@@ -135,7 +135,8 @@ template <class K> bool in_flat_contact(const Mesh<K>& mesh, typename MeshTypes<
 /// Where the faces around v meet `other` (exact intersections, rounded to doubles): as segments,
 /// a point as a segment of length 0, a triangle or polygon of a flat contact as its edges.
 template <class K>
-std::vector<std::array<DPoint, 2>> contact_around(const Mesh<K>& mesh, typename MeshTypes<K>::V v, const Mesh<K>& other) {
+std::vector<std::array<DPoint, 2>> contact_around(const Mesh<K>& mesh, typename MeshTypes<K>::V v,
+                                                  const Mesh<K>& other) {
   std::vector<std::array<DPoint, 2>> pieces;
   for (auto f : CGAL::faces_around_target(mesh.halfedge(v), mesh)) {
     if (f == MeshTypes<K>::M::null_face()) continue;
@@ -158,7 +159,8 @@ std::vector<std::array<DPoint, 2>> contact_around(const Mesh<K>& mesh, typename 
       if (const auto* p = boost::get<typename K::Point_3>(&*meet)) pieces.push_back({to_filtered(*p), to_filtered(*p)});
       else if (const auto* s = boost::get<typename K::Segment_3>(&*meet))
         pieces.push_back({to_filtered(s->source()), to_filtered(s->target())});
-      else if (const auto* w = boost::get<typename K::Triangle_3>(&*meet)) ring({w->vertex(0), w->vertex(1), w->vertex(2)});
+      else if (const auto* w = boost::get<typename K::Triangle_3>(&*meet))
+        ring({w->vertex(0), w->vertex(1), w->vertex(2)});
       else if (const auto* ps = boost::get<std::vector<typename K::Point_3>>(&*meet)) ring(*ps);
     }
   }
