@@ -555,7 +555,7 @@ std::size_t KeepAway::CellHash::operator()(const Cell& c) const {
 
 void KeepAway::add(const std::array<double, 3>& p) { cells_[cell_of(p)].push_back(p); }
 
-bool KeepAway::near(const std::array<double, 3>& p) const {
+bool KeepAway::point_near(const std::array<double, 3>& p, bool at_p) const {
   const Cell c = cell_of(p);
   for (long long dx = -1; dx <= 1; ++dx)
     for (long long dy = -1; dy <= 1; ++dy)
@@ -564,9 +564,16 @@ bool KeepAway::near(const std::array<double, 3>& p) const {
         if (it == cells_.end()) continue;
         for (const auto& q : it->second) {
           const double d2 = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
-          if (d2 < distance_ * distance_) return true;
+          if (d2 < distance_ * distance_ && (at_p || d2 > 0)) return true;
         }
       }
+  return false;
+}
+
+bool KeepAway::crowded(const std::array<double, 3>& p) const { return point_near(p, false); }
+
+bool KeepAway::near(const std::array<double, 3>& p) const {
+  if (point_near(p, true)) return true;
   const Filtered::Point_3 q(p[0], p[1], p[2]);
   for (const InputSurface* surface : surfaces_) {
     const auto [closest, normal] = surface->closest(q);

@@ -1,6 +1,7 @@
 // seam, pipeline step 1: snapping. See seam/internal/snap.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/internal/snap.h>
+#include <seam/internal/retriangulate.h>  // KeepAway
 
 #include <CGAL/boost/graph/Euler_operations.h>
 #include <set>
@@ -16,8 +17,6 @@
 #include <CGAL/property_map.h>
 
 #include <algorithm>
-#include <cstdint>
-#include <map>
 #include <cmath>
 #include <tuple>
 
@@ -112,22 +111,30 @@ SnapReport<K> snap_vertices(Mesh<K>& mesh, const std::vector<Polyline<K>>& curve
 
 
 namespace {
-/// Whether a face around v lies in one plane with a face of `other` and meets it (exact; a box
-/// test first, over every face of `other`: called for the few vertices near a curve).
+/// Calls visit(a, b, c) with the corners of each face of `other` whose box overlaps `box`, until
+/// it returns true (then true). Over every face of `other`, the box test first: for the few
+/// vertices near a curve.
+template <class K, class Visit> bool any_face_near(const Mesh<K>& other, const CGAL::Bbox_3& box, Visit visit) {
+  for (auto g : other.faces()) {
+    const auto k = other.halfedge(g);
+    const auto &a = other.point(other.source(k)), &b = other.point(other.target(k)),
+               &c = other.point(other.target(other.next(k)));
+    if (CGAL::do_overlap(box, a.bbox() + b.bbox() + c.bbox()) && visit(a, b, c)) return true;
+  }
+  return false;
+}
+
+/// Whether a face around v lies in one plane with a face of `other` and meets it (exact).
 template <class K> bool in_flat_contact(const Mesh<K>& mesh, typename MeshTypes<K>::V v, const Mesh<K>& other) {
+  using Point = typename K::Point_3;
   for (auto f : CGAL::faces_around_target(mesh.halfedge(v), mesh)) {
     if (f == MeshTypes<K>::M::null_face()) continue;
     const auto t = face_triangle<K>(mesh, f);
-    const CGAL::Bbox_3 box = t.bbox();
-    for (auto g : other.faces()) {
-      const auto k = other.halfedge(g);  // (the box test first: no triangle made for most faces)
-      const auto &a = other.point(other.source(k)), &b = other.point(other.target(k)),
-                 &c = other.point(other.target(other.next(k)));
-      if (!CGAL::do_overlap(box, a.bbox() + b.bbox() + c.bbox())) continue;
-      if (CGAL::coplanar(t[0], t[1], t[2], a) && CGAL::coplanar(t[0], t[1], t[2], b) &&
-          CGAL::coplanar(t[0], t[1], t[2], c) && CGAL::do_intersect(t, face_triangle<K>(other, g)))
-        return true;
-    }
+    if (any_face_near<K>(other, t.bbox(), [&](const Point& a, const Point& b, const Point& c) {
+          return CGAL::coplanar(t[0], t[1], t[2], a) && CGAL::coplanar(t[0], t[1], t[2], b) &&
+                 CGAL::coplanar(t[0], t[1], t[2], c) && CGAL::do_intersect(t, typename K::Triangle_3(a, b, c));
+        }))
+      return true;
   }
   return false;
 }
@@ -135,34 +142,30 @@ template <class K> bool in_flat_contact(const Mesh<K>& mesh, typename MeshTypes<
 /// Where the faces around v meet `other` (exact intersections, rounded to doubles): as segments,
 /// a point as a segment of length 0, a triangle or polygon of a flat contact as its edges.
 template <class K>
-std::vector<std::array<DPoint, 2>> contact_around(const Mesh<K>& mesh, typename MeshTypes<K>::V v,
-                                                  const Mesh<K>& other) {
-  std::vector<std::array<DPoint, 2>> pieces;
+std::vector<DK::Segment_3> contact_around(const Mesh<K>& mesh, typename MeshTypes<K>::V v, const Mesh<K>& other) {
+  using Point = typename K::Point_3;
+  std::vector<DK::Segment_3> pieces;
+  auto ring = [&](const std::vector<Point>& ps) {
+    for (std::size_t i = 0; i < ps.size(); ++i)
+      pieces.emplace_back(to_filtered(ps[i]), to_filtered(ps[(i + 1) % ps.size()]));
+  };
   for (auto f : CGAL::faces_around_target(mesh.halfedge(v), mesh)) {
     if (f == MeshTypes<K>::M::null_face()) continue;
     const auto t = face_triangle<K>(mesh, f);
     if (t.is_degenerate()) continue;
-    const CGAL::Bbox_3 box = t.bbox();
-    for (auto g : other.faces()) {
-      const auto k = other.halfedge(g);
-      const auto &a = other.point(other.source(k)), &b = other.point(other.target(k)),
-                 &c = other.point(other.target(other.next(k)));
-      if (!CGAL::do_overlap(box, a.bbox() + b.bbox() + c.bbox())) continue;
+    any_face_near<K>(other, t.bbox(), [&](const Point& a, const Point& b, const Point& c) {
       const typename K::Triangle_3 u(a, b, c);
-      if (u.is_degenerate()) continue;
+      if (u.is_degenerate()) return false;
       const auto meet = CGAL::intersection(t, u);
-      if (!meet) continue;
-      auto ring = [&](const std::vector<typename K::Point_3>& ps) {
-        for (std::size_t i = 0; i < ps.size(); ++i)
-          pieces.push_back({to_filtered(ps[i]), to_filtered(ps[(i + 1) % ps.size()])});
-      };
-      if (const auto* p = boost::get<typename K::Point_3>(&*meet)) pieces.push_back({to_filtered(*p), to_filtered(*p)});
+      if (!meet) return false;
+      if (const auto* p = boost::get<Point>(&*meet)) pieces.emplace_back(to_filtered(*p), to_filtered(*p));
       else if (const auto* s = boost::get<typename K::Segment_3>(&*meet))
-        pieces.push_back({to_filtered(s->source()), to_filtered(s->target())});
+        pieces.emplace_back(to_filtered(s->source()), to_filtered(s->target()));
       else if (const auto* w = boost::get<typename K::Triangle_3>(&*meet))
         ring({w->vertex(0), w->vertex(1), w->vertex(2)});
-      else if (const auto* ps = boost::get<std::vector<typename K::Point_3>>(&*meet)) ring(*ps);
-    }
+      else if (const auto* ps = boost::get<std::vector<Point>>(&*meet)) ring(*ps);
+      return false;  // (every face)
+    });
   }
   return pieces;
 }
@@ -175,7 +178,7 @@ std::vector<std::array<DPoint, 2>> contact_around(const Mesh<K>& mesh, typename 
 template <class K>
 bool move_keeps_contact(Mesh<K>& mesh, typename MeshTypes<K>::V v, const typename K::Point_3& target,
                         const Mesh<K>& other, double distance) {
-  std::vector<std::array<DPoint, 2>> before, after;
+  std::vector<DK::Segment_3> before, after;
   const auto old = mesh.point(v);
   try {
     before = contact_around<K>(mesh, v, other);
@@ -188,16 +191,11 @@ bool move_keeps_contact(Mesh<K>& mesh, typename MeshTypes<K>::V v, const typenam
     return false;
   }
   auto near_after = [&](const DPoint& p) {
-    for (const auto& s : after) {
-      const auto d = s[1] - s[0];
-      const double l2 = d.squared_length();
-      const double t = l2 > 0 ? std::clamp(((p - s[0]) * d) / l2, 0.0, 1.0) : 0.0;
-      if (CGAL::squared_distance(p, s[0] + t * d) <= distance * distance) return true;
-    }
-    return false;
+    return std::any_of(after.begin(), after.end(),
+                       [&](const DK::Segment_3& s) { return CGAL::squared_distance(p, s) <= distance * distance; });
   };
   for (const auto& s : before)
-    if (!near_after(s[0]) || !near_after(s[1])) return false;
+    if (!near_after(s.source()) || !near_after(s.target())) return false;
   return true;
 }
 
@@ -393,44 +391,18 @@ std::vector<std::array<double, 3>> crowded_curve_points(const std::vector<Polyli
                                                         const Mesh<K>& b, double distance) {
   std::vector<std::array<double, 3>> result;
   if (!(distance > 0)) return result;
-  // A hash grid of cells `distance` wide over every curve point and vertex (doubles): the points
-  // within `distance` of a point lie in its cell or the 26 around it.
-  auto doubles = [](const typename K::Point_3& p) {
-    const auto q = to_filtered(p);
-    return std::array<double, 3>{q.x(), q.y(), q.z()};
-  };
-  std::vector<std::array<double, 3>> points;
-  for (const auto& c : curves)
-    for (const auto& p : c) points.push_back(doubles(p));
-  const std::size_t curve_points = points.size();
-  for (const Mesh<K>* m : {&a, &b})
-    for (auto v : m->vertices()) points.push_back(doubles(m->point(v)));
-  using Cell = std::array<std::int64_t, 3>;
-  auto cell_of = [distance](const std::array<double, 3>& p) {
-    return Cell{std::int64_t(std::floor(p[0] / distance)), std::int64_t(std::floor(p[1] / distance)),
-                std::int64_t(std::floor(p[2] / distance))};
-  };
-  std::map<Cell, std::vector<std::size_t>> grid;
-  for (std::size_t i = 0; i < points.size(); ++i) grid[cell_of(points[i])].push_back(i);
-  const double d2 = distance * distance;
+  // Every curve point and vertex in the hash grid of KeepAway (doubles).
+  KeepAway points(distance);
+  points.add_points<K>(curves);
+  points.add_vertices<K>(a);
+  points.add_vertices<K>(b);
   std::set<std::array<double, 3>> seen;
-  for (std::size_t i = 0; i < curve_points; ++i) {
-    const auto& p = points[i];
-    const Cell c = cell_of(p);
-    bool crowded = false;
-    for (std::int64_t dx = -1; dx <= 1 && !crowded; ++dx)
-      for (std::int64_t dy = -1; dy <= 1 && !crowded; ++dy)
-        for (std::int64_t dz = -1; dz <= 1 && !crowded; ++dz) {
-          const auto it = grid.find(Cell{c[0] + dx, c[1] + dy, c[2] + dz});
-          if (it == grid.end()) continue;
-          for (std::size_t j : it->second) {
-            const auto& q = points[j];
-            const double x = p[0] - q[0], y = p[1] - q[1], z = p[2] - q[2], s = x * x + y * y + z * z;
-            if (s > 0 && s < d2) crowded = true;
-          }
-        }
-    if (crowded && seen.insert(p).second) result.push_back(p);
-  }
+  for (const auto& c : curves)
+    for (const auto& p : c) {
+      const auto q = to_filtered(p);
+      const std::array<double, 3> x{q.x(), q.y(), q.z()};
+      if (points.crowded(x) && seen.insert(x).second) result.push_back(x);
+    }
   return result;
 }
 

@@ -79,8 +79,13 @@ class KeepAway {
   void set_surfaces(std::vector<const InputSurface*> surfaces) { surfaces_ = std::move(surfaces); }
   /// True when some point added, or a surface, lies closer than `distance` to p.
   bool near(const std::array<double, 3>& p) const;
+  /// True when some point added lies closer than `distance` to p but not at it (the surfaces
+  /// are not asked).
+  bool crowded(const std::array<double, 3>& p) const;
 
  private:
+  /// Some point added lies closer than `distance` to p (at p too, with `at_p`).
+  bool point_near(const std::array<double, 3>& p, bool at_p) const;
   using Cell = std::array<long long, 3>;
   struct CellHash {
     std::size_t operator()(const Cell& c) const;
