@@ -43,11 +43,13 @@
 //         and its flips, found first without the predicate, are judged as one edit: the point's
 //         fan over the faces the flips remove, every edge they make ending at the point; where
 //         that is refused, the point alone, then each flip; splits alike). Where the constraint
-//         met cannot be split for what lies beyond it (a flat contact's shared faces, frozen
-//         faces, the mesh's own border; curves_fixed), points nearer the shortest edge on the
-//         same bisector are tried instead (0.7, 0.5 and 0.35 of the distance, not nearer than
-//         half the edge x tan(bound), where the new face on that edge has the bound's angles):
-//         each lies inside the face's circumcircle, so the face goes as well. At most four tries per attempt.
+//         met cannot be split, for what lies beyond it (a flat contact's shared faces, frozen
+//         faces, the mesh's own border; curves_fixed) or for being shorter than twice
+//         feature_size, or where the point lands nearer than feature_size to a vertex, points
+//         nearer the shortest edge on the same bisector are tried instead (0.7, 0.5 and 0.35 of
+//         the distance, not nearer than half the edge x tan(bound), where the new face on that
+//         edge has the bound's angles): each lies inside the face's circumcircle, so the face
+//         goes as well. At most four tries per attempt.
 //   Splits and exact insertions keep the surface; flips, merges and rounded insertions change it
 //   and pass the acceptance predicate first.
 //

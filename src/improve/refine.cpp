@@ -105,9 +105,15 @@ template <class K> class Refiner {
   std::optional<Outcome> merge_short_edge(std::size_t m, V x, V y);
   bool merge_plan(std::size_t m, V u, V w, Edit<K>& edit) const;
   Outcome split_constraint(std::size_t m, H h);
-  /// Shorter than twice feature_size (doubles): split_constraint refuses it for the feature size.
+  /// A constraint split_constraint would split (a curve segment, the mesh's border) shorter than
+  /// twice feature_size (doubles): refused for the feature size. The band's border is never too
+  /// short: the face beyond joins the band, nothing is split.
   bool too_short_to_split(std::size_t m, H h) const {
     const M& g = s_.mesh(m);
+    if (!s_.face_in_band(m, g.face(h))) h = g.opposite(h);
+    const F beyond = g.face(g.opposite(h));
+    if (beyond != M::null_face() && !s_.face_in_band(m, beyond) && !s_.is_curve_edge(m, g.source(h), g.target(h)))
+      return false;
     return std::sqrt(CGAL::squared_distance(s_.fpoint(m, g.source(h)), s_.fpoint(m, g.target(h)))) <
            2 * s_.feature_size;
   }
@@ -644,13 +650,14 @@ template <class K> Outcome Refiner<K>::insert_circumcenter(std::size_t m, F f) {
   const double reach = half / std::tan(0.5 * bound);
   const double to_centre = std::sqrt(CGAL::squared_distance(mid, centre));
   if (!(to_centre > 0)) return {false, ShortfallCause::shape};
-  // Where the off-center lies beyond a constraint that cannot be split for what lies beyond it
-  // (border_fixed), or encroaches one, points nearer the shortest edge on the same bisector are tried:
+  // Where the off-center lies beyond a constraint that cannot be split (border_fixed, or shorter
+  // than twice feature_size), or encroaches one, or lands nearer than feature_size to a vertex,
+  // points nearer the shortest edge on the same bisector are tried:
   // each lies inside the face's circumcircle too (so the face goes), and down to
   // half x tan(bound) from the edge the new face on it still has the bound's angles. A few fixed
   // fractions: the number of tries per face is bounded.
   Outcome blocked{false, ShortfallCause::constraint_angle};
-  // (split_constraint's refusal of a fixed border: the cause it gives)
+  // (split_constraint's refusal of a constraint it cannot split: the cause it gives)
   auto block = [&](H h) {
     blocked.cause = too_short_to_split(m, h) ? ShortfallCause::feature_size : ShortfallCause::constraint_angle;
   };
@@ -662,7 +669,7 @@ template <class K> Outcome Refiner<K>::insert_circumcenter(std::size_t m, F f) {
     if (!finite(target)) return {false, ShortfallCause::shape};  // (a face flat in doubles)
     if (!walk(m, f, target, landed, at, crossed)) {
       if (crossed == M::null_halfedge()) return {false, ShortfallCause::shape};
-      if (!border_fixed(m, crossed)) return split_constraint(m, crossed);
+      if (!border_fixed(m, crossed) && !too_short_to_split(m, crossed)) return split_constraint(m, crossed);
       block(crossed);
       continue;
     }
@@ -680,8 +687,13 @@ template <class K> Outcome Refiner<K>::insert_circumcenter(std::size_t m, F f) {
           if (CGAL::squared_distance(at, CGAL::midpoint(a, b)) < 0.25 * CGAL::squared_distance(a, b)) encroached = inside;
         }
       }
-    if (encroached == M::null_halfedge()) return insert_at(m, landed, at);
-    if (!border_fixed(m, encroached)) return split_constraint(m, encroached);
+    if (encroached == M::null_halfedge()) {
+      const Outcome out = insert_at(m, landed, at);
+      if (out.changed || out.cause != ShortfallCause::feature_size) return out;
+      blocked = out;
+      continue;
+    }
+    if (!border_fixed(m, encroached) && !too_short_to_split(m, encroached)) return split_constraint(m, encroached);
     block(encroached);
   }
   return blocked;
