@@ -47,7 +47,8 @@ nlohmann::json mesh_report(const MeshArgs& args, const seam::VolumeMeshOptions& 
   j["input"] = {{"points", st.input_points}, {"triangles", st.input_triangles}, {"tow_triangles", st.tow_triangles},
                 {"shared_triangles", st.shared_triangles}, {"box_triangles", st.box_triangles},
                 {"clipped_tows", st.clipped_tows}, {"cut_snapped_vertices", st.cut_snapped_vertices},
-                {"cut_snap_max_move", st.cut_snap_max_move}, {"cut_snap_undone", st.cut_snap_undone}};
+                {"cut_snap_max_move", st.cut_snap_max_move}, {"cut_snap_undone", st.cut_snap_undone},
+                {"box_face_spacing", st.box_face_spacing}, {"tetgen_aborts", st.tetgen_aborts}};
   j["output"] = {{"points", st.points}, {"tets", st.tets}, {"steiner_points", st.steiner_points}};
   j["regions"] = nlohmann::json::array();
   for (std::size_t i = 0; i < st.regions.size(); ++i) {
@@ -111,6 +112,9 @@ int run_mesh(MeshArgs& args) {
             << st.shared_triangles << " shared faces in " << result.contacts.size() << " contact patch(es); min dihedral "
             << st.min_dihedral_deg << " deg, max radius-edge " << st.max_radius_edge;
   if (st.tets_above_radius_edge > 0) std::cout << " (" << st.tets_above_radius_edge << " tets above " << o.radius_edge << ")";
+  if (!st.tetgen_aborts.empty())
+    std::cout << "; TetGen stopped on its own assertion " << st.tetgen_aborts.size()
+              << " time(s), box grid spacing made finer to " << st.box_face_spacing;
   std::cout << "; verified\n";
   return 0;
 }

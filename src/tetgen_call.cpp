@@ -243,9 +243,9 @@ TetgenOutput run_tetgen(const TetgenInput& input) {
   while (::waitpid(pid, &status, 0) < 0)
     if (errno != EINTR) throw InternalError(std::string("cannot wait for TetGen: ") + std::strerror(errno));
   if (WIFSIGNALED(status))
-    throw InternalError("TetGen stopped on one of its own assertions (" +
+    throw TetgenAborted("TetGen stopped on one of its own assertions (" +
                         (messages.empty() ? "signal " + std::to_string(WTERMSIG(status)) : first_line(messages)) +
-                        "); try other --box-spacing or --radius-edge values");
+                        ")");
   Reader reader(bytes);
   Outcome outcome{};
   std::vector<char> text;

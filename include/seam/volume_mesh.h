@@ -21,6 +21,10 @@
 //      and the box faces are exactly the triangles given), -M (no merging of coplanar facets:
 //      each input triangle stays a triangle of the mesh). Tets in regions without a tow seed are
 //      the matrix.
+//      Debian's TetGen 1.5.0 stops on one of its own assertions on some valid inputs, and whether
+//      it does changes with the box faces' grid, chaotically: there the grid is made again finer
+//      (x 0.97, 0.94, 0.91, 0.88, 0.85), and the spacing used is reported (no retry without a
+//      grid); after six stops, InternalError.
 //   4. Verification of the result (verify_volume_mesh below): if it fails, InternalError.
 // Tows that cross a given box (a periodic unit cell whose tows the cell faces cut) are first cut
 // by it (before step 2): exact cuts, the pieces Delaunay-triangulated (the same in two tows that
@@ -121,6 +125,10 @@ struct VolumeMeshStats {
   /// bad shape is forced by the input faces under -Y).
   std::size_t tets_above_radius_edge = 0;
   std::string tetgen_switches;
+  /// The box faces' grid spacing used (0: no grid). Where TetGen stopped on one of its own
+  /// assertions, the grid was made again finer (at most five times): each stop's message.
+  double box_face_spacing = 0;
+  std::vector<std::string> tetgen_aborts;
   std::map<std::string, double> stage_seconds;  ///< "check", "plc", "tetgen", "verify"
 };
 

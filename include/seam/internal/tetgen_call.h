@@ -3,6 +3,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <seam/errors.h>
 #include <seam/io.h>
 
 #include <array>
@@ -11,6 +12,13 @@
 #include <vector>
 
 namespace seam::internal {
+
+/// TetGen stopped on one of its own assert()s (see run_tetgen): an InternalError the caller may
+/// answer by another input (volume_mesh moves the box faces' grid points).
+class TetgenAborted : public InternalError {
+ public:
+  using InternalError::InternalError;
+};
 
 struct TetgenInput {
   std::vector<Point3d> points;
@@ -33,8 +41,8 @@ struct TetgenOutput {
 /// Debian's libtet 1.5.0 also keeps its assert()s, and some valid inputs fire one (its point
 /// location walks off the mesh while refining for quality: "locate: Assertion `searchtet->ver !=
 /// 4' failed", seen on a 4 x 4 weave with some box grids), which aborts the process. In the
-/// child that abort ends the child only: it is thrown here as InternalError quoting TetGen's
-/// message, and the caller (seam mesh: exit 3, nothing written) goes on.
+/// child that abort ends the child only: it is thrown here as TetgenAborted quoting TetGen's
+/// message, and the caller goes on.
 TetgenOutput run_tetgen(const TetgenInput& input);
 
 }  // namespace seam::internal
