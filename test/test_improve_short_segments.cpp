@@ -1,7 +1,7 @@
 // The quality stage where the curve's segments are shorter than twice the feature size (none
 // can be split), as where a grazing pair's curves run dense on CT tows. A face whose off-center
 // encroaches such a segment, or lands nearer than feature_size to a vertex, tries points nearer
-// its shortest edge (seam/improve.h, step 2b). The contract after every such edit: the mesh
+// its shortest edge (seam/improve.h, step 2c). The contract after every such edit: the mesh
 // valid and in its plane, its area kept, the curve's points vertices and its segments edges, and
 // every new face next to the curve below the bound reported with a cause.
 #include <catch2/catch.hpp>

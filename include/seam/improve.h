@@ -33,7 +33,10 @@
 //         merge along their segment, in every mesh holding the curve. An edge shorter than
 //         `min_separation` whose ends do not merge (the fan would be flat) loses a free end: its
 //         star is fanned from another neighbour (still a merge, of an input vertex);
-//      b. otherwise Üngör's off-center of the face (on the bisector of its shortest edge, at most
+//      b. otherwise Lawson's flip of its longest edge that is no constraint, where it raises the
+//         two faces' smallest angle and the predicate accepts it (the face beyond may have joined
+//         the band, or changed, since the flips of step 0);
+//      c. otherwise Üngör's off-center of the face (on the bisector of its shortest edge, at most
 //         as far from it as the apex of a triangle with the bound's angle there; the circumcenter
 //         where that is nearer) is found by walking over the surface from the face, each face
 //         unfolded into the plane of the last. If the walk meets a constraint, or the point

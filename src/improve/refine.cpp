@@ -372,7 +372,7 @@ template <class K> void Refiner<K>::refine() {
   }
 }
 
-/// One step towards mending a face below the bound (seam/improve.h, steps 1a-c).
+/// One step towards mending a face below the bound (seam/improve.h, steps 2a-c).
 template <class K> Outcome Refiner<K>::mend(std::size_t m, F f) {
   const M& g = s_.mesh(m);
   const auto c = s_.corners(m, f);
@@ -406,6 +406,14 @@ template <class K> Outcome Refiner<K>::mend(std::size_t m, F f) {
     for (H h : {in, g.next(in)})
       if (!g.is_border(g.opposite(h)) && s_.may_join_band(m, g.face(g.opposite(h)))) return split_constraint(m, h);
     return {false, ShortfallCause::constraint_angle};
+  }
+  // Lawson's flip of its longest edge that is no constraint, where that raises the angles: the face
+  // beyond may have joined the band, or changed, after the flips of step 0.
+  for (auto i = order.rbegin(); i != order.rend(); ++i) {
+    H e = g.halfedge(f);
+    while (g.source(e) != c[*i]) e = g.next(e);  // from corner i to corner i + 1
+    if (g.is_border(g.opposite(e)) || s_.is_constraint(m, e)) continue;
+    if (try_flip(m, e)) return {true, ShortfallCause::constraint_angle};
   }
   const Outcome out = insert_circumcenter(m, f);
   if (!out.changed && refused) return *refused;
