@@ -12,6 +12,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
