@@ -86,9 +86,11 @@
 //   constraint_angle  its smallest angle lies between two constraints (two curve segments, a curve
 //                     segment and a fixed border, two fixed border edges), or the fix meets a
 //                     border that cannot move (a flat contact, a frozen face, the mesh's border);
-//   feature_size      the fix would put a point closer than feature_size to another, or split a
-//                     segment shorter than twice that (curves or vertices that close, which no
-//                     merge within the tolerance could remove);
+//   feature_size      every point tried (the off-center and the nearer ones) would lie closer than
+//                     feature_size to a vertex or split a segment shorter than twice that
+//                     (curves or vertices that close, which no merge within the tolerance could
+//                     remove: on CT tows, lenses between two curves thinner than it, and wedges
+//                     where two curves meet at a few degrees);
 //   tolerance         the edit that would fix it leaves the tolerance;
 //   crossing          the edit would make a face meet another surface, or its own, off the curves;
 //   shape             the edit would make a degenerate or folded face;
