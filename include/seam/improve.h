@@ -86,9 +86,9 @@
 //   constraint_angle  its smallest angle lies between two constraints (two curve segments, a curve
 //                     segment and a fixed border, two fixed border edges), or the fix meets a
 //                     border that cannot move (a flat contact, a frozen face, the mesh's border);
-//   feature_size      every point tried (the off-center and the nearer ones) would lie closer than
-//                     feature_size to a vertex or split a segment shorter than twice that
-//                     (curves or vertices that close, which no merge within the tolerance could
+//   feature_size      the off-center and the nearer points were all refused, the last for lying
+//                     closer than feature_size to a vertex or needing a segment shorter than twice
+//                     that split (curves or vertices that close, which no merge within the tolerance could
 //                     remove: on CT tows, lenses between two curves thinner than it, and wedges
 //                     where two curves meet at a few degrees);
 //   tolerance         the edit that would fix it leaves the tolerance;
