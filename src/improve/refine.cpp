@@ -109,13 +109,17 @@ template <class K> class Refiner {
   /// twice feature_size (doubles): refused for the feature size. The band's border is never too
   /// short: the face beyond joins the band, nothing is split.
   bool too_short_to_split(std::size_t m, H h) const {
+    if (band_border(m, h)) return false;
+    const M& g = s_.mesh(m);
+    return std::sqrt(CGAL::squared_distance(s_.fpoint(m, g.source(h)), s_.fpoint(m, g.target(h)))) <
+           2 * s_.feature_size;
+  }
+  /// The constraint of h is the band's border, no curve segment: a face beyond it, not in the band.
+  bool band_border(std::size_t m, H h) const {
     const M& g = s_.mesh(m);
     if (!s_.face_in_band(m, g.face(h))) h = g.opposite(h);
     const F beyond = g.face(g.opposite(h));
-    if (beyond != M::null_face() && !s_.face_in_band(m, beyond) && !s_.is_curve_edge(m, g.source(h), g.target(h)))
-      return false;
-    return std::sqrt(CGAL::squared_distance(s_.fpoint(m, g.source(h)), s_.fpoint(m, g.target(h)))) <
-           2 * s_.feature_size;
+    return beyond != M::null_face() && !s_.face_in_band(m, beyond) && !s_.is_curve_edge(m, g.source(h), g.target(h));
   }
   bool border_fixed(std::size_t m, H h) const;
   Outcome insert_circumcenter(std::size_t m, F f);
@@ -412,8 +416,7 @@ template <class K> Outcome Refiner<K>::mend(std::size_t m, F f) {
   for (auto i = order.rbegin(); i != order.rend(); ++i) {
     H e = g.halfedge(f);
     while (g.source(e) != c[*i]) e = g.next(e);  // from corner i to corner i + 1
-    if (g.is_border(g.opposite(e)) || s_.is_constraint(m, e)) continue;
-    if (try_flip(m, e)) return {true, ShortfallCause::constraint_angle};
+    if (try_flip(m, e)) return {true, ShortfallCause::constraint_angle};  // (not across a constraint)
   }
   const Outcome out = insert_circumcenter(m, f);
   if (!out.changed && refused) return *refused;
@@ -506,10 +509,10 @@ template <class K> Outcome Refiner<K>::split_constraint(std::size_t m, H h) {
   const F beyond = g.face(g.opposite(h));
   const bool curve = s_.is_curve_edge(m, x, y);
   if (curve && s_.options.curves_fixed) return {false, ShortfallCause::constraint_angle};
-  if (!curve && beyond != M::null_face() && !s_.face_in_band(m, beyond)) {
+  if (band_border(m, h)) {
     // The band's border: the face beyond joins the band (nothing changes in the surface), or, out
     // of reach (shared, frozen), the border stays as it is.
-    if (s_.face_in_band(m, beyond) || !s_.may_join_band(m, beyond)) return {false, ShortfallCause::constraint_angle};
+    if (!s_.may_join_band(m, beyond)) return {false, ShortfallCause::constraint_angle};
     s_.meshes[m].band[beyond] = true;
     ++s_.stats.faces_absorbed;
     push_if_bad(m, beyond);
@@ -722,8 +725,7 @@ template <class K> bool Refiner<K>::border_fixed(std::size_t m, H h) const {
       if (f != M::null_face() && ((ms.has_shared && ms.shared[f]) || (ms.has_frozen && ms.frozen[f]))) return true;
     return false;
   }
-  if (beyond == M::null_face() || s_.face_in_band(m, beyond)) return false;
-  return !s_.may_join_band(m, beyond);
+  return band_border(m, h) && !s_.may_join_band(m, beyond);
 }
 
 /// The faces Lawson's flips around a point x would remove, x fanned over `region` (a disk: the
