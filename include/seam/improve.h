@@ -53,6 +53,8 @@
 //         the distance, not nearer than half the edge x tan(bound), where the new face on that
 //         edge has the bound's angles): each lies inside the face's circumcircle, so the face
 //         goes as well. At most four tries per attempt.
+//      d. where all of c's points lay nearer than feature_size to a vertex: an edge of it shorter
+//         than `merge_reach` x feature_size merges as in a, if that raises its smallest angle.
 //   Splits and exact insertions keep the surface; flips, merges and rounded insertions change it
 //   and pass the acceptance predicate first.
 //
@@ -88,9 +90,9 @@
 //                     border that cannot move (a flat contact, a frozen face, the mesh's border);
 //   feature_size      the off-center and the nearer points were all refused, the last for lying
 //                     closer than feature_size to a vertex or needing a segment shorter than twice
-//                     that split (curves or vertices that close, which no merge within the tolerance could
-//                     remove: on CT tows, lenses between two curves thinner than it, and wedges
-//                     where two curves meet at a few degrees);
+//                     that split, and no edge merged (step d): curves or vertices that close, which
+//                     no merge within the tolerance could remove (on CT tows, lenses between two
+//                     curves thinner than it, and wedges where two curves meet at a few degrees);
 //   tolerance         the edit that would fix it leaves the tolerance;
 //   crossing          the edit would make a face meet another surface, or its own, off the curves;
 //   shape             the edit would make a degenerate or folded face;
@@ -132,6 +134,12 @@ struct ImproveOptions {
   /// Points closer than this are not made; edges shorter than it are merged where the tolerance
   /// allows. Negative: the larger of `tolerance` and 1/64 of the mean edge length.
   double feature_size = -1.0;
+  /// Where no point can be inserted for a face below the bound (each lies nearer than
+  /// feature_size to a vertex), an edge of it shorter than merge_reach x feature_size merges, if
+  /// that raises the face's smallest angle (step 2d). 2: an input vertex left between one and two
+  /// feature sizes from a curve point (the snapping missed it) goes, rather than hold a thin face;
+  /// the acceptance predicate still holds the merge to the tolerance. 1: only step 2a's merges.
+  double merge_reach = 2.0;
   /// Largest area of a face made within the input faces of the band at the start (the faces the
   /// curves cross or touch); larger ones are refined like faces below the angle bound (after
   /// them: worst angle first). 0: no bound.

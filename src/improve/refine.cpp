@@ -102,7 +102,9 @@ template <class K> class Refiner {
   bool try_flip(std::size_t m, H h, Applied<K>* made = nullptr);
   void legalize(std::size_t m, V x);
   Outcome mend(std::size_t m, F f);
-  std::optional<Outcome> merge_short_edge(std::size_t m, V x, V y);
+  /// Merges x into y or y into x, whichever leaves the better smallest angle (and above
+  /// `must_beat` degrees, where that is given), if the predicate accepts it.
+  std::optional<Outcome> merge_short_edge(std::size_t m, V x, V y, double must_beat = -1);
   bool merge_plan(std::size_t m, V u, V w, Edit<K>& edit) const;
   Outcome split_constraint(std::size_t m, H h);
   /// A constraint split_constraint would split (a curve segment, the mesh's border) shorter than
@@ -419,6 +421,17 @@ template <class K> Outcome Refiner<K>::mend(std::size_t m, F f) {
     if (try_flip(m, e)) return {true, ShortfallCause::constraint_angle};  // (not across a constraint)
   }
   const Outcome out = insert_circumcenter(m, f);
+  // d. Every point for it lay nearer than the feature size to a vertex: an edge of it shorter
+  // than merge_reach x feature_size merges instead, shortest first, where that raises the face's
+  // smallest angle (the step a edges were tried already).
+  if (!out.changed && out.cause == ShortfallCause::feature_size) {
+    const double now = angle(m, f);
+    for (std::size_t i : order) {
+      if (length(i) >= s_.options.merge_reach * s_.feature_size) break;
+      if (length(i) < s_.feature_size) continue;
+      if (auto merged = merge_short_edge(m, c[i], c[(i + 1) % 3], now); merged && merged->changed) return *merged;
+    }
+  }
   if (!out.changed && refused) return *refused;
   return out;
 }
@@ -464,21 +477,22 @@ template <class K> bool Refiner<K>::merge_plan(std::size_t m, V u, V w, Edit<K>&
   return true;
 }
 
-template <class K> std::optional<Outcome> Refiner<K>::merge_short_edge(std::size_t m, V x, V y) {
+template <class K> std::optional<Outcome> Refiner<K>::merge_short_edge(std::size_t m, V x, V y, double must_beat) {
   std::optional<Outcome> result;
-  double best = -1;
+  double best = must_beat < 0 ? -1 : must_beat;
   Edit<K> chosen;
   // Plans the merge of u into w and judges it; keeps it when its new faces' smallest angle is the
   // best so far. Returns the refusal, if the predicate refused it.
   auto consider = [&](V u, V w) -> std::optional<Verdict> {
     Edit<K> edit;
     if (!merge_plan(m, u, w, edit)) return std::nullopt;
-    const Verdict v = accept_edit<K>(s_, edit);
-    if (v != Verdict::accepted) return v;
     double worst = 180;
     for (const auto& part : edit.parts)
       for (const auto& a : part.added) worst = std::min(worst, min_angle_deg(a[0].p, a[1].p, a[2].p));
-    if (worst > best) best = worst, chosen = std::move(edit);
+    if (worst <= best) return std::nullopt;  // (not chosen, whatever the predicate says)
+    const Verdict v = accept_edit<K>(s_, edit);
+    if (v != Verdict::accepted) return v;
+    best = worst, chosen = std::move(edit);
     return std::nullopt;
   };
   for (auto [u, w] : {std::make_pair(x, y), std::make_pair(y, x)})
@@ -493,7 +507,7 @@ template <class K> std::optional<Outcome> Refiner<K>::merge_short_edge(std::size
         if (a != x && a != y) consider(u, a);
     }
   }
-  if (best < 0) return result;
+  if (best < 0 || chosen.parts.empty()) return result;
   push_made(apply_edit<K>(s_, chosen));
   ++s_.stats.merges;
   return Outcome{true, ShortfallCause::constraint_angle};
