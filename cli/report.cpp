@@ -24,6 +24,7 @@ double default_check_tolerance(const seam::TriangleSoup& a, const seam::Triangle
 nlohmann::json improve_json(const seam::ImproveStats& s, bool done, const std::vector<std::string>& mesh_names) {
   nlohmann::json causes = nlohmann::json::object(), flat_reasons = nlohmann::json::object(),
                  faces = nlohmann::json::array();
+  std::size_t curves_closer = 0;  // faces where two curves come closer than the feature size
   for (const auto& f : s.shortfalls) {
     const std::string cause = seam::shortfall_cause_name(f.cause), reason = seam::shortfall_cause_name(f.reason);
     causes[cause] = causes.value(cause, 0) + 1;
@@ -32,7 +33,9 @@ nlohmann::json improve_json(const seam::ImproveStats& s, bool done, const std::v
                      {"face", f.face},
                      {"min_angle", f.min_angle_deg},
                      {"cause", cause},
-                     {"reason", reason}});
+                     {"reason", reason},
+                     {"curve_gap", std::isfinite(f.curve_gap) ? nlohmann::json(f.curve_gap) : nlohmann::json()}});
+    if (f.curve_gap < s.feature_size) ++curves_closer;
   }
   return {{"done", done},
           {"band_faces", s.band_faces},
@@ -51,6 +54,8 @@ nlohmann::json improve_json(const seam::ImproveStats& s, bool done, const std::v
           {"shortfalls", causes},
           {"flat_contact_reasons", flat_reasons},
           {"shortfall_faces", faces},
+          {"feature_size", s.feature_size},
+          {"shortfalls_where_curves_closer_than_feature_size", curves_closer},
           {"seconds", s.seconds}};
 }
 

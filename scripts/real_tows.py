@@ -202,8 +202,8 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     tows = {name: read_stl(os.path.join(args.data, f)) for name, f in FILES.items()}
     only = [int(x) for x in args.only.split(',') if x]
-    header = '| # | configuration | exit | time (s) | seam check | tetgen -d | curves closed / open / loose ends (causes) | shared faces | new faces | below 10 deg | below 20 deg |'
-    rows = [header, '|' + '---|' * 11]
+    header = '| # | configuration | exit | time (s) | seam check | tetgen -d | curves closed / open / loose ends (causes) | shared faces | new faces | below 10 deg | of them where curves come closer than the feature size | below 20 deg |'
+    rows = [header, '|' + '---|' * 12]
     print(header)
     print(rows[1])
     for k, (name, (ta, opa), (tb, opb)) in enumerate(CONFIGS, 1):
@@ -230,7 +230,7 @@ def main():
             code, message = 'timeout', ''
         seconds = time.time() - t0
         verdict = tet = 'n/a'
-        closed = open_ = loose = shared = new = b10 = b20 = '-'
+        closed = open_ = loose = shared = new = b10 = b20 = closer = '-'
         if code == 0:
             pair_report = json.load(open(report))
             tol = pair_report['verify_tolerance']
@@ -246,12 +246,18 @@ def main():
                 nb20 = r['a2']['new_below_20'] + r['b2']['new_below_20']
                 b10 = '%d (%.1f%%)' % (nb10, 100.0 * nb10 / max(new, 1))
                 b20 = '%d (%.1f%%)' % (nb20, 100.0 * nb20 / max(new, 1))
+            # seam's own account of the faces below 10 degrees (its report): those where two curve
+            # segments with no common point come closer than the feature size
+            improve = pair_report.get('improve', {})
+            fs = improve.get('feature_size', 0)
+            closer = sum(1 for f in improve.get('shortfall_faces', [])
+                         if f['min_angle'] < 10 and f.get('curve_gap') is not None and f['curve_gap'] < fs)
             tet = tetgen_verdict(a2, b2, os.path.join(d, 'merged.off'), d)
             closed, open_, loose = curve_counts(curves)
             # seam's own account of the loose ends: where the surfaces only touch, or unexplained
             loose = '%d (%d touching, %d unexplained)' % (loose, ends['touching'], ends['unexplained'])
-        row = '| %d | %s | %s | %.1f | %s | %s | %s / %s / %s | %s | %s | %s | %s |' % (
-            k, name, code, seconds, verdict, tet, closed, open_, loose, shared, new, b10, b20)
+        row = '| %d | %s | %s | %.1f | %s | %s | %s / %s / %s | %s | %s | %s | %s | %s |' % (
+            k, name, code, seconds, verdict, tet, closed, open_, loose, shared, new, b10, closer, b20)
         if code != 0 and message:
             row += ' ' + message[:200]
         print(row, flush=True)

@@ -99,6 +99,12 @@
 //   budget            max_insertions_per_face ran out;
 //   flat_contact      a face of a flat contact's common triangulation (in both meshes: seam pair's
 //                     flat contacts), which the stage leaves as it is (not a face of the band).
+// Each face reported also carries its curve gap (Shortfall::curve_gap, measured on the output
+// after the stage, from its curves and faces alone): how close two curve segments with no common
+// point come within feature_size of it. Below feature_size, a face there meets the bound only
+// with points closer together than the stage makes (Ruppert's bound needs spacing at the local
+// feature size, here the gap): the curves force it at that scale, and a smaller feature_size
+// meshes it finer, at more faces. Where the gap is larger, the cause names why the stage stopped.
 // A face held to `max_area` and left larger (its refinement was refused: feature_size, a fixed
 // constraint, the acceptance predicate, or the budget) is counted in
 // ImproveStats::above_max_area_after; the callers' figures (EmbedStats::new_faces_above_max_area)
@@ -117,6 +123,7 @@
 #include <seam/types.h>
 
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -178,6 +185,11 @@ struct Shortfall {
   /// constraint_angle, feature_size, shape or budget as above, or flat_contact where it meets the
   /// bound in the projection that refinement works in. For the others: `cause`.
   ShortfallCause reason = ShortfallCause::constraint_angle;
+  /// How close two curve segments with no common point come near the face: the smallest distance
+  /// between two such segments both within feature_size of its ball (about its centroid, through
+  /// its farthest corner), in doubles; infinity where no two are. Below feature_size: the face
+  /// lies where the curves are closer than the stage's scale (see the header comment).
+  double curve_gap = std::numeric_limits<double>::infinity();
 };
 
 struct ImproveStats {
@@ -198,6 +210,7 @@ struct ImproveStats {
   /// such as EmbedStats::new_faces_above_max_area, count every new face).
   std::size_t above_max_area_after = 0;
   std::vector<Shortfall> shortfalls;  ///< the faces below the bound at the end, with causes
+  double feature_size = 0;            ///< the feature size the stage used (ImproveOptions::feature_size)
   double seconds = 0;
 };
 

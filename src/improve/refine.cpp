@@ -925,6 +925,8 @@ ImproveStats improve(std::vector<ImproveMesh<K>>& meshes, SharedCurves<K>& curve
   refiner.refine();
   finish_state<K>(s, curves);
   classify<K>(s);
+  s.stats.feature_size = s.feature_size;
+  measure_curve_gaps<K>(meshes, curves, s.feature_size, s.stats.shortfalls);
   drop_state_properties<K>(s);
   s.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return s.stats;

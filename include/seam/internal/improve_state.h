@@ -4,6 +4,7 @@
 //   src/improve/edit.cpp     edits: a disk of faces replaced by a fan from one point
 //   src/improve/accept.cpp   the acceptance predicate of every edit that changes the surface
 //   src/improve/refine.cpp   the refinement (flips, merges, moves onto curves, splits, insertions)
+//   src/improve/curve_gap.cpp  how close the curves come at each face left below the bound
 //
 // Curve points are numbered across the meshes: the same point in two meshes is one point (its
 // vertex in each). A curve segment is an edge of every mesh that holds its curve.
@@ -51,6 +52,14 @@ template <class K> struct SharedCurves {
 /// edit cannot be made (a bug, not an input property).
 template <class K>
 ImproveStats improve(std::vector<ImproveMesh<K>>& meshes, SharedCurves<K>& curves, const ImproveOptions& options);
+
+/// For each face of `shortfalls` (faces of `meshes` as they are): Shortfall::curve_gap, the
+/// distance (doubles) between the two nearest curve segments of `curves` that share no point and
+/// both pass within the face's ball (about its centroid, through its farthest corner) grown by
+/// feature_size; infinity where no two do. (src/improve/curve_gap.cpp)
+template <class K>
+void measure_curve_gaps(const std::vector<ImproveMesh<K>>& meshes, const SharedCurves<K>& curves, double feature_size,
+                        std::vector<Shortfall>& shortfalls);
 
 /// The feature size of the quality stage: options.feature_size, or by default the larger of the
 /// tolerance and 1/64 of the mean edge length (of the finer mesh); with max_area, at most
