@@ -219,8 +219,16 @@ template <class K, class CDT> class PatchRefiner {
   using P2 = typename K::Point_2;
   using Segment = typename Patch<K>::Segment;
 
-  PatchRefiner(CDT& cdt, Patch<K>& patch, double bound, double feature_size)
-      : cdt_(cdt), patch_(patch), bound_(bound), feature_(feature_size), budget_(4 * cdt.number_of_vertices() + 64) {}
+  /// With max_area > 0, faces whose area on the plane is larger are refined too, and the budget
+  /// grows by twice the patch's area (projected_area, in the projection) over it.
+  PatchRefiner(CDT& cdt, Patch<K>& patch, double bound, double feature_size, double max_area, double projected_area)
+      : cdt_(cdt),
+        patch_(patch),
+        bound_(bound),
+        feature_(feature_size),
+        max_projected_area_(max_area > 0 ? max_area / plane_area_factor(patch) : 0),
+        budget_(4 * cdt.number_of_vertices() + 64 +
+                (max_area > 0 ? std::size_t(std::ceil(2 * projected_area / max_projected_area_)) : 0)) {}
 
   /// Why a face still below the bound stays: the reason it was left for, or the budget.
   ShortfallCause reason(FH f) const {
@@ -260,7 +268,20 @@ template <class K, class CDT> class PatchRefiner {
  private:
   bool inside(FH f) const { return !cdt_.is_infinite(f) && f->info().nesting % 2 == 1; }
   bool bad(FH f) const {
-    return inside(f) && min_angle_2(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()) < bound_;
+    return inside(f) && (min_angle_2(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()) < bound_ ||
+                         too_large(f));
+  }
+  /// Larger than max_area on the plane (doubles).
+  bool too_large(FH f) const {
+    return max_projected_area_ > 0 &&
+           std::abs(CGAL::to_double(CGAL::area(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()))) >
+               max_projected_area_ * (1 + 1e-9);
+  }
+  /// A face's area on the patch's plane over its area in the projection along the axis (doubles).
+  static double plane_area_factor(const Patch<K>& patch) {
+    const auto n = CGAL::cross_product(to_filtered(patch.points[1]) - to_filtered(patch.points[0]),
+                                       to_filtered(patch.points[2]) - to_filtered(patch.points[0]));
+    return std::sqrt(n.squared_length()) / std::abs(n[patch.axis]);
   }
   static std::array<VH, 3> corners(FH f) { return {f->vertex(0), f->vertex(1), f->vertex(2)}; }
   static std::pair<VH, VH> ends(FH f, int i) { return {f->vertex(CDT::cw(i)), f->vertex(CDT::ccw(i))}; }
@@ -440,6 +461,7 @@ template <class K, class CDT> class PatchRefiner {
   CDT& cdt_;
   Patch<K>& patch_;
   const double bound_, feature_;
+  const double max_projected_area_;  ///< max_area in the projection; 0: no area bound
   std::size_t budget_;
   std::deque<std::pair<VH, VH>> encroach_checks_;
   std::deque<std::array<VH, 3>> bad_faces_;
@@ -533,7 +555,7 @@ bool triangulate(Patch<K>& patch, double expected_area, const FlatContactOptions
   }
   std::optional<PatchRefiner<K, CDT>> refiner;
   if (options.min_angle_deg > 0) {
-    refiner.emplace(cdt, patch, options.min_angle_deg, options.feature_size);
+    refiner.emplace(cdt, patch, options.min_angle_deg, options.feature_size, options.max_area, expected_area);
     refiner->run();
   }
   double area = 0;

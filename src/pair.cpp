@@ -340,6 +340,7 @@ PairRun<K>::PairRun(Mesh<K>& a, Mesh<K>& b, const PairOptions& options)
   // (it then refines the faces beyond their split borders).
   if (options.improve) {
     contact_options_.min_angle_deg = options.embed.min_angle_deg;
+    contact_options_.max_area = options.embed.max_area;
     contact_options_.feature_size =
         internal::feature_size_of(stage_options(options, snap_tol_), snap_tol_, std::min(la, lb));
   }

@@ -98,10 +98,11 @@ template <class KK> struct ClosedBorder {
       vb[0].push_back(border_b[i]);
     }
   }
-  seam::internal::FlatContactStats unify(seam::Mesh<KK>& a, seam::Mesh<KK>& b, double feature_size) {
+  seam::internal::FlatContactStats unify(seam::Mesh<KK>& a, seam::Mesh<KK>& b, double feature_size, double max_area = 0) {
     seam::internal::FlatContactOptions options;
     options.min_angle_deg = 20;
     options.feature_size = feature_size;
+    options.max_area = max_area;
     return seam::internal::unify_flat_contacts<KK>(a, b, {curves, va, vb}, options);
   }
 };
@@ -139,6 +140,41 @@ TEST_CASE("flat contacts: two fans of one rectangle become one refined triangula
   CHECK(border.curves[0].size() == curve_points_before + stats.border_splits);
   require_curves_embedded<K>(a, border.curves, border.va);
   require_curves_embedded<K>(b, border.curves, border.vb);
+}
+
+TEST_CASE("flat contacts: with max_area every face of the common triangulation is at most that large, on a tilted plane",
+          "[flat_contacts]") {
+  // The fans of the first test, on the plane z = 0.5 x + 0.3 y: its faces are larger than their
+  // projections along z by sqrt(1 + 0.25 + 0.09), which the area bound must see.
+  const double max_area = 0.004, scale = std::sqrt(1 + 0.25 + 0.09);
+  for (const bool bounded : {false, true}) {
+    INFO((bounded ? "max_area 0.004" : "no area bound"));
+    Mesh a, b;
+    const auto border_a = add_rectangle_fan(a, 6, {0.05, 0.02}, 0.3);
+    const auto border_b = add_rectangle_fan(b, 6, {0.9, 0.28}, 0.3);
+    for (Mesh* m : {&a, &b})
+      for (V v : m->vertices()) {
+        const P q = m->point(v);
+        m->point(v) = P(q.x(), q.y(), q.x() / 2 + q.y() * 3 / 10);
+      }
+    ClosedBorder<K> border(a, border_a, border_b);
+    const auto stats = border.unify(a, b, 0.01, bounded ? max_area : 0);
+    CHECK(stats.patches == 1);
+    CHECK(face_set(a) == face_set(b));
+    CHECK(area(a) == Approx(0.3 * scale).epsilon(1e-12));
+    CHECK(CGAL::is_valid_polygon_mesh(a));
+    CHECK(stats.shared_faces_below_bound == 0);
+    CHECK(smallest_angle(a) >= 20.0);
+    require_curves_embedded<K>(a, border.curves, border.va);
+    require_curves_embedded<K>(b, border.curves, border.vb);
+    double largest = 0;
+    for (auto f : a.faces()) largest = std::max(largest, CGAL::to_double(CGAL::Polygon_mesh_processing::face_area(f, a)));
+    INFO("largest face " << largest);
+    if (bounded)
+      CHECK(largest <= max_area * (1 + 1e-9));
+    else
+      CHECK(largest > max_area);  // (the case needs the bound)
+  }
 }
 
 TEST_CASE("flat contacts: a split border edge cuts the faces beyond it in each mesh within their plane",

@@ -26,7 +26,7 @@
 // tilt allows; the figures are measured in 3D afterwards).
 //   1. A constraint encroached by a vertex of the patch (it sees the constraint at 90 degrees or
 //      more) is split at its middle.
-//   2. A face below the bound: its circumcenter c (rounded to doubles in the projection, then
+//   2. A face below the bound, or with `max_area`, larger than it: its circumcenter c (rounded to doubles in the projection, then
 //      lifted exactly onto the plane). If a constraint lies between the face and c, or c lies in
 //      the diametral circle of a constraint of its conflict zone, that constraint is split;
 //      otherwise c is inserted.
@@ -39,7 +39,7 @@
 //   Termination: every inserted point is at least `feature_size` from the points it sees (an
 //   empty circumcircle), and every split halves a segment at least twice that long, so the points
 //   a patch can receive are bounded by its area and border length over feature_size; a budget of
-//   4 x (points) + 64 edits bounds it outright. The bound: in the plane, with no constraint split
+//   4 x (points) + 64 edits, plus twice the patch's area over max_area, bounds it outright. The bound: in the plane, with no constraint split
 //   refused and input angles between constraints of at least 60 degrees, Ruppert's algorithm
 //   ends with every angle above arcsin(1/(2 sqrt 2)) = 20.7 degrees. What can force a smaller
 //   angle: a small angle between two constraints (curves meeting at the border), constraints
@@ -100,6 +100,11 @@ struct FlatContactOptions {
   /// No point inserted nearer than this to the corners of its face, no constraint shorter than
   /// twice this split.
   double feature_size = 0;
+  /// With the refinement: faces larger than this (area on the plane) are refined like faces below
+  /// the bound (their circumcenter; its circumradius is at least 0.87 sqrt(max_area), so the
+  /// feature size, at most sqrt(max_area) / 2, never refuses it for the face's own corners). 0: no
+  /// bound.
+  double max_area = 0;
 };
 
 /// The curves both meshes hold: points, and each point's vertex in A and in B (the same sizes).
