@@ -179,6 +179,10 @@ nlohmann::json textile_report_json(seam::KernelKind kernel, const seam::TextileS
                          {"closed_curves", s.closed_curves},
                          {"curve_vertices", s.curve_vertices},
                          {"touching_only", s.touching_only},
+                         {"contact",
+                          {{"patches", s.contact_patches},
+                           {"shared_faces", s.shared_faces},
+                           {"patches_left", s.contact_patches_left}}},
                          {"quality", {{"a", quality(s.quality_a)}, {"b", quality(s.quality_b)}}},
                          {"intersect_seconds", s.intersect_seconds},
                          {"copy_seconds", s.copy_seconds}});

@@ -778,6 +778,8 @@ Rebuilt<K> rebuilt(const Mesh<K>& mesh, const FaceCorners<K>& fc, const std::vec
   const auto source_map = mesh.template property_map<F, std::uint32_t>(source_face_property);
   const auto new_map = mesh.template property_map<F, bool>(new_face_property);
   const auto frozen_map = mesh.template property_map<F, bool>(frozen_face_property);
+  const auto shared_map = mesh.template property_map<F, bool>(shared_face_property);
+  const auto reason_map = mesh.template property_map<F, std::uint8_t>(shared_reason_property);
   const auto& source = source_map.first;
   const auto& is_new = new_map.first;
   const auto& frozen = frozen_map.first;
@@ -822,8 +824,11 @@ Rebuilt<K> rebuilt(const Mesh<K>& mesh, const FaceCorners<K>& fc, const std::vec
           polygon.insert(polygon.end(), it->second.rbegin(), it->second.rend());
       }
       const bool keeps = has_new && is_new[f], stays_frozen = has_frozen && frozen[f];
+      // (shared with a third mesh already: kept so, never cut, see collect)
+      const bool stays_shared = shared_map.second && shared_map.first[f];
       if (polygon.size() == 3)
-        emit({polygon[0], polygon[1], polygon[2]}, own_source, keeps, false, stays_frozen);
+        emit({polygon[0], polygon[1], polygon[2]}, own_source, keeps, stays_shared, stays_frozen,
+             stays_shared && reason_map.second ? reason_map.first[f] : std::uint8_t(0));
       else
         for (const auto& t : ear_cut<K>(polygon, point_of)) emit(t, own_source, true, false, stays_frozen);
       continue;
@@ -885,8 +890,16 @@ template <class K> class FlatContactUnifier {
 
   using V = typename M::Vertex_index;
 
-  FlatContactUnifier(M& a, M& b, ContactCurves<K> curves, const FlatContactOptions& options)
-      : a_(a), b_(b), ca_(a), cb_(b), na_(ca_.corners.size()), nb_(cb_.corners.size()), curves_(curves), options_(options) {
+  FlatContactUnifier(M& a, M& b, ContactCurves<K> curves, const FlatContactOptions& options, OtherCurveVertices<K> others)
+      : a_(a),
+        b_(b),
+        ca_(a),
+        cb_(b),
+        na_(ca_.corners.size()),
+        nb_(cb_.corners.size()),
+        curves_(curves),
+        options_(options),
+        others_(std::move(others)) {
     auto segments_of = [&](const std::vector<std::vector<V>>& vertices) {
       std::set<std::pair<V, V>> segments;
       for (const auto& curve : vertices)
@@ -918,9 +931,12 @@ template <class K> class FlatContactUnifier {
     stats.points_dropped = (a_.number_of_vertices() + new_points - a2.mesh.number_of_vertices()) +
                            (b_.number_of_vertices() + new_points - b2.mesh.number_of_vertices());
     ContactCurvesData updated = updated_curves(a2, b2, unified);
+    auto others_a = renumbered(others_.a, a2.vertex_of_old), others_b = renumbered(others_.b, b2.vertex_of_old);
     // Nothing was changed before this point (an InternalError above leaves all as it was).
     a_ = std::move(a2.mesh);
     b_ = std::move(b2.mesh);
+    for (std::size_t i = 0; i < others_.a.size(); ++i) *others_.a[i] = std::move(others_a[i]);
+    for (std::size_t i = 0; i < others_.b.size(); ++i) *others_.b[i] = std::move(others_b[i]);
     curves_.curves = std::move(updated.curves);
     curves_.vertices_a = std::move(updated.vertices_a);
     curves_.vertices_b = std::move(updated.vertices_b);
@@ -1034,6 +1050,7 @@ template <class K> class FlatContactUnifier {
   ///    the area of A's faces (doubles).
   void collect(const M& m, const FaceCorners<K>& fc, const std::vector<long>& patch_of, bool is_a) {
     const auto [frozen, has_frozen] = m.template property_map<typename M::Face_index, bool>(frozen_face_property);
+    const auto [shared, has_shared] = m.template property_map<typename M::Face_index, bool>(shared_face_property);
     for (auto f : m.faces()) {
       const long pi = patch_of[std::size_t(f)];
       if (pi < 0) continue;
@@ -1068,11 +1085,28 @@ template <class K> class FlatContactUnifier {
         const auto g = m.face(m.opposite(h));
         if (g == M::null_face() || patch_of[std::size_t(g)] != pi) {
           (is_a ? patches_[p].border : border_b_[p]).insert(e);
-          // The face beyond may be split with the edge: in no patch, not frozen.
-          if (g != M::null_face() && (patch_of[std::size_t(g)] >= 0 || (has_frozen && frozen[g]))) fixed_[p].insert(e);
+          // The face beyond may be split with the edge: in no patch, not frozen, not shared with a
+          // third mesh.
+          if (g != M::null_face() &&
+              (patch_of[std::size_t(g)] >= 0 || (has_frozen && frozen[g]) || (has_shared && shared[g])))
+            fixed_[p].insert(e);
         }
       }
     }
+  }
+
+  /// The vertex lists, renumbered (copies); a dropped vertex is an InternalError.
+  static std::vector<std::vector<V>> renumbered(const std::vector<std::vector<V>*>& lists, const std::vector<V>& map) {
+    std::vector<std::vector<V>> out;
+    for (const auto* list : lists) {
+      out.emplace_back();
+      for (const V v : *list) {
+        if (std::size_t(v) >= map.size() || map[std::size_t(v)] == V())
+          throw InternalError("flat contacts: a vertex of another curve of the mesh was dropped");
+        out.back().push_back(map[std::size_t(v)]);
+      }
+    }
+    return out;
   }
 
   struct ContactCurvesData {
@@ -1184,6 +1218,7 @@ template <class K> class FlatContactUnifier {
   const std::size_t na_, nb_;
   ContactCurves<K> curves_;
   const FlatContactOptions options_;
+  const OtherCurveVertices<K> others_;
   std::set<std::pair<V, V>> curve_segments_a_, curve_segments_b_;  ///< (smaller vertex first)
   std::vector<char> contact_;  ///< per face of A, then of B: in a flat contact
   DisjointSets sets_{na_ + nb_};
@@ -1202,28 +1237,29 @@ template <class K> class FlatContactUnifier {
 }  // namespace
 
 template <class K>
-FlatContactStats unify_flat_contacts(Mesh<K>& a, Mesh<K>& b, ContactCurves<K> curves, const FlatContactOptions& options) {
+FlatContactStats unify_flat_contacts(Mesh<K>& a, Mesh<K>& b, ContactCurves<K> curves, const FlatContactOptions& options,
+                                     OtherCurveVertices<K> others) {
   if (a.has_garbage() || b.has_garbage()) throw InternalError("flat contacts: a mesh has garbage");
   if (curves.vertices_a.size() != curves.curves.size() || curves.vertices_b.size() != curves.curves.size())
     throw InternalError("flat contacts: the curves' vertices do not match the curves");
   try {
-    return FlatContactUnifier<K>(a, b, curves, options).run();
+    return FlatContactUnifier<K>(a, b, curves, options, others).run();
   } catch (const InternalError& e) {
     if (!(options.min_angle_deg > 0)) throw;
     // The refined triangulations did not fit (nothing was changed): the plain ones.
     FlatContactOptions plain = options;
     plain.min_angle_deg = 0;
-    FlatContactStats stats = FlatContactUnifier<K>(a, b, curves, plain).run();
+    FlatContactStats stats = FlatContactUnifier<K>(a, b, curves, plain, others).run();
     stats.refinement_failed = e.what();
     return stats;
   }
 }
 
 template FlatContactStats unify_flat_contacts<Exact>(Mesh<Exact>&, Mesh<Exact>&, ContactCurves<Exact>,
-                                                        const FlatContactOptions&);
+                                                        const FlatContactOptions&, OtherCurveVertices<Exact>);
 template FlatContactStats unify_flat_contacts<Filtered>(Mesh<Filtered>&, Mesh<Filtered>&, ContactCurves<Filtered>,
-                                                        const FlatContactOptions&);
+                                                        const FlatContactOptions&, OtherCurveVertices<Filtered>);
 template FlatContactStats unify_flat_contacts<Float>(Mesh<Float>&, Mesh<Float>&, ContactCurves<Float>,
-                                                        const FlatContactOptions&);
+                                                        const FlatContactOptions&, OtherCurveVertices<Float>);
 
 }  // namespace seam::internal

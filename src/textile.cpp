@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/check.h>
 #include <seam/io.h>
+#include <seam/internal/flat_contacts.h>
 #include <seam/internal/bbox_diagonal.h>
 #include <seam/internal/embed_known_sites.h>
 #include <seam/internal/provenance.h>
@@ -334,6 +335,65 @@ CurveFaceQuality curve_face_quality(const Mesh<K>& mesh,
 
 template <class K> using CurveVertices = std::vector<std::vector<typename Mesh<K>::Vertex_index>>;
 
+/// The smallest mean edge length of the input tows that are in a pair with curves (the scale of
+/// the quality stage's automatic tolerance and feature size).
+template <class K> double smallest_mean_edge(const std::vector<Mesh<K>>& inputs, const TextileResult<K>& result) {
+  double smallest = std::numeric_limits<double>::max();
+  for (const auto& pair : result.pairs)
+    if (!pair.curves.empty())
+      for (const std::size_t i : {pair.stats.a, pair.stats.b}) smallest = std::min(smallest, mean_edge_length<K>(inputs[i]));
+  return smallest;
+}
+
+/// The quality stage's options (step 5), from the textile options and the tows' scale.
+ImproveOptions quality_options(const TextileOptions& options, double smallest_mean_edge) {
+  ImproveOptions io = options.quality;
+  io.min_angle_deg = options.embed.min_angle_deg;
+  io.max_area = options.embed.max_area;
+  if (io.tolerance < 0) io.tolerance = 0.1 * smallest_mean_edge;
+  return io;
+}
+
+/// Step 4b (see seam/textile.h): the flat contacts of each pair in order, as seam::pair makes
+/// them, refined to the quality stage's bound and feature size when it runs.
+template <class K>
+void unify_contacts(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& inputs, TextileResult<K>& result,
+                    std::vector<std::array<CurveVertices<K>, 2>>& pair_vertices, const TextileOptions& options) {
+  internal::FlatContactOptions contact;
+  if (options.improve && result.stats.intersecting_pairs > 0) {
+    const double scale = smallest_mean_edge<K>(inputs, result);
+    const ImproveOptions io = quality_options(options, scale);
+    contact.min_angle_deg = io.min_angle_deg;
+    contact.max_area = io.max_area;
+    contact.feature_size = internal::feature_size_of(io, io.tolerance, scale);
+  }
+  for (std::size_t p = 0; p < result.pairs.size(); ++p) {
+    auto& pair = result.pairs[p];
+    if (pair.curves.empty()) continue;
+    const std::size_t a = pair.stats.a, b = pair.stats.b;
+    internal::OtherCurveVertices<K> others;  // the two tows' curves with their other neighbours
+    for (std::size_t q = 0; q < result.pairs.size(); ++q)
+      for (std::size_t side = 0; side < 2 && q != p; ++side) {
+        const std::size_t tow = side == 0 ? result.pairs[q].stats.a : result.pairs[q].stats.b;
+        for (auto& vertices : pair_vertices[q][side]) {
+          if (tow == a) others.a.push_back(&vertices);
+          if (tow == b) others.b.push_back(&vertices);
+        }
+      }
+    const auto fc = internal::unify_flat_contacts<K>(meshes[a], meshes[b], {pair.curves, pair_vertices[p][0], pair_vertices[p][1]},
+                                                     contact, others);
+    pair.stats.contact_patches = fc.patches;
+    pair.stats.shared_faces = fc.shared_faces;
+    pair.stats.contact_patches_left = fc.patches_left;
+    if (fc.border_splits > 0) {
+      pair.stats.curve_vertices = 0;
+      for (const auto& c : pair.curves) pair.stats.curve_vertices += c.size() - (is_closed(c) ? 1 : 0);
+    }
+    if (fc.patches_left > 0 || !fc.refinement_failed.empty())
+      result.stats.note += (result.stats.note.empty() ? "" : "; ") + fc.first_left + fc.refinement_failed;
+  }
+}
+
 /// Step 5 (see seam/textile.h): the quality stage on every tow at once.
 template <class K>
 void improve_tows(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& inputs, TextileResult<K>& result,
@@ -342,14 +402,9 @@ void improve_tows(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& inpu
   const auto t = Clock::now();
   std::vector<std::vector<double>> input_angles(meshes.size());
   std::vector<internal::ImproveMesh<K>> tows;
-  double smallest_mean_edge = std::numeric_limits<double>::max();
-  std::vector<bool> in_a_pair(meshes.size(), false);
-  for (const auto& pair : result.pairs)
-    if (!pair.curves.empty()) in_a_pair[pair.stats.a] = in_a_pair[pair.stats.b] = true;
   for (std::size_t i = 0; i < meshes.size(); ++i) {
     input_angles[i] = internal::face_min_angles<K>(inputs[i]);
     tows.push_back({&meshes[i], &inputs[i], &input_angles[i]});
-    if (in_a_pair[i]) smallest_mean_edge = std::min(smallest_mean_edge, mean_edge_length<K>(inputs[i]));
   }
   // Every curve of every pair, held by its two tows.
   internal::SharedCurves<K> shared;
@@ -367,10 +422,7 @@ void improve_tows(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& inpu
     }
   }
   first[result.pairs.size()] = shared.curves.size();
-  ImproveOptions io = options.quality;
-  io.min_angle_deg = options.embed.min_angle_deg;
-  io.max_area = options.embed.max_area;
-  if (io.tolerance < 0) io.tolerance = 0.1 * smallest_mean_edge;
+  ImproveOptions io = quality_options(options, smallest_mean_edge<K>(inputs, result));
   // No new point closer to a vertex than the vertex separation seam check requires of a pair
   // (min_vertex_separation x the diagonal of the two tows), for the widest pair: so for every pair.
   double widest_pair = 0;
@@ -486,6 +538,7 @@ template <class K> class TextileRun {
     std::vector<std::array<std::vector<std::vector<typename Mesh<K>::Vertex_index>>, 2>> pair_vertices;
     timed("compare", [&] { pair_vertices = compare_pairs(); });
     std::vector<FrozenMesh<K>>().swap(frozen_);
+    timed("flat_contacts", [&] { unify_contacts<K>(meshes_, inputs_, result_, pair_vertices, options_); });
     improve_and_verify<K>(meshes_, inputs_, names_, result_, pair_vertices, snap_tol_, options_);
     return std::move(result_);
   }

@@ -20,6 +20,7 @@
 #include <sys/wait.h>
 
 #include "test_support.h"
+#include "tow_fixtures.h"
 
 namespace {
 
@@ -517,4 +518,54 @@ TEST_CASE("cli: seam textile rejects bad input with exit 2, one line, and writes
     CHECK(std::count(err.begin(), err.end(), '\n') == 1);
     CHECK(!std::filesystem::exists(out));
   }
+}
+
+TEST_CASE("textile: a tow in flat contact with two others shares one common triangulation with each", "[textile][flat_contacts]") {
+  // A terraced tow (heights rounded to multiples of 0.05, like a tow from a voxel scan) between two
+  // copies of itself moved by +-1 across it, heights kept: their tops and bottoms coincide with
+  // the middle tow's over areas. The copies do not meet each other.
+  auto terraced = seam::make_tow(seam_test::small_tow());
+  for (auto& p : terraced.points) p[2] = 0.05 * std::round(p[2] / 0.05);
+  Cell cell;
+  for (const double dy : {0.0, 1.0, -1.0}) {
+    auto copy = terraced;
+    for (auto& p : copy.points) p[1] += dy;
+    cell.soups.push_back(copy);
+  }
+  cell.names = {"middle", "left", "right"};
+  std::vector<Mesh> out;
+  const auto r = run_and_check(cell, 2, &out);  // every pair conforms, as written and as it is
+  REQUIRE(r.stats.intersecting_pairs == 2);
+  // Each pair's contact is one triangulation: its shared faces are faces of both outputs, and the
+  // middle tow holds both contacts' faces (the second contact kept the first's).
+  auto faces_of = [](const Mesh& m) {
+    std::set<std::array<seam::Point3d, 3>> faces;
+    const auto soup = seam::soup_from_mesh<K>(m);
+    for (const auto& t : soup.triangles) {
+      std::array<seam::Point3d, 3> f = {soup.points[t[0]], soup.points[t[1]], soup.points[t[2]]};
+      std::sort(f.begin(), f.end());
+      faces.insert(f);
+    }
+    return faces;
+  };
+  const auto middle = faces_of(out[0]);
+  std::size_t shared_total = 0;
+  for (const auto& p : r.pairs) {
+    INFO(cell.names[p.stats.a] << " x " << cell.names[p.stats.b]);
+    CHECK(p.stats.contact_patches > 0);
+    CHECK(p.stats.contact_patches_left == 0);
+    CHECK(p.stats.shared_faces > 0);
+    std::size_t in_both = 0;
+    for (const auto& f : faces_of(out[p.stats.b])) in_both += middle.count(f);
+    CHECK(in_both == p.stats.shared_faces);
+    shared_total += in_both;
+  }
+  CHECK(shared_total > 0);
+  // The whole cell as one surface (a face of two tows written once): TetGen finds no
+  // intersecting faces.
+  seam_test::TempDir dir("seam_test_textile_contacts");
+  std::vector<seam::TriangleSoup> soups;
+  for (const auto& m : out) soups.push_back(seam::soup_from_mesh<K>(m));
+  seam_test::write_merged(soups, dir.file("outputs.off"));
+  CHECK(tetgen_intersecting_pairs("outputs.off", dir) == 0);
 }

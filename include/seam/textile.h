@@ -3,9 +3,8 @@
 //   1. Candidates: CGAL::box_intersection_d on the tows' bounding boxes.
 //   2. Pairs (concurrently): the intersection curves of each candidate pair, exactly as
 //      seam::intersection_curves computes them for `seam pair` (touching runs kept as curves,
-//      isolated touching points dropped, flat contact reduced to its boundary: unlike seam::pair,
-//      textile does not yet make the inside of a flat contact one common triangulation, so such
-//      a pair fails step 6). A candidate with no curve is no pair.
+//      isolated touching points dropped, flat contact reduced to its boundary, see 4b). A
+//      candidate with no curve is no pair.
 //   3. Triple overlaps: where the curves of tow A with B and of A with C meet on A, the three tows
 //      overlap in one place, and the meeting point lies exactly on the three surfaces. Under the
 //      exact kernel it is made a vertex of all three tows (the face or edge holding it is cut;
@@ -17,6 +16,11 @@
 //   4. Tows (concurrently): each tow receives every curve that involves it in one seam::embed
 //      call (curve points kept at their own coordinates, as in seam::pair), so that for every
 //      pair both outputs share the pair's curves vertex for vertex and edge for edge.
+//   4b. Flat contacts (one pair at a time, in order): where two tows coincide over an area, the
+//      inside is made one common triangulation in both, as seam::pair does
+//      (internal/flat_contacts.h), refined to the angle bound (and max_area) when step 5 runs; a
+//      tow's curves with its other neighbours follow the renumbering, and faces it shares with one
+//      neighbour stay as they are in its contacts with the others.
 //   5. Improve: the quality stage (seam/improve.h) on all tows at once, every curve of every pair
 //      shared by its two tows, within `quality.tolerance` of the input tows (automatic: a tenth
 //      of the smallest mean edge length, as seam::pair). Its acceptance predicate tests every
@@ -104,6 +108,9 @@ struct TextilePairStats {
   CurveFaceQuality quality_a, quality_b;
   double intersect_seconds = 0;  ///< the pair's task: copies of both tows and their intersection
   double copy_seconds = 0;       ///< of which making the task's own copies of both tows
+  /// Step 4b: flat contacts of the two tows made one common triangulation (patches), its faces
+  /// (in both tows), and patches left as they were (seam check then rejects the pair).
+  std::size_t contact_patches = 0, shared_faces = 0, contact_patches_left = 0;
 };
 
 template <class K> struct TextilePair {

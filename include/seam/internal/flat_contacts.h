@@ -114,11 +114,21 @@ template <class K> struct ContactCurves {
   std::vector<std::vector<typename Mesh<K>::Vertex_index>>& vertices_b;
 };
 
+/// Vertex lists of other curves that `a` (`b`) holds, renumbered with the mesh when it is rebuilt
+/// (seam::textile: a tow's curves with its other neighbours). A vertex of theirs inside a contact
+/// that is dropped is an InternalError (nothing is changed then).
+template <class K> struct OtherCurveVertices {
+  std::vector<std::vector<typename Mesh<K>::Vertex_index>*> a, b;
+};
+
 /// Unifies the flat contacts of `a` and `b` (see above) and updates `curves`. \pre both are
 /// triangle meshes without garbage; the curves where they meet are embedded in both. Where the
 /// refined triangulations do not fit, the plain ones are made (FlatContactStats::refinement_failed);
 /// throws InternalError when those do not fit either (the meshes and curves are then unchanged).
+/// Faces shared already (shared_face_property: a contact of a mesh with a third one) stay as they
+/// are, with their flags: the border next to them is not split.
 template <class K>
-FlatContactStats unify_flat_contacts(Mesh<K>& a, Mesh<K>& b, ContactCurves<K> curves, const FlatContactOptions& options);
+FlatContactStats unify_flat_contacts(Mesh<K>& a, Mesh<K>& b, ContactCurves<K> curves, const FlatContactOptions& options,
+                                     OtherCurveVertices<K> others = {});
 
 }  // namespace seam::internal
