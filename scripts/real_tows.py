@@ -4,7 +4,9 @@
 of themselves and of each other), each run through `seam pair`, `seam check` and `tetgen -d`.
 
 Usage: scripts/real_tows.py [--data DIR] [--seam build/seam] [--out DIR] [--only NAME,...]
-                            [--timeout S] [--markdown FILE] [-- extra seam pair options]
+                            [--timeout S] [--markdown FILE] [--textile] [-- extra seam options]
+--textile runs `seam textile` on the two tows instead of `seam pair` (its curves file a__b, its
+report's verify_tolerance for seam check; the curve and quality-stage columns are then '-').
 Prints one row per configuration: exit code, time, seam check's verdict, TetGen's verdict on the
 merged outputs (common vertices merged, shared faces written once), curves (closed/open), new
 faces below 10 and 20 degrees (seam check's figures). Skips cleanly when the data is absent.
@@ -193,6 +195,7 @@ def main():
     ap.add_argument('--only', default='')
     ap.add_argument('--timeout', type=float, default=1800)
     ap.add_argument('--markdown', default='')
+    ap.add_argument('--textile', action='store_true')
     ap.add_argument('extra', nargs='*')
     args = ap.parse_args()
     args.out = os.path.abspath(args.out)  # tetgen runs in each case's directory
@@ -220,9 +223,15 @@ def main():
         write_off(b, transformed(tows[tb][0], opb), tows[tb][1])
         t0 = time.time()
         try:
-            run = subprocess.run([args.seam, 'pair', a, b, '--out-a', a2, '--out-b', b2, '--curves-out', curves,
-                                  '--report', report] + args.extra, capture_output=True, text=True,
-                                 timeout=args.timeout)
+            if args.textile:  # outputs DIR/out/a.off, b.off and a__b.polylines.txt, moved to the pair's names
+                out_dir = os.path.join(d, 'out')
+                command = [args.seam, 'textile', a, b, '--out-dir', out_dir, '--report', report, '--quiet']
+            else:
+                command = [args.seam, 'pair', a, b, '--out-a', a2, '--out-b', b2, '--curves-out', curves, '--report', report]
+            run = subprocess.run(command + args.extra, capture_output=True, text=True, timeout=args.timeout)
+            if args.textile and run.returncode == 0:
+                for name, path in (('a.off', a2), ('b.off', b2), ('a__b.polylines.txt', curves)):
+                    os.replace(os.path.join(out_dir, name), path)
             code = run.returncode
             message = (run.stderr.strip().splitlines() or [''])[-1]
             open(os.path.join(d, 'pair.stderr'), 'w').write(run.stderr)  # the whole message
@@ -234,7 +243,7 @@ def main():
         if code == 0:
             pair_report = json.load(open(report))
             tol = pair_report['verify_tolerance']
-            ends = pair_report['curves']['open_ends']
+            ends = pair_report['curves']['open_ends'] if not args.textile else None
             c = subprocess.run([args.seam, 'check', a, b, a2, b2, curves, '--tol', repr(tol), '--report', check],
                                capture_output=True, text=True)
             verdict = {0: 'OK', 1: 'FAILED'}.get(c.returncode, 'exit %d' % c.returncode)
@@ -255,7 +264,8 @@ def main():
             tet = tetgen_verdict(a2, b2, os.path.join(d, 'merged.off'), d)
             closed, open_, loose = curve_counts(curves)
             # seam's own account of the loose ends: where the surfaces only touch, or unexplained
-            loose = '%d (%d touching, %d unexplained)' % (loose, ends['touching'], ends['unexplained'])
+            if ends is not None:  # (textile's report has no such account)
+                loose = '%d (%d touching, %d unexplained)' % (loose, ends['touching'], ends['unexplained'])
         row = '| %d | %s | %s | %.1f | %s | %s | %s / %s / %s | %s | %s | %s | %s | %s |' % (
             k, name, code, seconds, verdict, tet, closed, open_, loose, shared, new, b10, closer, b20)
         if code != 0 and message:

@@ -226,9 +226,8 @@ template <class K, class CDT> class PatchRefiner {
         patch_(patch),
         bound_(bound),
         feature_(feature_size),
-        max_projected_area_(max_area > 0 ? max_area / plane_area_factor(patch) : 0),
-        budget_(4 * cdt.number_of_vertices() + 64 +
-                (max_area > 0 ? std::size_t(std::ceil(2 * projected_area / max_projected_area_)) : 0)) {}
+        max_projected_area_(max_area > 0 && std::isfinite(plane_area_factor(patch)) ? max_area / plane_area_factor(patch) : 0),
+        budget_(4 * cdt.number_of_vertices() + 64 + area_budget(projected_area, max_projected_area_)) {}
 
   /// Why a face still below the bound stays: the reason it was left for, or the budget.
   ShortfallCause reason(FH f) const {
@@ -277,7 +276,14 @@ template <class K, class CDT> class PatchRefiner {
            std::abs(CGAL::to_double(CGAL::area(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()))) >
                max_projected_area_ * (1 + 1e-9);
   }
-  /// A face's area on the patch's plane over its area in the projection along the axis (doubles).
+  /// Twice the patch's area over the bound (both in the projection), at most 1e9 (as the quality
+  /// stage's budget): 0 without a bound.
+  static std::size_t area_budget(double projected_area, double max_projected_area) {
+    if (!(max_projected_area > 0)) return 0;
+    return std::size_t(std::min(1e9, std::ceil(2 * projected_area / max_projected_area)));
+  }
+  /// A face's area on the patch's plane over its area in the projection along the axis (doubles;
+  /// not finite where the first face rounds flat in the projection: no area bound then).
   static double plane_area_factor(const Patch<K>& patch) {
     const auto n = CGAL::cross_product(to_filtered(patch.points[1]) - to_filtered(patch.points[0]),
                                        to_filtered(patch.points[2]) - to_filtered(patch.points[0]));
@@ -931,7 +937,7 @@ template <class K> class FlatContactUnifier {
     stats.points_dropped = (a_.number_of_vertices() + new_points - a2.mesh.number_of_vertices()) +
                            (b_.number_of_vertices() + new_points - b2.mesh.number_of_vertices());
     ContactCurvesData updated = updated_curves(a2, b2, unified);
-    auto others_a = renumbered(others_.a, a2.vertex_of_old), others_b = renumbered(others_.b, b2.vertex_of_old);
+    auto others_a = renumbered(others_.a, a2), others_b = renumbered(others_.b, b2);
     // Nothing was changed before this point (an InternalError above leaves all as it was).
     a_ = std::move(a2.mesh);
     b_ = std::move(b2.mesh);
@@ -1095,15 +1101,21 @@ template <class K> class FlatContactUnifier {
     }
   }
 
-  /// The vertex lists, renumbered (copies); a dropped vertex is an InternalError.
-  static std::vector<std::vector<V>> renumbered(const std::vector<std::vector<V>*>& lists, const std::vector<V>& map) {
+  /// The vertex lists of other curves, renumbered into the rebuilt mesh (copies). A dropped vertex,
+  /// or a segment no longer an edge (split or triangulated over by the contact), is an
+  /// InternalError: those curves would no longer be embedded.
+  static std::vector<std::vector<V>> renumbered(const std::vector<std::vector<V>*>& lists, const Rebuilt<K>& rebuilt) {
+    const auto& map = rebuilt.vertex_of_old;
     std::vector<std::vector<V>> out;
     for (const auto* list : lists) {
       out.emplace_back();
       for (const V v : *list) {
         if (std::size_t(v) >= map.size() || map[std::size_t(v)] == V())
           throw InternalError("flat contacts: a vertex of another curve of the mesh was dropped");
-        out.back().push_back(map[std::size_t(v)]);
+        const V w = map[std::size_t(v)];
+        if (!out.back().empty() && rebuilt.mesh.halfedge(out.back().back(), w) == M::null_halfedge())
+          throw InternalError("flat contacts: a segment of another curve of the mesh is no longer an edge");
+        out.back().push_back(w);
       }
     }
     return out;

@@ -357,8 +357,9 @@ ImproveOptions quality_options(const TextileOptions& options, double smallest_me
 /// Step 4b (see seam/textile.h): the flat contacts of each pair in order, as seam::pair makes
 /// them, refined to the quality stage's bound and feature size when it runs.
 template <class K>
-void unify_contacts(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& inputs, TextileResult<K>& result,
-                    std::vector<std::array<CurveVertices<K>, 2>>& pair_vertices, const TextileOptions& options) {
+void unify_contacts(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& inputs, const std::vector<std::string>& names,
+                    TextileResult<K>& result, std::vector<std::array<CurveVertices<K>, 2>>& pair_vertices,
+                    const TextileOptions& options) {
   internal::FlatContactOptions contact;
   if (options.improve && result.stats.intersecting_pairs > 0) {
     const double scale = smallest_mean_edge<K>(inputs, result);
@@ -380,8 +381,15 @@ void unify_contacts(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& in
           if (tow == b) others.b.push_back(&vertices);
         }
       }
-    const auto fc = internal::unify_flat_contacts<K>(meshes[a], meshes[b], {pair.curves, pair_vertices[p][0], pair_vertices[p][1]},
-                                                     contact, others);
+    internal::FlatContactStats fc;
+    try {
+      fc = internal::unify_flat_contacts<K>(meshes[a], meshes[b], {pair.curves, pair_vertices[p][0], pair_vertices[p][1]},
+                                            contact, others);
+    } catch (const InternalError& e) {  // nothing was changed: the pair as it was (step 6 judges it)
+      result.stats.note += std::string(result.stats.note.empty() ? "" : "; ") + "the flat contacts of " +
+                           quoted(names[a]) + " and " + quoted(names[b]) + " were left as they were: " + e.what();
+      continue;
+    }
     pair.stats.contact_patches = fc.patches;
     pair.stats.shared_faces = fc.shared_faces;
     pair.stats.contact_patches_left = fc.patches_left;
@@ -391,6 +399,13 @@ void unify_contacts(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& in
     }
     if (fc.patches_left > 0 || !fc.refinement_failed.empty())
       result.stats.note += (result.stats.note.empty() ? "" : "; ") + fc.first_left + fc.refinement_failed;
+  }
+  // The faces at every pair's curves as they are now (step 5 measures them again when it runs).
+  for (std::size_t p = 0; p < result.pairs.size(); ++p) {
+    auto& pair = result.pairs[p];
+    if (pair.curves.empty()) continue;
+    pair.stats.quality_a = curve_face_quality<K>(meshes[pair.stats.a], pair_vertices[p][0]);
+    pair.stats.quality_b = curve_face_quality<K>(meshes[pair.stats.b], pair_vertices[p][1]);
   }
 }
 
@@ -538,7 +553,7 @@ template <class K> class TextileRun {
     std::vector<std::array<std::vector<std::vector<typename Mesh<K>::Vertex_index>>, 2>> pair_vertices;
     timed("compare", [&] { pair_vertices = compare_pairs(); });
     std::vector<FrozenMesh<K>>().swap(frozen_);
-    timed("flat_contacts", [&] { unify_contacts<K>(meshes_, inputs_, result_, pair_vertices, options_); });
+    timed("flat_contacts", [&] { unify_contacts<K>(meshes_, inputs_, names_, result_, pair_vertices, options_); });
     improve_and_verify<K>(meshes_, inputs_, names_, result_, pair_vertices, snap_tol_, options_);
     return std::move(result_);
   }

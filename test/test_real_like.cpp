@@ -151,6 +151,47 @@ TEST_CASE("real-like: a terraced tow against turned and shifted copies comes out
   }
 }
 
+TEST_CASE("real-like: with --max-area the flat contacts' shared faces are refined to it too", "[pair][real][max-area]") {
+  // The terraced tow against itself shifted along x: flat contacts over its terraces, whose
+  // common triangulation (faces of both outputs) is refined to the area bound with the rest, as
+  // far as the refinement may go (a face whose circumcenter lies beyond a border that may not be
+  // split stays larger, and is counted in quality.above_max_area).
+  const auto t = terraced(small_tow(), 0.05);
+  const double max_area = 0.002;
+  std::size_t above[2] = {0, 0}, shared[2] = {0, 0};
+  for (int bounded = 0; bounded < 2; ++bounded) {
+    Mesh a = seam::mesh_from_soup<K>(t, "a"), b = seam::mesh_from_soup<K>(turned_copy(t, 0, 0, 0, {0.3, 0, 0}), "b");
+    seam::PairOptions o;
+    if (bounded) o.embed.max_area = max_area;
+    const auto r = seam::pair<K>(a, b, o);
+    CHECK(r.stats.verified);
+    REQUIRE(r.stats.shared_faces > 0);
+    const auto sa = seam::soup_from_mesh<K>(a), sb = seam::soup_from_mesh<K>(b);
+    auto key = [](const seam::TriangleSoup& s, const std::array<std::size_t, 3>& tr) {
+      std::array<seam::Point3d, 3> f = {s.points[tr[0]], s.points[tr[1]], s.points[tr[2]]};
+      std::sort(f.begin(), f.end());
+      return f;
+    };
+    std::set<std::array<seam::Point3d, 3>> in_b;
+    for (const auto& tb : sb.triangles) in_b.insert(key(sb, tb));
+    for (const auto& ta : sa.triangles) {
+      const auto f = key(sa, ta);
+      if (!in_b.count(f)) continue;
+      ++shared[bounded];
+      const seam::Filtered::Point_3 p(f[0][0], f[0][1], f[0][2]), q(f[1][0], f[1][1], f[1][2]), s(f[2][0], f[2][1], f[2][2]);
+      above[bounded] += std::sqrt(CGAL::squared_area(p, q, s)) > max_area * (1 + 1e-6);
+    }
+    CHECK(shared[bounded] == r.stats.shared_faces);
+  }
+  // Refined towards the bound: more shared faces, fewer above it. (Here many stay above it,
+  // 242 -> 734 shared faces, 218 -> 164 above the bound: the refinement leaves a face whose
+  // circumcenter lies beyond, or encroaches, a border segment it may not split.)
+  INFO("shared faces " << shared[0] << " -> " << shared[1] << ", above " << max_area << ": " << above[0] << " -> " << above[1]);
+  CHECK(shared[1] > shared[0]);
+  CHECK(above[0] > 0);
+  CHECK(above[1] < above[0]);
+}
+
 TEST_CASE("real-like: seam check and tetgen -d agree on every pair, passing or failing", "[check][tetgen][real]") {
   // For each pair: the inputs themselves (they interpenetrate: both must reject them), the
   // outputs of seam pair (both must accept them), and the outputs with one edge flipped inside a

@@ -9,6 +9,7 @@
 
 #include <CGAL/squared_distance_3.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -49,12 +50,22 @@ struct CurveSegments {
 class SegmentGrid {
  public:
   SegmentGrid(const CurveSegments& c, double cell) : cell_(cell) {
-    for (std::size_t i = 0; i < c.segments.size(); ++i)
-      for_cells(c.segments[i].bbox(), [&](std::int64_t key) { cells_[key].push_back(i); });
+    for (std::size_t i = 0; i < c.segments.size(); ++i) {
+      boxes_.push_back(c.segments[i].bbox());
+      for_cells(boxes_.back(), [&](std::int64_t key) { cells_[key].push_back(i); });
+    }
   }
-  /// The segments whose cells meet the box (each once, in increasing order).
+  /// The segments whose cells meet the box (each once, in increasing order). A box over more
+  /// cells than there are segments (a large face): the segments whose boxes meet it, one by one.
   std::vector<std::size_t> near(const CGAL::Bbox_3& box) const {
     std::vector<std::size_t> found;
+    double cells = 1;
+    for (int k = 0; k < 3; ++k) cells *= std::floor(box.max(k) / cell_) - std::floor(box.min(k) / cell_) + 1;
+    if (!(cells <= double(boxes_.size()))) {
+      for (std::size_t i = 0; i < boxes_.size(); ++i)
+        if (CGAL::do_overlap(box, boxes_[i])) found.push_back(i);
+      return found;
+    }
     for_cells(box, [&](std::int64_t key) {
       if (const auto it = cells_.find(key); it != cells_.end()) found.insert(found.end(), it->second.begin(), it->second.end());
     });
@@ -72,8 +83,12 @@ class SegmentGrid {
           visit(((i & 0x1fffff) << 42) | ((j & 0x1fffff) << 21) | (k & 0x1fffff));  // (a hash: collisions only add candidates)
   }
   double cell_;
+  std::vector<CGAL::Bbox_3> boxes_;
   std::unordered_map<std::int64_t, std::vector<std::size_t>> cells_;
 };
+
+/// At most this many segments (the nearest to the face's centroid) are paired per face.
+constexpr std::size_t max_segments_per_face = 256;
 
 }  // namespace
 
@@ -98,9 +113,16 @@ void measure_curve_gaps(const std::vector<ImproveMesh<K>>& meshes, const SharedC
     radius += feature_size;
     const CGAL::Bbox_3 box(centre.x() - radius, centre.y() - radius, centre.z() - radius, centre.x() + radius,
                            centre.y() + radius, centre.z() + radius);
-    std::vector<std::size_t> within;
+    std::vector<std::pair<double, std::size_t>> near;  // (squared distance to the centre, segment)
     for (const std::size_t i : grid.near(box))
-      if (CGAL::squared_distance(centre, c.segments[i]) <= radius * radius) within.push_back(i);
+      if (const double d2 = CGAL::squared_distance(centre, c.segments[i]); d2 <= radius * radius) near.emplace_back(d2, i);
+    // (A large face over many segments: the nearest ones, so that the pairs stay few.)
+    if (near.size() > max_segments_per_face) {
+      std::nth_element(near.begin(), near.begin() + std::ptrdiff_t(max_segments_per_face), near.end());
+      near.resize(max_segments_per_face);
+    }
+    std::vector<std::size_t> within;
+    for (const auto& dn : near) within.push_back(dn.second);
     double gap2 = std::numeric_limits<double>::infinity();
     for (std::size_t a = 0; a < within.size(); ++a)
       for (std::size_t b = a + 1; b < within.size(); ++b)

@@ -102,8 +102,9 @@ struct FlatContactOptions {
   double feature_size = 0;
   /// With the refinement: faces larger than this (area on the plane) are refined like faces below
   /// the bound (their circumcenter; its circumradius is at least 0.87 sqrt(max_area), so the
-  /// feature size, at most sqrt(max_area) / 2, never refuses it for the face's own corners). 0: no
-  /// bound.
+  /// feature size, at most sqrt(max_area) / 2, never refuses it for the face's own corners; a
+  /// constraint beyond it or encroached that may not be split does, and the face stays larger). 0:
+  /// no bound.
   double max_area = 0;
 };
 

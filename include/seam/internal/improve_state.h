@@ -56,7 +56,8 @@ ImproveStats improve(std::vector<ImproveMesh<K>>& meshes, SharedCurves<K>& curve
 /// For each face of `shortfalls` (faces of `meshes` as they are): Shortfall::curve_gap, the
 /// distance (doubles) between the two nearest curve segments of `curves` that share no point and
 /// both pass within the face's ball (about its centroid, through its farthest corner) grown by
-/// feature_size; infinity where no two do. (src/improve/curve_gap.cpp)
+/// feature_size (of those, the 256 nearest the centroid); infinity where no two do.
+/// (src/improve/curve_gap.cpp)
 template <class K>
 void measure_curve_gaps(const std::vector<ImproveMesh<K>>& meshes, const SharedCurves<K>& curves, double feature_size,
                         std::vector<Shortfall>& shortfalls);
