@@ -230,8 +230,8 @@ def main():
                 command = [args.seam, 'pair', a, b, '--out-a', a2, '--out-b', b2, '--curves-out', curves, '--report', report]
             run = subprocess.run(command + args.extra, capture_output=True, text=True, timeout=args.timeout)
             if args.textile and run.returncode == 0:
-                for name, path in (('a.off', a2), ('b.off', b2), ('a__b.polylines.txt', curves)):
-                    os.replace(os.path.join(out_dir, name), path)
+                for written, path in (('a.off', a2), ('b.off', b2), ('a__b.polylines.txt', curves)):
+                    os.replace(os.path.join(out_dir, written), path)
             code = run.returncode
             message = (run.stderr.strip().splitlines() or [''])[-1]
             open(os.path.join(d, 'pair.stderr'), 'w').write(run.stderr)  # the whole message
