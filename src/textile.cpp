@@ -387,7 +387,7 @@ void unify_contacts(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& in
                                             contact, others);
     } catch (const InternalError& e) {  // nothing was changed: the pair as it was (step 6 judges it)
       result.stats.note += std::string(result.stats.note.empty() ? "" : "; ") + "the flat contacts of " +
-                           quoted(names[a]) + " and " + quoted(names[b]) + " were left as they were: " + e.what();
+                           quoted(names[a]) + " and " + quoted(names[b]) + " were left as they were (" + e.what() + ")";
       continue;
     }
     pair.stats.contact_patches = fc.patches;
@@ -397,8 +397,10 @@ void unify_contacts(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& in
       pair.stats.curve_vertices = 0;
       for (const auto& c : pair.curves) pair.stats.curve_vertices += c.size() - (is_closed(c) ? 1 : 0);
     }
-    if (fc.patches_left > 0 || !fc.refinement_failed.empty())
-      result.stats.note += (result.stats.note.empty() ? "" : "; ") + fc.first_left + fc.refinement_failed;
+    const std::string of_pair = "the flat contacts of " + quoted(names[a]) + " and " + quoted(names[b]);
+    if (fc.patches_left > 0) result.stats.note += (result.stats.note.empty() ? "" : "; ") + of_pair + ": " + fc.first_left;
+    if (!fc.refinement_failed.empty())
+      result.stats.note += (result.stats.note.empty() ? "" : "; ") + of_pair + " not refined: " + fc.refinement_failed;
   }
   // The faces at every pair's curves as they are now (step 5 measures them again when it runs).
   for (std::size_t p = 0; p < result.pairs.size(); ++p) {
@@ -509,7 +511,9 @@ void improve_and_verify(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>
     result.pairs = std::move(before->second);
     st.verify_tolerance = 0;
     st.verified = verify_pairs<K>(inputs, meshes, names, result, snapped, problem);
-    if (st.verified) st.note = "the quality stage's result failed seam check's tests (" + improved_problem + "): the tows before it are given";
+    if (st.verified)
+      st.note += (st.note.empty() ? "" : "; ") + ("the quality stage's result failed seam check's tests (" + improved_problem +
+                                                  "): the tows before it are given");
     else problem = improved_problem + "; without the quality stage: " + problem;
   }
   st.stage_seconds["verify"] = seconds_since(t);

@@ -133,11 +133,12 @@ struct TextileStats {
   ImproveStats improve;
   double improve_tolerance = 0;
   /// Step 6: every pair passed seam::check_pair as written at this tolerance (pass it to
-  /// `seam check --tol`); a note when the tows before step 5 were given instead.
+  /// `seam check --tol`); a note when the tows before step 5 were given instead, or a pair's flat
+  /// contacts were left as they were or not refined (step 4b).
   bool verified = false;
   double verify_tolerance = 0;
   std::string note;
-  std::map<std::string, double> stage_seconds;  ///< prepare, boxes, pairs, snap, triples, tows, compare, improve, verify
+  std::map<std::string, double> stage_seconds;  ///< prepare, boxes, pairs, snap, triples, tows, compare, flat_contacts, improve, verify
 };
 
 template <class K> struct TextileResult {
