@@ -3,6 +3,7 @@
 #include <seam/embed.h>
 #include <seam/internal/bbox_diagonal.h>
 #include <seam/internal/improve_state.h>
+#include <seam/internal/message.h>
 #include <seam/internal/new_face_figures.h>
 #include <seam/internal/verify_output.h>
 #include <seam/quality.h>
@@ -104,8 +105,9 @@ EmbedRunResult<K> embed_checked(Mesh<K>& mesh, const std::vector<Polyline<K>>& c
     back_to_embedded();
     measure<K>(mesh, input_angles, options.embed.max_area, st);
     ok = passes();
-    if (ok) result.note += (result.note.empty() ? "" : "; ") + std::string("the improved output failed the check (") +
-                           problems + "): this is the embedded mesh without the quality stage";
+    if (ok)
+      internal::append_note(result.note, "the improved output failed the check (" + problems +
+                                             "): this is the embedded mesh without the quality stage");
   }
   st.stage_seconds["verify_output"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   if (!ok) {

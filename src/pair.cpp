@@ -249,9 +249,9 @@ void unify_contacts(Mesh<K>& a, Mesh<K>& b, PairResult<K>& result, const interna
   st.contact_segments_split = fc.border_splits;
   st.contact_points_dropped = fc.points_dropped;
   st.contact_faces_below_bound = fc.shared_faces_below_bound;
-  if (fc.patches_left > 0) st.note += (st.note.empty() ? "" : "; ") + fc.first_left;
+  if (fc.patches_left > 0) internal::append_note(st.note, fc.first_left);
   if (!fc.refinement_failed.empty())
-    st.note += (st.note.empty() ? "" : "; ") + ("flat contacts not refined: " + fc.refinement_failed);
+    internal::append_note(st.note, "flat contacts not refined: " + fc.refinement_failed);
   st.stage_seconds["flat_contacts"] = seconds_since(t);
 }
 
@@ -376,11 +376,11 @@ template <class K> bool PairRun<K>::passes(PairResult<K>& r, bool improved_outpu
   close_points_.erase(std::unique(close_points_.begin(), close_points_.end()), close_points_.end());
   if (!ok) return false;
   if (!problems_.empty())
-    r.stats.note += (r.stats.note.empty() ? "" : "; ") + std::string("seam check failed on (") + problems_ +
-                    "): these outputs are " + (way.empty() ? "" : way + ", ") +
-                    (!improved_outputs ? "the embedded meshes without the quality stage"
-                     : options_.improve ? "improved"
-                                        : "the embedded meshes");
+    internal::append_note(r.stats.note, "seam check failed on (" + problems_ + "): these outputs are " +
+                                            (way.empty() ? "" : way + ", ") +
+                                            (!improved_outputs ? "the embedded meshes without the quality stage"
+                                             : options_.improve ? "improved"
+                                                                : "the embedded meshes"));
   return true;
 }
 

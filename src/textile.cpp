@@ -3,6 +3,7 @@
 #include <seam/check.h>
 #include <seam/io.h>
 #include <seam/internal/flat_contacts.h>
+#include <seam/internal/message.h>
 #include <seam/internal/bbox_diagonal.h>
 #include <seam/internal/embed_known_sites.h>
 #include <seam/internal/provenance.h>
@@ -386,8 +387,8 @@ void unify_contacts(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& in
       fc = internal::unify_flat_contacts<K>(meshes[a], meshes[b], {pair.curves, pair_vertices[p][0], pair_vertices[p][1]},
                                             contact, others);
     } catch (const InternalError& e) {  // nothing was changed: the pair as it was (step 6 judges it)
-      result.stats.note += std::string(result.stats.note.empty() ? "" : "; ") + "the flat contacts of " +
-                           quoted(names[a]) + " and " + quoted(names[b]) + " were left as they were (" + e.what() + ")";
+      internal::append_note(result.stats.note, "the flat contacts of " + quoted(names[a]) + " and " + quoted(names[b]) +
+                                                   " were left as they were (" + e.what() + ")");
       continue;
     }
     pair.stats.contact_patches = fc.patches;
@@ -398,9 +399,8 @@ void unify_contacts(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& in
       for (const auto& c : pair.curves) pair.stats.curve_vertices += c.size() - (is_closed(c) ? 1 : 0);
     }
     const std::string of_pair = "the flat contacts of " + quoted(names[a]) + " and " + quoted(names[b]);
-    if (fc.patches_left > 0) result.stats.note += (result.stats.note.empty() ? "" : "; ") + of_pair + ": " + fc.first_left;
-    if (!fc.refinement_failed.empty())
-      result.stats.note += (result.stats.note.empty() ? "" : "; ") + of_pair + " not refined: " + fc.refinement_failed;
+    if (fc.patches_left > 0) internal::append_note(result.stats.note, of_pair + ": " + fc.first_left);
+    if (!fc.refinement_failed.empty()) internal::append_note(result.stats.note, of_pair + " not refined: " + fc.refinement_failed);
   }
   // The faces at every pair's curves as they are now (step 5 measures them again when it runs).
   for (std::size_t p = 0; p < result.pairs.size(); ++p) {
@@ -512,8 +512,8 @@ void improve_and_verify(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>
     st.verify_tolerance = 0;
     st.verified = verify_pairs<K>(inputs, meshes, names, result, snapped, problem);
     if (st.verified)
-      st.note += (st.note.empty() ? "" : "; ") + ("the quality stage's result failed seam check's tests (" + improved_problem +
-                                                  "): the tows before it are given");
+      internal::append_note(st.note, "the quality stage's result failed seam check's tests (" + improved_problem +
+                                         "): the tows before it are given");
     else problem = improved_problem + "; without the quality stage: " + problem;
   }
   st.stage_seconds["verify"] = seconds_since(t);

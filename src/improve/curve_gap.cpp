@@ -7,14 +7,14 @@
 
 #include <seam/internal/improve_state.h>
 
+#include <CGAL/box_intersection_d.h>
 #include <CGAL/squared_distance_3.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 #include <map>
-#include <unordered_map>
 #include <vector>
 
 namespace seam::internal {
@@ -46,47 +46,6 @@ struct CurveSegments {
   }
 };
 
-/// A uniform grid of cubes of side `cell` holding each segment in the cells its box meets.
-class SegmentGrid {
- public:
-  SegmentGrid(const CurveSegments& c, double cell) : cell_(cell) {
-    for (std::size_t i = 0; i < c.segments.size(); ++i) {
-      boxes_.push_back(c.segments[i].bbox());
-      for_cells(boxes_.back(), [&](std::int64_t key) { cells_[key].push_back(i); });
-    }
-  }
-  /// The segments whose cells meet the box (each once, in increasing order). A box over more
-  /// cells than there are segments (a large face): the segments whose boxes meet it, one by one.
-  std::vector<std::size_t> near(const CGAL::Bbox_3& box) const {
-    std::vector<std::size_t> found;
-    double cells = 1;
-    for (int k = 0; k < 3; ++k) cells *= std::floor(box.max(k) / cell_) - std::floor(box.min(k) / cell_) + 1;
-    if (!(cells <= double(boxes_.size()))) {
-      for (std::size_t i = 0; i < boxes_.size(); ++i)
-        if (CGAL::do_overlap(box, boxes_[i])) found.push_back(i);
-      return found;
-    }
-    for_cells(box, [&](std::int64_t key) {
-      if (const auto it = cells_.find(key); it != cells_.end()) found.insert(found.end(), it->second.begin(), it->second.end());
-    });
-    std::sort(found.begin(), found.end());
-    found.erase(std::unique(found.begin(), found.end()), found.end());
-    return found;
-  }
-
- private:
-  template <class Visit> void for_cells(const CGAL::Bbox_3& box, Visit visit) const {
-    auto index = [&](double x) { return std::int64_t(std::floor(x / cell_)); };
-    for (auto i = index(box.xmin()); i <= index(box.xmax()); ++i)
-      for (auto j = index(box.ymin()); j <= index(box.ymax()); ++j)
-        for (auto k = index(box.zmin()); k <= index(box.zmax()); ++k)
-          visit(((i & 0x1fffff) << 42) | ((j & 0x1fffff) << 21) | (k & 0x1fffff));  // (a hash: collisions only add candidates)
-  }
-  double cell_;
-  std::vector<CGAL::Bbox_3> boxes_;
-  std::unordered_map<std::int64_t, std::vector<std::size_t>> cells_;
-};
-
 /// At most this many segments (the nearest to the face's centroid) are paired per face.
 constexpr std::size_t max_segments_per_face = 256;
 
@@ -97,13 +56,14 @@ void measure_curve_gaps(const std::vector<ImproveMesh<K>>& meshes, const SharedC
                         std::vector<Shortfall>& shortfalls) {
   if (shortfalls.empty() || !(feature_size > 0)) return;
   const CurveSegments c(curves);
-  double longest = 0;
-  for (const auto& s : c.segments) longest = std::max(longest, std::sqrt(s.squared_length()));
-  // Cells of a few feature sizes, but not so small that a long segment fills too many of them.
-  const SegmentGrid grid(c, std::max(4 * feature_size, longest / 16));
-  for (auto& shortfall : shortfalls) {
-    const auto& mesh = *meshes[shortfall.mesh].mesh;
-    const typename Mesh<K>::Face_index f(static_cast<typename Mesh<K>::size_type>(shortfall.face));
+  // Each face's ball grown by feature_size, as a box: the segments whose boxes meet it
+  // (CGAL::box_intersection_d), then those within the ball.
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
+  std::vector<Box> face_boxes, segment_boxes;
+  std::vector<std::pair<FP, double>> balls;  // per shortfall: centre, radius
+  for (std::size_t k = 0; k < shortfalls.size(); ++k) {
+    const auto& mesh = *meshes[shortfalls[k].mesh].mesh;
+    const typename Mesh<K>::Face_index f(static_cast<typename Mesh<K>::size_type>(shortfalls[k].face));
     std::array<FP, 3> p;
     std::size_t n = 0;
     for (const auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) p[n++] = to_filtered(mesh.point(v));
@@ -111,24 +71,35 @@ void measure_curve_gaps(const std::vector<ImproveMesh<K>>& meshes, const SharedC
     double radius = 0;
     for (const auto& q : p) radius = std::max(radius, std::sqrt(CGAL::squared_distance(centre, q)));
     radius += feature_size;
-    const CGAL::Bbox_3 box(centre.x() - radius, centre.y() - radius, centre.z() - radius, centre.x() + radius,
-                           centre.y() + radius, centre.z() + radius);
-    std::vector<std::pair<double, std::size_t>> near;  // (squared distance to the centre, segment)
-    for (const std::size_t i : grid.near(box))
-      if (const double d2 = CGAL::squared_distance(centre, c.segments[i]); d2 <= radius * radius) near.emplace_back(d2, i);
+    balls.emplace_back(centre, radius);
+    face_boxes.emplace_back(CGAL::Bbox_3(centre.x() - radius, centre.y() - radius, centre.z() - radius,
+                                         centre.x() + radius, centre.y() + radius, centre.z() + radius),
+                            k);
+  }
+  for (std::size_t i = 0; i < c.segments.size(); ++i) segment_boxes.emplace_back(c.segments[i].bbox(), i);
+  std::vector<std::vector<std::pair<double, std::size_t>>> near(shortfalls.size());  // (squared distance, segment)
+  CGAL::box_intersection_d(face_boxes.begin(), face_boxes.end(), segment_boxes.begin(), segment_boxes.end(),
+                           [&](const Box& face, const Box& segment) {
+                             const auto& [centre, radius] = balls[face.info()];
+                             const double d2 = CGAL::squared_distance(centre, c.segments[segment.info()]);
+                             if (d2 <= radius * radius) near[face.info()].emplace_back(d2, segment.info());
+                           });
+  for (std::size_t k = 0; k < shortfalls.size(); ++k) {
+    auto& candidates = near[k];
     // (A large face over many segments: the nearest ones, so that the pairs stay few.)
-    if (near.size() > max_segments_per_face) {
-      std::nth_element(near.begin(), near.begin() + std::ptrdiff_t(max_segments_per_face), near.end());
-      near.resize(max_segments_per_face);
+    if (candidates.size() > max_segments_per_face) {
+      std::nth_element(candidates.begin(), candidates.begin() + std::ptrdiff_t(max_segments_per_face), candidates.end());
+      candidates.resize(max_segments_per_face);
     }
-    std::vector<std::size_t> within;
-    for (const auto& dn : near) within.push_back(dn.second);
+    // In segment order (a distance in doubles depends on which segment comes first).
+    std::sort(candidates.begin(), candidates.end(), [](const auto& x, const auto& y) { return x.second < y.second; });
     double gap2 = std::numeric_limits<double>::infinity();
-    for (std::size_t a = 0; a < within.size(); ++a)
-      for (std::size_t b = a + 1; b < within.size(); ++b)
-        if (!c.share_a_point(within[a], within[b]))
-          gap2 = std::min(gap2, CGAL::squared_distance(c.segments[within[a]], c.segments[within[b]]));
-    shortfall.curve_gap = std::sqrt(gap2);
+    for (std::size_t a = 0; a < candidates.size(); ++a)
+      for (std::size_t b = a + 1; b < candidates.size(); ++b) {
+        const std::size_t i = candidates[a].second, j = candidates[b].second;
+        if (!c.share_a_point(i, j)) gap2 = std::min(gap2, CGAL::squared_distance(c.segments[i], c.segments[j]));
+      }
+    shortfalls[k].curve_gap = std::sqrt(gap2);
   }
 }
 

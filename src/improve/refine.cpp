@@ -507,7 +507,7 @@ template <class K> std::optional<Outcome> Refiner<K>::merge_short_edge(std::size
         if (a != x && a != y) consider(u, a);
     }
   }
-  if (best < 0 || chosen.parts.empty()) return result;
+  if (chosen.parts.empty()) return result;  // (none accepted, or none above must_beat)
   push_made(apply_edit<K>(s_, chosen));
   ++s_.stats.merges;
   return Outcome{true, ShortfallCause::constraint_angle};

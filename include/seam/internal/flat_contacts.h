@@ -26,8 +26,8 @@
 // tilt allows; the figures are measured in 3D afterwards).
 //   1. A constraint encroached by a vertex of the patch (it sees the constraint at 90 degrees or
 //      more) is split at its middle.
-//   2. A face below the bound, or with `max_area`, larger than it: its circumcenter c (rounded to doubles in the projection, then
-//      lifted exactly onto the plane). If a constraint lies between the face and c, or c lies in
+//   2. A face below the bound, or with `max_area`, larger than it: its circumcenter c (rounded to
+//      doubles in the projection, then lifted exactly onto the plane). If a constraint lies between the face and c, or c lies in
 //      the diametral circle of a constraint of its conflict zone, that constraint is split;
 //      otherwise c is inserted.
 //   A constraint may be split when it is at least 2 x `feature_size` long and is a curve segment
@@ -39,9 +39,10 @@
 //   Termination: every inserted point is at least `feature_size` from the points it sees (an
 //   empty circumcircle), and every split halves a segment at least twice that long, so the points
 //   a patch can receive are bounded by its area and border length over feature_size; a budget of
-//   4 x (points) + 64 edits, plus twice the patch's area over max_area, bounds it outright. The bound: in the plane, with no constraint split
-//   refused and input angles between constraints of at least 60 degrees, Ruppert's algorithm
-//   ends with every angle above arcsin(1/(2 sqrt 2)) = 20.7 degrees. What can force a smaller
+//   4 x (points) + 64 edits, plus twice the patch's area over max_area, bounds it outright. The
+//   bound: in the plane, with no constraint split refused and input angles between constraints
+//   of at least 60 degrees, Ruppert's algorithm ends with every angle above
+//   arcsin(1/(2 sqrt 2)) = 20.7 degrees. What can force a smaller
 //   angle: a small angle between two constraints (curves meeting at the border), constraints
 //   that may not be split (the border next to another patch or a frozen face, or shorter than
 //   2 x feature_size), and points closer than feature_size. The faces left below the bound are

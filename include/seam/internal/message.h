@@ -14,4 +14,7 @@ template <class... T> std::string say(const T&... parts) {
   return out.str();
 }
 
+/// Adds `part` to a report's note, after "; " when the note already says something.
+inline void append_note(std::string& note, const std::string& part) { note += (note.empty() ? "" : "; ") + part; }
+
 }  // namespace seam::internal
