@@ -159,6 +159,8 @@ nlohmann::json textile_report_json(seam::KernelKind kernel, const seam::TextileS
   j["intersecting_pairs"] = st.intersecting_pairs;
   j["touching_pairs"] = st.touching_pairs;
   j["triple_points"] = st.triple_points;
+  j["vertices_closed"] = st.vertices_closed;
+  j["max_close_move"] = st.max_close_move;
   j["improve"] = improve_json(st.improve, st.improved, names);
   j["improve_tolerance"] = st.improve_tolerance;
   j["verified"] = st.verified;
@@ -182,7 +184,8 @@ nlohmann::json textile_report_json(seam::KernelKind kernel, const seam::TextileS
                          {"contact",
                           {{"patches", s.contact_patches},
                            {"shared_faces", s.shared_faces},
-                           {"patches_left", s.contact_patches_left}}},
+                           {"patches_left", s.contact_patches_left},
+                           {"points", s.contact_points}}},
                          {"quality", {{"a", quality(s.quality_a)}, {"b", quality(s.quality_b)}}},
                          {"intersect_seconds", s.intersect_seconds},
                          {"copy_seconds", s.copy_seconds}});

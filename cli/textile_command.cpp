@@ -298,7 +298,7 @@ int run_textile(TextileArgs& args) {
     if (args.resolve) {
       const auto t2 = Clock::now();
       for (const auto& p : result.pairs)  // pairs that only touch do not overlap
-        if (!p.curves.empty()) resolved_pairs.emplace_back(p.stats.a, p.stats.b);
+        if (p.stats.curves > 0) resolved_pairs.emplace_back(p.stats.a, p.stats.b);
       resolved = resolve_tows(out_soups, resolved_pairs, names);
       st.stage_seconds["resolve"] = std::chrono::duration<double>(Clock::now() - t2).count();
     }
@@ -328,7 +328,7 @@ int run_textile(TextileArgs& args) {
       for (std::size_t k = 0; k < result.pairs.size(); ++k) {
         const auto& s = result.pairs[k].stats;
         j["pairs"][k]["polylines"] =
-            s.curves > 0 && !args.resolve ? nlohmann::json(curves_out(s.a, s.b)) : nlohmann::json(nullptr);
+            s.curves + s.contact_points > 0 && !args.resolve ? nlohmann::json(curves_out(s.a, s.b)) : nlohmann::json(nullptr);
         const auto done = std::find(resolved_pairs.begin(), resolved_pairs.end(), std::make_pair(s.a, s.b));
         if (done != resolved_pairs.end()) {
           const seam::ResolveStats& rs = resolved[std::size_t(done - resolved_pairs.begin())];

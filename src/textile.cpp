@@ -2,7 +2,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/check.h>
 #include <seam/io.h>
+#include <seam/internal/contact_points.h>
 #include <seam/internal/flat_contacts.h>
+#include <seam/internal/intersection_curves.h>
 #include <seam/internal/message.h>
 #include <seam/internal/bbox_diagonal.h>
 #include <seam/internal/embed_known_sites.h>
@@ -302,6 +304,7 @@ template <class K> bool insert_vertex(Mesh<K>& m, const typename K::Point_3& p, 
 template <class K> struct PairWork {
   std::size_t a = 0, b = 0;
   std::vector<Polyline<K>> for_a, for_b;  ///< the curves, one copy per consuming tow
+  std::vector<typename K::Point_3> contacts;  ///< isolated points of contact (no curve passes)
   std::vector<Polyline<K>> embedded_a, embedded_b;  ///< as embedded into each tow
   std::vector<std::vector<typename Mesh<K>::Vertex_index>> vertices_a, vertices_b;  ///< their vertices there
   TextilePairStats stats;
@@ -494,7 +497,8 @@ void improve_and_verify(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>
                         std::vector<std::array<CurveVertices<K>, 2>>& pair_vertices, const std::vector<double>& snap_tol,
                         const TextileOptions& options) {
   auto& st = result.stats;
-  const double snapped = snap_tol.empty() ? 0.0 : *std::max_element(snap_tol.begin(), snap_tol.end());
+  const double snapped = (snap_tol.empty() ? 0.0 : *std::max_element(snap_tol.begin(), snap_tol.end())) +
+                         st.max_close_move;
   const bool improve = options.improve && st.intersecting_pairs > 0;
   std::optional<std::pair<std::vector<Mesh<K>>, std::vector<TextilePair<K>>>> before;
   if (improve) {
@@ -552,10 +556,12 @@ template <class K> class TextileRun {
     });
     find_pairs_of();
     timed("snap", [&] { snap(); });
+    timed("close", [&] { close_thin_features(); });
     timed("triples", [&] { make_triple_points_vertices(); });
     timed("tows", [&] { embed_tows(); });
     std::vector<std::array<std::vector<std::vector<typename Mesh<K>::Vertex_index>>, 2>> pair_vertices;
     timed("compare", [&] { pair_vertices = compare_pairs(); });
+    timed("contact_points", [&] { make_contact_points_vertices(pair_vertices); });
     std::vector<FrozenMesh<K>>().swap(frozen_);
     timed("flat_contacts", [&] { unify_contacts<K>(meshes_, inputs_, names_, result_, pair_vertices, options_); });
     improve_and_verify<K>(meshes_, inputs_, names_, result_, pair_vertices, snap_tol_, options_);
@@ -621,9 +627,10 @@ template <class K> class TextileRun {
       // fraction of the work.
       const Mesh<K> a = thaw<K>(frozen_[w.a], &frozen_[w.b].bbox), b = thaw<K>(frozen_[w.b], &frozen_[w.a].bbox);
       w.stats.copy_seconds += seconds_since(tp);
-      std::size_t touching = 0;
-      curves = intersection_curves<K>(a, b, &touching);
-      w.stats.touching_only = curves.empty() && touching > 0;
+      auto found = internal::compute_intersection_curves<K>(a, b);
+      curves = std::move(found.curves);
+      w.stats.touching_only = curves.empty() && found.touching_points > 0;
+      for (const auto& c : found.contacts) w.contacts.push_back(detached<K>(c));
     }
     w.stats.a = w.a;
     w.stats.b = w.b;
@@ -695,6 +702,43 @@ template <class K> class TextileRun {
     std::vector<char> changed(meshes_.size(), 0);
     for (std::size_t tow = 0; tow < meshes_.size(); ++tow) changed[tow] = snapped_[tow] > 0;
     recompute_pairs_of(changed, "pairs (after snapping)");
+  }
+
+  /// Step 2c: features thinner than the vertex separation closed, as seam::pair's stage 1 does
+  /// (internal::crowded_curve_points). A curve point with a vertex or another curve point closer
+  /// than the pair's separation (min_vertex_separation x the diagonal of its two tows) would be
+  /// a pair of vertices too close once embedded (check 5; a volume mesher takes them for one),
+  /// and a crossing that thin cannot be written in doubles. The vertices of both tows within the
+  /// separation of such a point move onto the curve (exactly), one pair after the other, unless
+  /// the move would tilt a flat contact or take a part of the pair's intersection farther than
+  /// the quality stage's tolerance (see snap_vertices_to_segments); then every pair of a moved tow
+  /// is computed again. Exact kernel only, as the snapping above (a vertex closed lies exactly on
+  /// the other tow). One round: the moves are at most the separation, and the curves computed
+  /// again are verified in step 6 like any others.
+  void close_thin_features() {
+    if (!kernel_traits<K>::exact_constructions) return;
+    std::vector<char> changed(meshes_.size(), 0);
+    auto& st = result_.stats;
+    for (std::size_t p = 0; p < work_.size(); ++p) {
+      const auto& w = work_[p];
+      if (w.for_a.empty()) continue;
+      const double separation =
+          min_vertex_separation * internal::bbox_diagonal(frozen_[w.a].bbox + frozen_[w.b].bbox);
+      const auto crowded = internal::crowded_curve_points<K>(w.for_a, meshes_[w.a], meshes_[w.b], separation);
+      if (crowded.empty()) continue;
+      const double tolerance =
+          options_.quality.tolerance >= 0
+              ? options_.quality.tolerance
+              : 0.1 * std::min(mean_edge_length<K>(meshes_[w.a]), mean_edge_length<K>(meshes_[w.b]));
+      for (const auto& [tow, partner] : {std::pair{w.a, w.b}, std::pair{w.b, w.a}}) {
+        const auto r = internal::snap_vertices_to_segments<K>(meshes_[tow], w.for_a, separation, false, true,
+                                                             &meshes_[partner], &crowded, tolerance);
+        st.vertices_closed += r.snapped;
+        st.max_close_move = std::max(st.max_close_move, r.max_move);
+        changed[tow] = changed[tow] || r.snapped > 0;
+      }
+    }
+    recompute_pairs_of(changed, "pairs (after closing)");
   }
 
   /// Where the curves of two pairs of one tow meet (segments of each that intersect).
@@ -912,8 +956,38 @@ template <class K> class TextileRun {
       if (pair.stats.touching_only) ++result_.stats.touching_pairs;
       result_.pairs.push_back(std::move(pair));
       pair_vertices.push_back({std::move(w.vertices_a), std::move(w.vertices_b)});
+      contacts_.push_back(std::move(w.contacts));
     }
     return pair_vertices;
+  }
+
+  /// Step 4a: each pair's isolated points of contact (a vertex of one tow on the other, and no
+  /// curve through it) made a vertex of both tows and a curve of one point, as seam::pair does
+  /// (internal/contact_points.h): the outputs then meet in a common vertex there, which seam check
+  /// requires. The surfaces are unchanged (each point lies exactly on both). A point that lies on
+  /// no face exactly (rounded kernels) is left out with a note; the verification then names it.
+  void make_contact_points_vertices(std::vector<std::array<CurveVertices<K>, 2>>& pair_vertices) {
+    for (std::size_t p = 0; p < result_.pairs.size(); ++p) {
+      const auto& contacts = contacts_[p];
+      if (contacts.empty()) continue;
+      auto& pair = result_.pairs[p];
+      const std::size_t a = pair.stats.a, b = pair.stats.b;
+      const auto va = internal::insert_points<K>(meshes_[a], contacts);
+      const auto vb = va.empty() ? va : internal::insert_points<K>(meshes_[b], contacts);
+      if (va.size() != contacts.size() || vb.size() != contacts.size()) {
+        internal::append_note(result_.stats.note, internal::say("the ", contacts.size(), " points of contact of ",
+                                                                quoted(names_[a]), " and ", quoted(names_[b]),
+                                                                " lie on no face exactly: not made vertices"));
+        continue;
+      }
+      for (std::size_t i = 0; i < contacts.size(); ++i) {
+        pair.curves.push_back({contacts[i]});
+        pair_vertices[p][0].push_back({va[i]});
+        pair_vertices[p][1].push_back({vb[i]});
+      }
+      pair.stats.contact_points = contacts.size();
+    }
+    std::vector<std::vector<typename K::Point_3>>().swap(contacts_);
   }
 
   std::vector<Mesh<K>>& meshes_;
@@ -927,6 +1001,7 @@ template <class K> class TextileRun {
   std::vector<Mesh<K>> inputs_;  ///< the input tows, for the quality stage and the verification
   std::vector<std::pair<std::size_t, std::size_t>> candidates_;
   std::vector<PairWork<K>> work_;  ///< per candidate pair
+  std::vector<std::vector<typename K::Point_3>> contacts_;  ///< per result pair, until step 4a
   std::vector<double> snap_tol_;
   std::vector<std::size_t> snapped_, snaps_refused_;
   std::vector<internal::FaceProvenance> provenance_;  ///< of the faces cut at triple points

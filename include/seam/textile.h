@@ -3,8 +3,12 @@
 //   1. Candidates: CGAL::box_intersection_d on the tows' bounding boxes.
 //   2. Pairs (concurrently): the intersection curves of each candidate pair, exactly as
 //      seam::intersection_curves computes them for `seam pair` (touching runs kept as curves,
-//      isolated touching points dropped, flat contact reduced to its boundary, see 4b). A
+//      isolated touching points kept for 4a, flat contact reduced to its boundary, see 4b). A
 //      candidate with no curve is no pair.
+//   2c. Thin features (exact kernel): where a pair's curve point has a vertex or another curve
+//      point closer than the pair's vertex separation (min_vertex_separation x the diagonal of
+//      its two tows), the vertices of both tows next to it move onto the curve, as seam::pair's
+//      stage 1 closes them, and the pairs of a moved tow are computed again.
 //   3. Triple overlaps: where the curves of tow A with B and of A with C meet on A, the three tows
 //      overlap in one place, and the meeting point lies exactly on the three surfaces. Under the
 //      exact kernel it is made a vertex of all three tows (the face or edge holding it is cut;
@@ -16,6 +20,8 @@
 //   4. Tows (concurrently): each tow receives every curve that involves it in one seam::embed
 //      call (curve points kept at their own coordinates, as in seam::pair), so that for every
 //      pair both outputs share the pair's curves vertex for vertex and edge for edge.
+//   4a. Points of contact: a pair's isolated points of contact (touching, no curve through them)
+//      are made a vertex of both tows and a curve of one point, as in seam::pair.
 //   4b. Flat contacts (one pair at a time, in order): where two tows coincide over an area, the
 //      inside is made one common triangulation in both, as seam::pair does
 //      (internal/flat_contacts.h), refined to the angle bound (and max_area) when step 5 runs; a
@@ -111,6 +117,9 @@ struct TextilePairStats {
   /// Step 4b: flat contacts of the two tows made one common triangulation (patches), its faces
   /// (in both tows), and patches left as they were (seam check then rejects the pair).
   std::size_t contact_patches = 0, shared_faces = 0, contact_patches_left = 0;
+  /// Step 4a: isolated points of contact made a vertex of both tows (each a curve of one point,
+  /// after the `curves` intersection curves).
+  std::size_t contact_points = 0;
 };
 
 template <class K> struct TextilePair {
@@ -126,6 +135,10 @@ struct TextileStats {
   std::size_t intersecting_pairs = 0;  ///< with curves
   std::size_t touching_pairs = 0;      ///< touching without crossing
   std::size_t triple_points = 0;       ///< points where three tows meet, made vertices of all three
+  /// Step 2c: vertices moved onto a curve to close a feature thinner than the vertex separation,
+  /// and the largest move (verify_tolerance includes it).
+  std::size_t vertices_closed = 0;
+  double max_close_move = 0;
   int threads = 0;                     ///< threads of the task arena
   /// Step 5: done (some pair has curves and options.improve), its figures over all tows (mesh
   /// indices are tow indices), and its tolerance.
@@ -138,7 +151,7 @@ struct TextileStats {
   bool verified = false;
   double verify_tolerance = 0;
   std::string note;
-  std::map<std::string, double> stage_seconds;  ///< prepare, boxes, pairs, snap, triples, tows, compare, flat_contacts, improve, verify
+  std::map<std::string, double> stage_seconds;  ///< prepare, boxes, pairs, snap, close, triples, tows, compare, flat_contacts, improve, verify
 };
 
 template <class K> struct TextileResult {

@@ -1,0 +1,120 @@
+// seam textile where two tows barely meet: a feature thinner than the vertex separation is closed
+// before the embedding (step 2c, as seam pair's stage 1), and an isolated point of contact
+// becomes a vertex of both tows and a curve of one point (step 4a, as seam pair). Both were found
+// on CT tows against a copy of themselves (docs/real_tows.md, rows 9 and 10), where textile
+// stopped with exit 3 while seam pair passed.
+//
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <catch2/catch.hpp>
+
+#include <seam/check.h>
+#include <seam/io.h>
+#include <seam/textile.h>
+
+#include <string>
+#include <vector>
+
+namespace {
+
+using K = seam::Exact;
+using M = seam::Mesh<K>;
+
+seam::TriangleSoup unit_cube() {
+  seam::TriangleSoup cube;
+  for (int i = 0; i < 8; ++i) cube.points.push_back({double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)});
+  cube.triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                    {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+  return cube;
+}
+
+/// A tetrahedron on the triangle (a, b, c) (counter-clockwise seen from the apex's side) with
+/// its apex at `apex`.
+seam::TriangleSoup tetrahedron(const seam::Point3d& a, const seam::Point3d& b, const seam::Point3d& c,
+                               const seam::Point3d& apex) {
+  seam::TriangleSoup tet;
+  tet.points = {a, b, c, apex};
+  tet.triangles = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}};
+  return tet;
+}
+
+bool has_vertex_at(const M& m, const K::Point_3& p) {
+  for (auto v : m.vertices())
+    if (m.point(v) == p) return true;
+  return false;
+}
+
+/// textile on `soups`; every pair checked again here with seam::check_pair at the reported
+/// tolerance (textile verified them as written, or threw).
+seam::TextileResult<K> textile_and_check(const std::vector<seam::TriangleSoup>& soups,
+                                         const std::vector<std::string>& names, std::vector<M>& out) {
+  std::vector<M> inputs;
+  for (std::size_t i = 0; i < soups.size(); ++i) inputs.push_back(seam::mesh_from_soup<K>(soups[i], names[i]));
+  out = inputs;
+  auto r = seam::textile<K>(out, names);
+  INFO(r.stats.note);
+  REQUIRE(r.stats.verified);
+  for (const auto& p : r.pairs) {
+    INFO(names[p.stats.a] << " x " << names[p.stats.b]);
+    const auto report = seam::check_pair<K>(inputs[p.stats.a], inputs[p.stats.b], out[p.stats.a], out[p.stats.b],
+                                            p.curves, std::max(1e-9, r.stats.verify_tolerance));
+    for (const auto& problem : report.problems) UNSCOPED_INFO(problem);
+    CHECK(report.ok());
+  }
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("textile: a crossing thinner than the vertex separation is closed into a point of contact, a vertex of both",
+          "[textile][separate]") {
+  // The unit cube; a tetrahedron inside it whose apex pokes 1e-9 out through the top face (the
+  // surfaces cross in a triangle about 1e-9 across: its curve points would be vertices 1e-9
+  // apart); and a tetrahedron crossing the bottom face plainly, so that the cube has a curve
+  // and a point of contact from two neighbours.
+  const std::vector<seam::TriangleSoup> soups{
+      unit_cube(), tetrahedron({0.2, 0.2, 0.5}, {0.8, 0.2, 0.5}, {0.5, 0.8, 0.5}, {0.5, 0.5, 1 + 1e-9}),
+      tetrahedron({0.3, 0.3, -0.3}, {0.7, 0.3, -0.3}, {0.5, 0.7, -0.3}, {0.5, 0.5, 0.3})};
+  std::vector<M> out;
+  const auto r = textile_and_check(soups, {"cube", "poking", "crossing"}, out);
+  REQUIRE(r.pairs.size() == 2);
+  // The apex alone moved onto the curve (exactly onto the top face): the pair then only touches.
+  CHECK(r.stats.vertices_closed == 1);
+  CHECK(r.stats.max_close_move > 0);
+  CHECK(r.stats.max_close_move < 2e-9);
+  const auto& poking = r.pairs[0];
+  REQUIRE(poking.stats.b == 1);
+  CHECK(poking.stats.touching_only);
+  CHECK(poking.stats.curves == 0);
+  CHECK(poking.stats.contact_points == 1);
+  REQUIRE(poking.curves.size() == 1);
+  REQUIRE(poking.curves[0].size() == 1);
+  const auto contact = poking.curves[0][0];
+  CHECK(contact.z() == 1);
+  CHECK(has_vertex_at(out[0], contact));
+  CHECK(has_vertex_at(out[1], contact));
+  // The plain crossing is embedded as usual.
+  const auto& crossing = r.pairs[1];
+  CHECK(crossing.stats.b == 2);
+  CHECK(crossing.stats.curves == 1);
+  CHECK(crossing.stats.contact_points == 0);
+}
+
+TEST_CASE("textile: tows touching at one point share a vertex there, a curve of one point", "[textile]") {
+  // A tetrahedron standing on its apex inside a face of the cube's top (z = 1), nowhere else
+  // near it: no curve, one point of contact.
+  const seam::Point3d touch{0.375, 0.625, 1.0};
+  const std::vector<seam::TriangleSoup> soups{
+      unit_cube(), tetrahedron({0.2, 0.4, 1.5}, {0.5, 0.9, 1.5}, {0.6, 0.4, 1.5}, touch)};
+  std::vector<M> out;
+  const auto r = textile_and_check(soups, {"cube", "standing"}, out);
+  REQUIRE(r.pairs.size() == 1);
+  CHECK(r.stats.vertices_closed == 0);
+  CHECK(r.pairs[0].stats.touching_only);
+  CHECK(r.pairs[0].stats.contact_points == 1);
+  REQUIRE(r.pairs[0].curves.size() == 1);
+  REQUIRE(r.pairs[0].curves[0].size() == 1);
+  const K::Point_3 p(touch[0], touch[1], touch[2]);
+  CHECK(r.pairs[0].curves[0][0] == p);
+  CHECK(has_vertex_at(out[0], p));
+  CHECK(has_vertex_at(out[1], p));
+}
