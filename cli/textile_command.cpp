@@ -356,7 +356,7 @@ Command add_textile_command(CLI::App& app) {
       "textile",
       "Make every interpenetrating pair among N tows conforming: find the pairs (bounding boxes, then the exact "
       "intersection), compute each pair's curves, and embed into each tow all the curves that involve it, in "
-      "parallel. Writes DIR/<name>.off per tow and DIR/<A>__<B>.polylines.txt per intersecting pair (A before B "
+      "parallel. Writes DIR/<name>.off per tow and DIR/<A>__<B>.polylines.txt per pair that meets (A before B "
       "in input order). Vertices within a tiny distance of a curve are snapped onto it first; then the quality stage "
       "refines the faces along the curves of all tows at once, and every pair is checked as written: "
       "`seam check A B DIR/A.off DIR/B.off DIR/A__B.polylines.txt --tol T` passes for each, with the T printed. Where three tows overlap in one place the run stops with exit 2 naming them.");

@@ -497,8 +497,10 @@ void improve_and_verify(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>
                         std::vector<std::array<CurveVertices<K>, 2>>& pair_vertices, const std::vector<double>& snap_tol,
                         const TextileOptions& options) {
   auto& st = result.stats;
+  // The snapping's and the closing's moves, and how far the closing may move the intersection.
   const double snapped = (snap_tol.empty() ? 0.0 : *std::max_element(snap_tol.begin(), snap_tol.end())) +
                          st.max_close_move;
+  const double closed = st.close_tolerance;
   const bool improve = options.improve && st.intersecting_pairs > 0;
   std::optional<std::pair<std::vector<Mesh<K>>, std::vector<TextilePair<K>>>> before;
   if (improve) {
@@ -508,13 +510,13 @@ void improve_and_verify(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>
   if (!options.verify_output) return;
   const auto t = Clock::now();
   std::string problem;
-  st.verified = verify_pairs<K>(inputs, meshes, names, result, snapped + st.improve_tolerance, problem);
+  st.verified = verify_pairs<K>(inputs, meshes, names, result, snapped + std::max(st.improve_tolerance, closed), problem);
   if (!st.verified && before) {
     const std::string improved_problem = problem;
     meshes = std::move(before->first);
     result.pairs = std::move(before->second);
     st.verify_tolerance = 0;
-    st.verified = verify_pairs<K>(inputs, meshes, names, result, snapped, problem);
+    st.verified = verify_pairs<K>(inputs, meshes, names, result, snapped + closed, problem);
     if (st.verified)
       internal::append_note(st.note, "the quality stage's result failed seam check's tests (" + improved_problem +
                                          "): the tows before it are given");
@@ -708,37 +710,69 @@ template <class K> class TextileRun {
   /// (internal::crowded_curve_points). A curve point with a vertex or another curve point closer
   /// than the pair's separation (min_vertex_separation x the diagonal of its two tows) would be
   /// a pair of vertices too close once embedded (check 5; a volume mesher takes them for one),
-  /// and a crossing that thin cannot be written in doubles. The vertices of both tows within the
-  /// separation of such a point move onto the curve (exactly), one pair after the other, unless
-  /// the move would tilt a flat contact or take a part of the pair's intersection farther than
-  /// the quality stage's tolerance (see snap_vertices_to_segments); then every pair of a moved tow
-  /// is computed again. Exact kernel only, as the snapping above (a vertex closed lies exactly on
-  /// the other tow). One round: the moves are at most the separation, and the curves computed
-  /// again are verified in step 6 like any others.
+  /// and a crossing that thin cannot be written in doubles. The curve points of every pair of
+  /// either tow count (a curve of the tow with a third one passing that close is as thin). The
+  /// vertices of both tows within the separation of such a point move onto the pair's curve
+  /// (exactly), unless the move would tilt a flat contact or take a part of the pair's
+  /// intersection farther than close_tolerance() (see snap_vertices_to_segments); then every pair
+  /// of a moved tow is computed again. In rounds: a round takes the pairs with such points whose
+  /// tows no other pair of the round has (their curves are those of the tows as they are), each
+  /// pair at most once, so the rounds end. Exact kernel only, as the snapping above (a vertex
+  /// closed lies exactly on the other tow).
   void close_thin_features() {
     if (!kernel_traits<K>::exact_constructions) return;
-    std::vector<char> changed(meshes_.size(), 0);
     auto& st = result_.stats;
-    for (std::size_t p = 0; p < work_.size(); ++p) {
-      const auto& w = work_[p];
-      if (w.for_a.empty()) continue;
-      const double separation =
-          min_vertex_separation * internal::bbox_diagonal(frozen_[w.a].bbox + frozen_[w.b].bbox);
-      const auto crowded = internal::crowded_curve_points<K>(w.for_a, meshes_[w.a], meshes_[w.b], separation);
-      if (crowded.empty()) continue;
-      const double tolerance =
-          options_.quality.tolerance >= 0
-              ? options_.quality.tolerance
-              : 0.1 * std::min(mean_edge_length<K>(meshes_[w.a]), mean_edge_length<K>(meshes_[w.b]));
-      for (const auto& [tow, partner] : {std::pair{w.a, w.b}, std::pair{w.b, w.a}}) {
-        const auto r = internal::snap_vertices_to_segments<K>(meshes_[tow], w.for_a, separation, false, true,
-                                                             &meshes_[partner], &crowded, tolerance);
-        st.vertices_closed += r.snapped;
-        st.max_close_move = std::max(st.max_close_move, r.max_move);
-        changed[tow] = changed[tow] || r.snapped > 0;
+    const double tolerance = close_tolerance();
+    std::vector<char> done(work_.size(), 0);
+    for (bool any = true; any;) {
+      any = false;
+      std::vector<char> changed(meshes_.size(), 0), busy(meshes_.size(), 0);
+      for (std::size_t p = 0; p < work_.size(); ++p) {
+        const auto& w = work_[p];
+        if (done[p] || w.for_a.empty() || busy[w.a] || busy[w.b]) continue;
+        const double separation =
+            min_vertex_separation * internal::bbox_diagonal(frozen_[w.a].bbox + frozen_[w.b].bbox);
+        const auto crowded =
+            internal::crowded_curve_points<K>(curves_of_tows(w.a, w.b), meshes_[w.a], meshes_[w.b], separation);
+        if (crowded.empty()) continue;
+        done[p] = busy[w.a] = busy[w.b] = 1;
+        for (const auto& [tow, partner] : {std::pair{w.a, w.b}, std::pair{w.b, w.a}}) {
+          const auto r = internal::snap_vertices_to_segments<K>(meshes_[tow], curves_for(p, tow), separation, false,
+                                                               true, &meshes_[partner], &crowded, tolerance);
+          st.vertices_closed += r.snapped;
+          st.max_close_move = std::max(st.max_close_move, r.max_move);
+          changed[tow] = changed[tow] || r.snapped > 0;
+          any = any || r.snapped > 0;
+        }
       }
+      recompute_pairs_of(changed, "pairs (after closing)");
     }
-    recompute_pairs_of(changed, "pairs (after closing)");
+    if (st.vertices_closed > 0) st.close_tolerance = tolerance;
+  }
+
+  /// The curves of every pair of tow a or b, each pair once (its copy for a, or else for b).
+  std::vector<Polyline<K>> curves_of_tows(std::size_t a, std::size_t b) {
+    std::vector<Polyline<K>> all;
+    for (const std::size_t tow : {a, b})
+      for (const std::size_t p : pairs_of_[tow]) {
+        if (tow == b && (work_[p].a == a || work_[p].b == a)) continue;  // (a pair of a and b: taken with a)
+        const auto& mine = curves_for(p, tow);
+        all.insert(all.end(), mine.begin(), mine.end());
+      }
+    return all;
+  }
+
+  /// How far step 2c may move a part of a pair's intersection: the quality stage's tolerance
+  /// (ImproveOptions::tolerance; automatic: a tenth of the smallest mean edge length of the tows
+  /// in a pair with curves), whether or not that stage runs.
+  double close_tolerance() const {
+    if (options_.quality.tolerance >= 0) return options_.quality.tolerance;
+    double smallest = std::numeric_limits<double>::max();
+    for (const auto& w : work_)
+      if (!w.for_a.empty())
+        for (const std::size_t tow : {w.a, w.b})
+          smallest = std::min(smallest, mean_edge_length<K>(inputs_.empty() ? meshes_[tow] : inputs_[tow]));
+    return smallest < std::numeric_limits<double>::max() ? 0.1 * smallest : 0.0;
   }
 
   /// Where the curves of two pairs of one tow meet (segments of each that intersect).
@@ -766,7 +800,10 @@ template <class K> class TextileRun {
   /// list: it is refused).
   std::vector<Meeting> meetings_on(std::size_t tow) {
     std::vector<Meeting> meetings;
-    if (pairs_of_[tow].size() < 2) return meetings;
+    std::vector<std::size_t> touching;  // the pairs of this tow with isolated points of contact
+    for (std::size_t p = 0; p < work_.size(); ++p)
+      if ((work_[p].a == tow || work_[p].b == tow) && !work_[p].contacts.empty()) touching.push_back(p);
+    if (pairs_of_[tow].empty() || pairs_of_[tow].size() + touching.size() < 2) return meetings;
     struct Seg {
       std::size_t pair;
       const Point *p, *q;
@@ -792,6 +829,20 @@ template <class K> class TextileRun {
       hits.emplace_back(std::min(x.info(), y.info()), std::max(x.info(), y.info()));
     });
     std::sort(hits.begin(), hits.end());  // deterministic, whatever the order found
+    // A point where two tows touch inside a curve segment of one of them with a third: it lies on
+    // the three surfaces too (step 4a would split that segment in one tow only).
+    for (const std::size_t p : touching)
+      for (const Point& c : work_[p].contacts)
+        for (const Seg& u : segs)
+          if (u.pair != p && CGAL::do_overlap(c.bbox(), u.p->bbox() + u.q->bbox()) && c != *u.p && c != *u.q &&
+              typename K::Segment_3(*u.p, *u.q).has_on(c)) {
+            Meeting m;
+            m.found = m.point = true;
+            m.p = std::min(p, u.pair);
+            m.q = std::max(p, u.pair);
+            m.at = detached<K>(c);
+            meetings.push_back(m);
+          }
     for (const auto& [x, y] : hits) {
       const Seg &u = segs[x], &v = segs[y];
       Meeting m;
@@ -828,7 +879,8 @@ template <class K> class TextileRun {
           any = true;
           if (!kernel_traits<K>::exact_constructions)
             refuse(tow, m, "only the exact kernel makes such a point a vertex of the three tows: use --kernel exact");
-          if (!m.point) refuse(tow, m, "the curves overlap along a segment there: seam textile cannot embed that");
+          if (!m.point) refuse(tow, m, "the curves overlap along a segment there (as where a tow crosses an area over which the other "
+                                  "two coincide): seam textile cannot embed that");
           if (round >= 4) refuse(tow, m, "making the meeting points vertices of the three tows did not end");
           bool inserted = false, known = false;
           for (std::size_t x : {tow, other(m.p, tow), other(m.q, tow)}) {
@@ -972,9 +1024,11 @@ template <class K> class TextileRun {
       if (contacts.empty()) continue;
       auto& pair = result_.pairs[p];
       const std::size_t a = pair.stats.a, b = pair.stats.b;
+      Mesh<K> a_before = meshes_[a];  // (given back if b refuses them)
       const auto va = internal::insert_points<K>(meshes_[a], contacts);
       const auto vb = va.empty() ? va : internal::insert_points<K>(meshes_[b], contacts);
       if (va.size() != contacts.size() || vb.size() != contacts.size()) {
+        if (!va.empty()) meshes_[a] = std::move(a_before);
         internal::append_note(result_.stats.note, internal::say("the ", contacts.size(), " points of contact of ",
                                                                 quoted(names_[a]), " and ", quoted(names_[b]),
                                                                 " lie on no face exactly: not made vertices"));
@@ -986,6 +1040,7 @@ template <class K> class TextileRun {
         pair_vertices[p][1].push_back({vb[i]});
       }
       pair.stats.contact_points = contacts.size();
+      pair.stats.curve_vertices += contacts.size();
     }
     std::vector<std::vector<typename K::Point_3>>().swap(contacts_);
   }

@@ -11,6 +11,7 @@
 #include <seam/io.h>
 #include <seam/textile.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -117,4 +118,34 @@ TEST_CASE("textile: tows touching at one point share a vertex there, a curve of 
   CHECK(r.pairs[0].curves[0][0] == p);
   CHECK(has_vertex_at(out[0], p));
   CHECK(has_vertex_at(out[1], p));
+}
+
+TEST_CASE("textile: a point of contact inside another pair's curve segment is a vertex of all three tows",
+          "[textile][separate]") {
+  // The unit cube; a box standing through its top face (their curve runs along y = 0.3 on the top,
+  // through (0.3, 0.3, 1) and (0.5, 0.3, 1)); a tetrahedron outside both, standing on its apex at
+  // X = (0.4, 0.3, 1): it touches the cube and the box at X only, inside that curve segment.
+  seam::TriangleSoup box = unit_cube();
+  for (auto& p : box.points) p = {0.3 + 0.4 * p[0], 0.3 + 0.4 * p[1], 0.5 + p[2]};
+  const seam::Point3d x{0.4, 0.3, 1.0};
+  const std::vector<seam::TriangleSoup> soups{
+      unit_cube(), tetrahedron({0.3, 0.05, 1.5}, {0.4, 0.25, 1.5}, {0.5, 0.05, 1.5}, x), box};
+  std::vector<M> out;
+  const auto r = textile_and_check(soups, {"cube", "standing", "box"}, out);
+  REQUIRE(r.pairs.size() == 3);
+  CHECK(r.stats.triple_points >= 1);
+  const K::Point_3 p(x[0], x[1], x[2]);
+  for (const auto& m : out) CHECK(has_vertex_at(m, p));
+  for (const auto& pair : r.pairs) {
+    INFO(pair.stats.a << " x " << pair.stats.b);
+    if (pair.stats.b == 1 || pair.stats.a == 1) {  // the tetrahedron touches the others at X only
+      CHECK(pair.stats.touching_only);
+      CHECK(pair.stats.contact_points == 1);
+    } else {
+      CHECK(pair.stats.curves >= 1);
+      bool through_x = false;  // the cube's curve with the box passes through X
+      for (const auto& c : pair.curves) through_x = through_x || std::find(c.begin(), c.end(), p) != c.end();
+      CHECK(through_x);
+    }
+  }
 }

@@ -13,8 +13,10 @@
 //      overlap in one place, and the meeting point lies exactly on the three surfaces. Under the
 //      exact kernel it is made a vertex of all three tows (the face or edge holding it is cut;
 //      the surfaces are unchanged) and the curves of their pairs are computed again: they then
-//      all pass through that common vertex, where the embeddings meet. Under the rounded kernels,
-//      or where two curves overlap along a segment, the run stops with InvalidInput naming the
+//      all pass through that common vertex, where the embeddings meet. A point where two tows
+//      touch (4a) inside a curve segment of one of them with a third is such a meeting too.
+//      Under the rounded kernels, or where two curves overlap along a segment (as where a tow
+//      crosses an area over which two others coincide), the run stops with InvalidInput naming the
 //      three tows (no output is produced); curves of a rounded kernel that meet within rounding
 //      can also go unseen and stop the embedding of the tow with an InternalError naming it.
 //   4. Tows (concurrently): each tow receives every curve that involves it in one seam::embed
@@ -32,7 +34,9 @@
 //      of the smallest mean edge length, as seam::pair). Its acceptance predicate tests every
 //      edit against every tow, so no edit makes two tows cross.
 //   6. Verify: every pair's outputs and curves, rounded to doubles as written, checked with
-//      seam::check_pair (exact kernel) at TextileStats::verify_tolerance. If one fails, the tows
+//      seam::check_pair (exact kernel) at TextileStats::verify_tolerance (the snapping's and the
+//      closing's moves, plus step 5's tolerance or the closing's, whichever is larger, and at
+//      least 1e-9 of the pair's diagonal). If one fails, the tows
 //      as they were before step 5 are verified instead; if one fails then too, InternalError
 //      names the pair and the problem (the meshes are left modified).
 //
@@ -136,9 +140,10 @@ struct TextileStats {
   std::size_t touching_pairs = 0;      ///< touching without crossing
   std::size_t triple_points = 0;       ///< points where three tows meet, made vertices of all three
   /// Step 2c: vertices moved onto a curve to close a feature thinner than the vertex separation,
-  /// and the largest move (verify_tolerance includes it).
+  /// the largest move, and (when any moved) how far a part of an intersection could move with
+  /// them: verify_tolerance includes the move and that tolerance.
   std::size_t vertices_closed = 0;
-  double max_close_move = 0;
+  double max_close_move = 0, close_tolerance = 0;
   int threads = 0;                     ///< threads of the task arena
   /// Step 5: done (some pair has curves and options.improve), its figures over all tows (mesh
   /// indices are tow indices), and its tolerance.
