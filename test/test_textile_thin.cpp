@@ -12,8 +12,13 @@
 #include <seam/textile.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <string>
 #include <vector>
+
+#include <sys/wait.h>
+
+#include "test_support.h"
 
 namespace {
 
@@ -148,4 +153,46 @@ TEST_CASE("textile: a point of contact inside another pair's curve segment is a 
       CHECK(through_x);
     }
   }
+}
+
+TEST_CASE("cli: seam textile writes a curves file of the points where tows touch, which seam check passes",
+          "[textile][cli]") {
+  // The three tows of the closing test above: cube x poking (closed into a point of contact),
+  // cube x crossing (a curve), from files, on 1 and 2 threads.
+  seam_test::TempDir dir("seam_test_textile_thin");
+  const std::vector<std::string> names{"cube", "poking", "crossing"};
+  const std::vector<seam::TriangleSoup> soups{
+      unit_cube(), tetrahedron({0.2, 0.2, 0.5}, {0.8, 0.2, 0.5}, {0.5, 0.8, 0.5}, {0.5, 0.5, 1 + 1e-9}),
+      tetrahedron({0.3, 0.3, -0.3}, {0.7, 0.3, -0.3}, {0.5, 0.7, -0.3}, {0.5, 0.5, 0.3})};
+  std::string tows;
+  for (std::size_t i = 0; i < soups.size(); ++i) {
+    seam::write_triangle_mesh(soups[i], dir.file(names[i] + ".off"));
+    tows += " '" + dir.file(names[i] + ".off") + "'";
+  }
+  const std::string seam = SEAM_CLI_PATH;
+  auto run = [](const std::string& command) {
+    const int status = std::system(command.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  for (const int threads : {1, 2}) {
+    const std::string out = dir.file("out" + std::to_string(threads));
+    REQUIRE(run(seam + " textile" + tows + " --out-dir '" + out + "' --quiet --threads " + std::to_string(threads) +
+                " > '" + dir.file("log") + "'") == 0);
+    const std::string log = seam_test::read_bytes(dir.file("log"));
+    const auto at = log.find("verified (seam check --tol ");
+    REQUIRE(at != std::string::npos);
+    const std::string tol = log.substr(at + 27, log.find(')', at) - at - 27);
+    // The touching pair has a file: its one point, the apex moved onto the top face.
+    const auto contact = seam::read_polylines(out + "/cube__poking.polylines.txt");
+    REQUIRE(contact.size() == 1);
+    REQUIRE(contact[0].size() == 1);
+    CHECK(contact[0][0][2] == 1.0);
+    for (const std::string other : {"poking", "crossing"})
+      CHECK(run(seam + " check '" + dir.file("cube.off") + "' '" + dir.file(other + ".off") + "' '" + out +
+                "/cube.off' '" + out + "/" + other + ".off' '" + out + "/cube__" + other + ".polylines.txt' --tol " +
+                tol + " > /dev/null") == 0);
+  }
+  for (const std::string file : {"cube.off", "poking.off", "crossing.off", "cube__poking.polylines.txt",
+                                 "cube__crossing.polylines.txt"})  // byte-identical for 1 and 2 threads
+    CHECK(seam_test::read_bytes(dir.file("out1") + "/" + file) == seam_test::read_bytes(dir.file("out2") + "/" + file));
 }
