@@ -12,13 +12,14 @@ Prints one row per cell. Skips cleanly when the data is absent. Standard library
 """
 import argparse
 import json
+import math
 import os
 import subprocess
 import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from real_tows import FILES, read_off, read_stl, transformed, write_off  # noqa: E402
+from real_tows import FILES, read_off, read_stl, tetgen_merged, transformed, write_off  # noqa: E402
 
 # name, tows: (tow, ops) each
 CELLS = [
@@ -39,36 +40,6 @@ CELLS = [
     ('weft between two copies moved along y by +-0.5 (grid planes kept; all three overlap along their length)',
      [('weft', []), ('weft', [('move', (0, 0.5, 0))]), ('weft', [('move', (0, -0.5, 0))])]),
 ]
-
-
-def merged_tetgen(paths, merged, workdir):
-    """All outputs as one surface (vertices merged by exact coordinates, a face of two tows
-    written once), through tetgen -d: 'clean', 'N pairs' or 'error'."""
-    index, points, faces, seen = {}, [], [], set()
-    for path in paths:
-        p, f = read_off(path)
-        m = []
-        for q in p:
-            if q not in index:
-                index[q] = len(points)
-                points.append(q)
-            m.append(index[q])
-        for t in f:
-            g = tuple(m[k] for k in t)
-            key = tuple(sorted(g))
-            if key not in seen:
-                seen.add(key)
-                faces.append(g)
-    write_off(merged, points, faces)
-    try:
-        out = subprocess.run(['tetgen', '-d', merged], cwd=workdir, capture_output=True, text=True,
-                             timeout=1800).stdout
-    except (OSError, subprocess.TimeoutExpired):
-        return 'error'
-    if 'No faces are intersecting' in out:
-        return 'clean'
-    at = out.find('!! Found ')
-    return (out[at + 9:].split()[0] + ' pairs') if at >= 0 else 'error'
 
 
 def main():
@@ -136,8 +107,8 @@ def main():
                     angle = min_angle(corners)
                     b10 += angle < 10
                     b20 += angle < 20
-            verdict = merged_tetgen([os.path.join(out_dir, 't%d.off' % k) for k in range(len(parts))],
-                                    os.path.join(work, 'merged.off'), work)
+            verdict = tetgen_merged([os.path.join(out_dir, 't%d.off' % k) for k in range(len(parts))],
+                                    os.path.join(work, 'merged.off'), work, timeout=1800)
             row = '| %d | %s | %d | 0 | %.1f | %d (%d) | %s | %s | %d | %d (%.1f%%) | %d (%.1f%%) |' % (
                 n, name, len(parts), seconds, len(pairs), r['triple_points'],
                 'OK' if all(checks) else '%d of %d fail' % (checks.count(False), len(checks)), verdict, new, b10,
@@ -151,7 +122,7 @@ def main():
 
 
 def min_angle(p):
-    import math
+    """The smallest angle (degrees) of the triangle of three points."""
     best = 180.0
     for k in range(3):
         a, b, c = p[k], p[(k + 1) % 3], p[(k + 2) % 3]

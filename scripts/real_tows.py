@@ -132,8 +132,14 @@ FILES = {'weft': 'profile_0_weft.stl', 'binder': 'profile_51_binder.stl'}
 def tetgen_verdict(a2, b2, merged, workdir):
     """Merges the outputs (vertices by exact coordinates; a face in both written once) and runs
     tetgen -d: 'clean', 'N pairs', or 'error'."""
+    return tetgen_merged([a2, b2], merged, workdir)
+
+
+def tetgen_merged(paths, merged, workdir, timeout=600):
+    """The meshes of `paths` as one surface (vertices merged by exact coordinates, a face of two
+    meshes written once) in `merged`, through tetgen -d: 'clean', 'N pairs', or 'error'."""
     index, points, faces, seen = {}, [], [], set()
-    for path in (a2, b2):
+    for path in paths:
         p, f = read_off(path)
         m = []
         for q in p:
@@ -150,7 +156,8 @@ def tetgen_verdict(a2, b2, merged, workdir):
             faces.append(g)
     write_off(merged, points, faces)
     try:
-        out = subprocess.run(['tetgen', '-d', merged], cwd=workdir, capture_output=True, text=True, timeout=600).stdout
+        out = subprocess.run(['tetgen', '-d', merged], cwd=workdir, capture_output=True, text=True,
+                             timeout=timeout).stdout
     except (OSError, subprocess.TimeoutExpired):
         return 'error'
     if 'No faces are intersecting' in out:
