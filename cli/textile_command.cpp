@@ -327,8 +327,8 @@ int run_textile(TextileArgs& args) {
       }
       for (std::size_t k = 0; k < result.pairs.size(); ++k) {
         const auto& s = result.pairs[k].stats;
-        j["pairs"][k]["polylines"] =
-            s.curves + s.contact_points > 0 && !args.resolve ? nlohmann::json(curves_out(s.a, s.b)) : nlohmann::json(nullptr);
+        const bool has_file = s.curves + s.contact_points > 0 && !args.resolve;
+        j["pairs"][k]["polylines"] = has_file ? nlohmann::json(curves_out(s.a, s.b)) : nlohmann::json(nullptr);
         const auto done = std::find(resolved_pairs.begin(), resolved_pairs.end(), std::make_pair(s.a, s.b));
         if (done != resolved_pairs.end()) {
           const seam::ResolveStats& rs = resolved[std::size_t(done - resolved_pairs.begin())];

@@ -510,7 +510,8 @@ void improve_and_verify(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>
   if (!options.verify_output) return;
   const auto t = Clock::now();
   std::string problem;
-  st.verified = verify_pairs<K>(inputs, meshes, names, result, snapped + std::max(st.improve_tolerance, closed), problem);
+  st.verified =
+      verify_pairs<K>(inputs, meshes, names, result, snapped + std::max(st.improve_tolerance, closed), problem);
   if (!st.verified && before) {
     const std::string improved_problem = problem;
     meshes = std::move(before->first);
@@ -879,8 +880,10 @@ template <class K> class TextileRun {
           any = true;
           if (!kernel_traits<K>::exact_constructions)
             refuse(tow, m, "only the exact kernel makes such a point a vertex of the three tows: use --kernel exact");
-          if (!m.point) refuse(tow, m, "the curves overlap along a segment there (as where a tow crosses an area over which the other "
-                                  "two coincide): seam textile cannot embed that");
+          if (!m.point)
+            refuse(tow, m,
+                   "the curves overlap along a segment there (as where a tow crosses an area over which the "
+                   "other two coincide): seam textile cannot embed that");
           if (round >= 4) refuse(tow, m, "making the meeting points vertices of the three tows did not end");
           bool inserted = false, known = false;
           for (std::size_t x : {tow, other(m.p, tow), other(m.q, tow)}) {

@@ -156,7 +156,9 @@ struct TextileStats {
   bool verified = false;
   double verify_tolerance = 0;
   std::string note;
-  std::map<std::string, double> stage_seconds;  ///< prepare, boxes, pairs, snap, close, triples, tows, compare, flat_contacts, improve, verify
+  /// prepare, boxes, pairs, snap, close, triples, tows, compare, contact_points, flat_contacts,
+  /// improve, verify
+  std::map<std::string, double> stage_seconds;
 };
 
 template <class K> struct TextileResult {
