@@ -339,14 +339,23 @@ CurveFaceQuality curve_face_quality(const Mesh<K>& mesh,
 
 template <class K> using CurveVertices = std::vector<std::vector<typename Mesh<K>::Vertex_index>>;
 
-/// The smallest mean edge length of the input tows that are in a pair with curves (the scale of
-/// the quality stage's automatic tolerance and feature size).
-template <class K> double smallest_mean_edge(const std::vector<Mesh<K>>& inputs, const TextileResult<K>& result) {
+/// The smallest mean edge length of the tows of `pairs` (tow indices into `meshes`): the scale of
+/// the quality stage's automatic tolerance and feature size.
+template <class K>
+double smallest_mean_edge(const std::vector<Mesh<K>>& meshes,
+                          const std::vector<std::pair<std::size_t, std::size_t>>& pairs) {
   double smallest = std::numeric_limits<double>::max();
-  for (const auto& pair : result.pairs)
-    if (!pair.curves.empty())
-      for (const std::size_t i : {pair.stats.a, pair.stats.b}) smallest = std::min(smallest, mean_edge_length<K>(inputs[i]));
+  for (const auto& [a, b] : pairs)
+    for (const std::size_t i : {a, b}) smallest = std::min(smallest, mean_edge_length<K>(meshes[i]));
   return smallest;
+}
+
+/// The same over the input tows of the pairs with curves (or points of contact).
+template <class K> double smallest_mean_edge(const std::vector<Mesh<K>>& inputs, const TextileResult<K>& result) {
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  for (const auto& pair : result.pairs)
+    if (!pair.curves.empty()) pairs.emplace_back(pair.stats.a, pair.stats.b);
+  return smallest_mean_edge<K>(inputs, pairs);
 }
 
 /// The quality stage's options (step 5), from the textile options and the tows' scale.
@@ -764,16 +773,14 @@ template <class K> class TextileRun {
   }
 
   /// How far step 2c may move a part of a pair's intersection: the quality stage's tolerance
-  /// (ImproveOptions::tolerance; automatic: a tenth of the smallest mean edge length of the tows
-  /// in a pair with curves), whether or not that stage runs.
+  /// (quality_options: automatic, a tenth of the smallest mean edge length of the tows in a pair
+  /// with curves), whether or not that stage runs.
   double close_tolerance() const {
-    if (options_.quality.tolerance >= 0) return options_.quality.tolerance;
-    double smallest = std::numeric_limits<double>::max();
+    std::vector<std::pair<std::size_t, std::size_t>> pairs;
     for (const auto& w : work_)
-      if (!w.for_a.empty())
-        for (const std::size_t tow : {w.a, w.b})
-          smallest = std::min(smallest, mean_edge_length<K>(inputs_.empty() ? meshes_[tow] : inputs_[tow]));
-    return smallest < std::numeric_limits<double>::max() ? 0.1 * smallest : 0.0;
+      if (!w.for_a.empty()) pairs.emplace_back(w.a, w.b);
+    if (pairs.empty()) return 0;
+    return quality_options(options_, smallest_mean_edge<K>(inputs_.empty() ? meshes_ : inputs_, pairs)).tolerance;
   }
 
   /// Where the curves of two pairs of one tow meet (segments of each that intersect).
