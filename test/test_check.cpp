@@ -23,6 +23,7 @@
 #include <sys/wait.h>
 
 #include "test_support.h"
+#include "tow_fixtures.h"
 
 #ifndef SEAM_CLI_PATH
 #error "SEAM_CLI_PATH (path of the seam binary) must be defined by the build"
@@ -36,12 +37,7 @@ using E = seam::Exact;
 
 /// An axis-aligned cube [o, o + s]^3 as a closed, outward-oriented triangle soup.
 seam::TriangleSoup cube_soup(double ox, double oy, double oz, double s = 1.0) {
-  seam::TriangleSoup soup;
-  for (int i = 0; i < 8; ++i)  // corner i = x + 2y + 4z
-    soup.points.push_back({ox + s * (i & 1), oy + s * ((i >> 1) & 1), oz + s * ((i >> 2) & 1)});
-  soup.triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
-                    {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
-  return soup;
+  return seam_test::box_soup({ox, oy, oz}, {ox + s, oy + s, oz + s});
 }
 
 template <class K> seam::Mesh<K> cube(double ox, double oy, double oz, double s = 1.0) {

@@ -437,9 +437,7 @@ TEST_CASE("pair: the seam pair command conforms two tow files and seam check acc
   seam::write_triangle_mesh(seam::make_tow(c.warp), dir.file("b.off"));
   const std::string seam = SEAM_CLI_PATH;
   auto run = [&](const std::string& args) {
-    const std::string cmd = "cd '" + dir.path.string() + "' && '" + seam + "' " + args + " > out.log 2> err.log";
-    const int status = std::system(cmd.c_str());
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return seam_test::run_command("cd '" + dir.path.string() + "' && '" + seam + "' " + args + " > out.log 2> err.log");
   };
   REQUIRE(run("pair a.off b.off --out-a a2.off --out-b b2.off --curves-out c.txt --report r.json --vtk p.vtu") == 0);
   for (const char* f : {"a2.off", "b2.off", "c.txt", "r.json", "p.vtu"}) CHECK(std::filesystem::exists(dir.file(f)));

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "tow_fixtures.h"
+
 namespace {
 
 using K = seam::Exact;
@@ -23,12 +25,8 @@ using M = seam::Mesh<K>;
 /// The unit cube, and a tetrahedron inside it whose apex pokes 1e-9 out through the top face:
 /// the two surfaces cross in a triangle about 1e-9 across around the apex.
 std::pair<M, M> cube_and_poking_tetrahedron() {
-  seam::TriangleSoup cube, tet;
-  for (int i = 0; i < 8; ++i) cube.points.push_back({double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)});
-  cube.triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
-                    {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
-  tet.points = {{0.2, 0.2, 0.5}, {0.8, 0.2, 0.5}, {0.5, 0.8, 0.5}, {0.5, 0.5, 1 + 1e-9}};
-  tet.triangles = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}};
+  const auto cube = seam_test::box_soup({0, 0, 0}, {1, 1, 1});
+  const auto tet = seam_test::tetrahedron({0.2, 0.2, 0.5}, {0.8, 0.2, 0.5}, {0.5, 0.8, 0.5}, {0.5, 0.5, 1 + 1e-9});
   return {seam::mesh_from_soup<K>(cube, "cube"), seam::mesh_from_soup<K>(tet, "tetrahedron")};
 }
 

@@ -6,7 +6,9 @@
 #include <seam/types.h>
 
 #include <cmath>
+#include <cstdlib>
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -45,6 +47,12 @@ inline long status_kb(const std::string& field) {
   while (std::getline(in, line))
     if (line.rfind(field + ":", 0) == 0) return std::stol(line.substr(field.size() + 1));
   return -1;
+}
+
+/// Runs a shell command; its exit code, or -1 when it did not exit normally.
+inline int run_command(const std::string& command) {
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 inline std::string read_bytes(const std::string& path) {

@@ -93,10 +93,7 @@ std::set<std::pair<std::string, std::string>> pair_names(const Cell& cell, const
   return s;
 }
 
-int run(const std::string& command) {
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+using seam_test::run_command;
 
 /// Writes meshes as one OFF with their common vertices merged (what a volume mesher is given).
 void write_merged(const std::vector<seam::TriangleSoup>& soups, const std::string& path) {
@@ -118,7 +115,7 @@ void write_merged(const std::vector<seam::TriangleSoup>& soups, const std::strin
 /// intersecting."), or -1 when its output says neither.
 long tetgen_intersecting_pairs(const std::string& off, const seam_test::TempDir& dir) {
   const std::string log = dir.file("tetgen.log");
-  run("cd '" + dir.path.string() + "' && tetgen -d '" + off + "' > '" + log + "' 2>&1");
+  run_command("cd '" + dir.path.string() + "' && tetgen -d '" + off + "' > '" + log + "' 2>&1");
   const std::string text = seam_test::read_bytes(log);
   if (text.find("No faces are intersecting.") != std::string::npos) return 0;
   const auto at = text.find("!! Found ");
@@ -456,12 +453,12 @@ TEST_CASE("cli: seam textile writes every tow and pair, seam check passes on eac
   seam_test::write_bytes(dir.file("tows.txt"), "# the cell\n" + list);
   const std::string seam = SEAM_CLI_PATH;
   const std::string out1 = dir.file("out1"), out2 = dir.file("out2");
-  REQUIRE(run(seam + " textile" + tows + " --out-dir '" + out1 + "' --threads 1 --report '" + dir.file("r.json") +
-              "' > '" + dir.file("log1") + "' 2> '" + dir.file("err1") + "'") == 0);
+  REQUIRE(run_command(seam + " textile" + tows + " --out-dir '" + out1 + "' --threads 1 --report '" +
+                      dir.file("r.json") + "' > '" + dir.file("log1") + "' 2> '" + dir.file("err1") + "'") == 0);
   // Progress on stderr by default.
   CHECK_THAT(seam_test::read_bytes(dir.file("err1")), Catch::Contains("pairs 4/4"));
-  REQUIRE(run(seam + " textile --tows '" + dir.file("tows.txt") + "' --out-dir '" + out2 +
-              "' --threads 2 --quiet > /dev/null 2> '" + dir.file("err2") + "'") == 0);
+  REQUIRE(run_command(seam + " textile --tows '" + dir.file("tows.txt") + "' --out-dir '" + out2 +
+                      "' --threads 2 --quiet > /dev/null 2> '" + dir.file("err2") + "'") == 0);
   CHECK(seam_test::read_bytes(dir.file("err2")).empty());  // --quiet
 
   const std::vector<std::string> expected = {"warp0.off",
@@ -488,7 +485,7 @@ TEST_CASE("cli: seam textile writes every tow and pair, seam check passes on eac
       const std::string cmd = seam + " check '" + dir.file(a + ".off") + "' '" + dir.file(b + ".off") + "' '" + out1 +
                               "/" + a + ".off' '" + out1 + "/" + b + ".off' '" + out1 + "/" + a + "__" + b +
                               ".polylines.txt' --tol " + tol + " > /dev/null";
-      CHECK(run(cmd) == 0);
+      CHECK(run_command(cmd) == 0);
     }
   const std::string report = seam_test::read_bytes(dir.file("r.json"));
   CHECK_THAT(report, Catch::Contains("\"intersecting_pairs\": 4"));
@@ -511,8 +508,8 @@ TEST_CASE("cli: seam textile rejects bad input with exit 2, one line, and writes
   };
   for (const auto& [args, needle] : cases) {
     INFO(args);
-    CHECK(run(seam + " textile " + args + " --out-dir '" + out + "' --quiet > /dev/null 2> '" + dir.file("err") + "'") ==
-          2);
+    CHECK(run_command(seam + " textile " + args + " --out-dir '" + out + "' --quiet > /dev/null 2> '" +
+                      dir.file("err") + "'") == 2);
     const std::string err = seam_test::read_bytes(dir.file("err"));
     CHECK_THAT(err, Catch::StartsWith("seam: ") && Catch::Contains(needle));
     CHECK(std::count(err.begin(), err.end(), '\n') == 1);

@@ -12,36 +12,20 @@
 #include <seam/textile.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <string>
 #include <vector>
 
-#include <sys/wait.h>
-
 #include "test_support.h"
+#include "tow_fixtures.h"
 
 namespace {
 
 using K = seam::Exact;
 using M = seam::Mesh<K>;
 
-seam::TriangleSoup unit_cube() {
-  seam::TriangleSoup cube;
-  for (int i = 0; i < 8; ++i) cube.points.push_back({double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)});
-  cube.triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
-                    {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
-  return cube;
-}
+seam::TriangleSoup unit_cube() { return seam_test::box_soup({0, 0, 0}, {1, 1, 1}); }
 
-/// A tetrahedron on the triangle (a, b, c) (counter-clockwise seen from the apex's side) with
-/// its apex at `apex`.
-seam::TriangleSoup tetrahedron(const seam::Point3d& a, const seam::Point3d& b, const seam::Point3d& c,
-                               const seam::Point3d& apex) {
-  seam::TriangleSoup tet;
-  tet.points = {a, b, c, apex};
-  tet.triangles = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}};
-  return tet;
-}
+using seam_test::tetrahedron;
 
 bool has_vertex_at(const M& m, const K::Point_3& p) {
   for (auto v : m.vertices())
@@ -130,8 +114,7 @@ TEST_CASE("textile: a point of contact inside another pair's curve segment is a 
   // The unit cube; a box standing through its top face (their curve runs along y = 0.3 on the top,
   // through (0.3, 0.3, 1) and (0.5, 0.3, 1)); a tetrahedron outside both, standing on its apex at
   // X = (0.4, 0.3, 1): it touches the cube and the box at X only, inside that curve segment.
-  seam::TriangleSoup box = unit_cube();
-  for (auto& p : box.points) p = {0.3 + 0.4 * p[0], 0.3 + 0.4 * p[1], 0.5 + p[2]};
+  const seam::TriangleSoup box = seam_test::box_soup({0.3, 0.3, 0.5}, {0.7, 0.7, 1.5});
   const seam::Point3d x{0.4, 0.3, 1.0};
   const std::vector<seam::TriangleSoup> soups{
       unit_cube(), tetrahedron({0.3, 0.05, 1.5}, {0.4, 0.25, 1.5}, {0.5, 0.05, 1.5}, x), box};
@@ -170,10 +153,7 @@ TEST_CASE("cli: seam textile writes a curves file of the points where tows touch
     tows += " '" + dir.file(names[i] + ".off") + "'";
   }
   const std::string seam = SEAM_CLI_PATH;
-  auto run = [](const std::string& command) {
-    const int status = std::system(command.c_str());
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  };
+  const auto run = seam_test::run_command;
   for (const int threads : {1, 2}) {
     const std::string out = dir.file("out" + std::to_string(threads));
     REQUIRE(run(seam + " textile" + tows + " --out-dir '" + out + "' --quiet --threads " + std::to_string(threads) +

@@ -1,4 +1,4 @@
-// Test fixtures shared by the real-like and resolve tests: a small generated tow, and
+// Test fixtures shared by the test files: a small generated tow, a box and a tetrahedron, and
 // `tetgen -d` on two meshes merged as a volume mesher gets them.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
@@ -32,6 +32,26 @@ inline seam::TowOptions small_tow() {
   t.segments_around = 18;
   t.translate = {-2, 0, 0};
   return t;
+}
+
+/// The axis-aligned box [lo, hi] as a closed, outward-oriented triangle soup (corner i = x + 2y + 4z).
+inline seam::TriangleSoup box_soup(const seam::Point3d& lo, const seam::Point3d& hi) {
+  seam::TriangleSoup soup;
+  for (int i = 0; i < 8; ++i)
+    soup.points.push_back({(i & 1) ? hi[0] : lo[0], ((i >> 1) & 1) ? hi[1] : lo[1], ((i >> 2) & 1) ? hi[2] : lo[2]});
+  soup.triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                    {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+  return soup;
+}
+
+/// A tetrahedron on the triangle (a, b, c), counter-clockwise seen from the apex's side, with its
+/// apex at `apex` (outward-oriented).
+inline seam::TriangleSoup tetrahedron(const seam::Point3d& a, const seam::Point3d& b, const seam::Point3d& c,
+                                      const seam::Point3d& apex) {
+  seam::TriangleSoup tet;
+  tet.points = {a, b, c, apex};
+  tet.triangles = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}};
+  return tet;
 }
 
 /// Surfaces as one OFF file as a volume mesher gets them: vertices with the same coordinates
