@@ -915,6 +915,8 @@ template <class K> class FlatContactUnifier {
     };
     curve_segments_a_ = segments_of(curves.vertices_a);
     curve_segments_b_ = segments_of(curves.vertices_b);
+    for (const auto* list : others_.a) other_segments_a_.merge(segments_of({*list}));
+    for (const auto* list : others_.b) other_segments_b_.merge(segments_of({*list}));
   }
 
   FlatContactStats run() {
@@ -1047,6 +1049,8 @@ template <class K> class FlatContactUnifier {
     edges_b_.assign(count_, {});
     border_b_.assign(count_, {});
     not_curve_.assign(count_, {});
+    other_a_.assign(count_, {});
+    other_b_.assign(count_, {});
     fixed_.assign(count_, {});
     area_.assign(count_, 0.0);
     axis_set_.assign(count_, 0);
@@ -1088,6 +1092,8 @@ template <class K> class FlatContactUnifier {
         const V s = m.source(h), t = m.target(h);
         if (!(is_a ? curve_segments_a_ : curve_segments_b_).count({std::min(s, t), std::max(s, t)}))
           not_curve_[p].insert(e);
+        if ((is_a ? other_segments_a_ : other_segments_b_).count({std::min(s, t), std::max(s, t)}))
+          (is_a ? other_a_ : other_b_)[p].insert(e);
         const auto g = m.face(m.opposite(h));
         if (g == M::null_face() || patch_of[std::size_t(g)] != pi) {
           (is_a ? patches_[p].border : border_b_[p]).insert(e);
@@ -1203,7 +1209,10 @@ template <class K> class FlatContactUnifier {
         for (const auto& e : edges_a_[p]) {
           if (!edges_b_[p].count(e)) continue;
           const bool curve = !not_curve_[p].count(e);
-          if (curve || patch.border.count(e)) patch.constraints.push_back(e);
+          // A segment of other curves both meshes hold (a third tow's curves with each, where
+          // it crosses the contact) is kept as it is: a constraint never split.
+          const bool other_curve = other_a_[p].count(e) && other_b_[p].count(e);
+          if (curve || other_curve || patch.border.count(e)) patch.constraints.push_back(e);
           if (curve && !fixed_[p].count(e)) patch.splittable.insert(e);
         }
         for (const auto& e : patch.border)
@@ -1232,6 +1241,7 @@ template <class K> class FlatContactUnifier {
   const FlatContactOptions options_;
   const OtherCurveVertices<K> others_;
   std::set<std::pair<V, V>> curve_segments_a_, curve_segments_b_;  ///< (smaller vertex first)
+  std::set<std::pair<V, V>> other_segments_a_, other_segments_b_;  ///< of `others_`, alike
   std::vector<char> contact_;  ///< per face of A, then of B: in a flat contact
   DisjointSets sets_{na_ + nb_};
   std::vector<long> patch_of_a_, patch_of_b_;
@@ -1242,6 +1252,8 @@ template <class K> class FlatContactUnifier {
   /// Per patch: its edges that are no curve segment in A or in B; its border edges whose face
   /// beyond (in A or in B) may not be split (another patch's, or frozen).
   std::vector<std::set<std::pair<std::size_t, std::size_t>>> not_curve_, fixed_;
+  /// Per patch: its edges that are segments of `others_` in A, in B (point ids).
+  std::vector<std::set<std::pair<std::size_t, std::size_t>>> other_a_, other_b_;
   std::vector<double> area_;
   std::vector<char> axis_set_;
 };

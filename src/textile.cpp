@@ -3,6 +3,7 @@
 #include <seam/check.h>
 #include <seam/io.h>
 #include <seam/internal/contact_points.h>
+#include <seam/internal/curve_pieces.h>
 #include <seam/internal/flat_contacts.h>
 #include <seam/internal/intersection_curves.h>
 #include <seam/internal/message.h>
@@ -435,22 +436,13 @@ void improve_tows(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& inpu
     input_angles[i] = internal::face_min_angles<K>(inputs[i]);
     tows.push_back({&meshes[i], &inputs[i], &input_angles[i]});
   }
-  // Every curve of every pair, held by its two tows.
-  internal::SharedCurves<K> shared;
-  shared.vertices.resize(meshes.size());
-  std::vector<std::size_t> first(result.pairs.size() + 1, 0);
-  for (std::size_t p = 0; p < result.pairs.size(); ++p) {
-    const auto& pair = result.pairs[p];
-    first[p] = shared.curves.size();
-    for (std::size_t c = 0; c < pair.curves.size(); ++c) {
-      shared.curves.push_back(pair.curves[c]);
-      for (std::size_t i = 0; i < meshes.size(); ++i)
-        shared.vertices[i].push_back(i == pair.stats.a   ? pair_vertices[p][0][c]
-                                     : i == pair.stats.b ? pair_vertices[p][1][c]
-                                                         : std::vector<typename Mesh<K>::Vertex_index>{});
-    }
-  }
-  first[result.pairs.size()] = shared.curves.size();
+  // Every curve of every pair, held by its two tows; where curves of two pairs run along the same
+  // segments (a tow crossing a flat contact of two others), cut into pieces that share none.
+  std::vector<internal::PairCurveRefs<K>> refs;
+  for (std::size_t p = 0; p < result.pairs.size(); ++p)
+    refs.push_back({result.pairs[p].stats.a, result.pairs[p].stats.b, &result.pairs[p].curves, &pair_vertices[p][0],
+                    &pair_vertices[p][1]});
+  internal::CurvePieces<K> pieces = internal::cut_into_pieces<K>(refs, meshes.size());
   ImproveOptions io = quality_options(options, smallest_mean_edge<K>(inputs, result));
   // No new point closer to a vertex than the vertex separation seam check requires of a pair
   // (min_vertex_separation x the diagonal of the two tows), for the widest pair: so for every pair.
@@ -460,14 +452,11 @@ void improve_tows(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& inpu
       widest_pair = std::max(widest_pair, internal::bbox_diagonal<K>(inputs[pair.stats.a], inputs[pair.stats.b]));
   io.min_separation = std::max(io.min_separation, min_vertex_separation * widest_pair);
   st.improve_tolerance = io.tolerance;
-  st.improve = internal::improve<K>(tows, shared, io);
+  st.improve = internal::improve<K>(tows, pieces.shared, io);
   st.improved = true;
+  internal::join_pieces<K>(pieces, refs);
   for (std::size_t p = 0; p < result.pairs.size(); ++p) {
     auto& pair = result.pairs[p];
-    const auto b = std::ptrdiff_t(first[p]), e = std::ptrdiff_t(first[p + 1]);
-    pair.curves.assign(shared.curves.begin() + b, shared.curves.begin() + e);
-    pair_vertices[p][0].assign(shared.vertices[pair.stats.a].begin() + b, shared.vertices[pair.stats.a].begin() + e);
-    pair_vertices[p][1].assign(shared.vertices[pair.stats.b].begin() + b, shared.vertices[pair.stats.b].begin() + e);
     pair.stats.curve_vertices = 0;
     for (const auto& c : pair.curves) pair.stats.curve_vertices += c.size() - (is_closed(c) ? 1 : 0);
     pair.stats.quality_a = curve_face_quality<K>(meshes[pair.stats.a], pair_vertices[p][0]);
@@ -512,15 +501,21 @@ void improve_and_verify(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>
   const double closed = st.close_tolerance;
   const bool improve = options.improve && st.intersecting_pairs > 0;
   std::optional<std::pair<std::vector<Mesh<K>>, std::vector<TextilePair<K>>>> before;
+  std::string improve_failed;
   if (improve) {
     if (options.verify_output) before.emplace(meshes, result.pairs);
-    improve_tows<K>(meshes, inputs, result, pair_vertices, options);
+    try {
+      improve_tows<K>(meshes, inputs, result, pair_vertices, options);
+    } catch (const InternalError& e) {  // verified as without it, below
+      if (!before) throw;
+      improve_failed = e.what();
+    }
   }
   if (!options.verify_output) return;
   const auto t = Clock::now();
-  std::string problem;
-  st.verified =
-      verify_pairs<K>(inputs, meshes, names, result, snapped + std::max(st.improve_tolerance, closed), problem);
+  std::string problem = improve_failed;
+  st.verified = improve_failed.empty() && verify_pairs<K>(inputs, meshes, names, result,
+                                                          snapped + std::max(st.improve_tolerance, closed), problem);
   if (!st.verified && before) {
     const std::string improved_problem = problem;
     meshes = std::move(before->first);
@@ -528,8 +523,9 @@ void improve_and_verify(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>
     st.verify_tolerance = 0;
     st.verified = verify_pairs<K>(inputs, meshes, names, result, snapped + closed, problem);
     if (st.verified)
-      internal::append_note(st.note, "the quality stage's result failed seam check's tests (" + improved_problem +
-                                         "): the tows before it are given");
+      internal::append_note(st.note, (improve_failed.empty() ? "the quality stage's result failed seam check's tests ("
+                                                              : "the quality stage failed (") +
+                                         improved_problem + "): the tows before it are given");
     else problem = improved_problem + "; without the quality stage: " + problem;
   }
   st.stage_seconds["verify"] = seconds_since(t);
@@ -786,8 +782,10 @@ template <class K> class TextileRun {
   /// Where the curves of two pairs of one tow meet (segments of each that intersect).
   struct Meeting {
     bool found = false, point = false;
+    bool along = false;  // an end of an overlap along a segment: made a vertex of this tow only
     std::size_t p = 0, q = 0;  // the two pairs whose curves meet
     Point at;
+    Point middle;  // along: the middle of the overlap
   };
 
   [[noreturn]] void refuse(std::size_t tow, const Meeting& m, const char* why) const {
@@ -831,9 +829,18 @@ template <class K> class TextileRun {
       // Allowed: two curves through a common end point that is a vertex of this tow (a triple
       // point made a vertex below), not overlapping.
       const Point* common = *u.p == *v.p || *u.p == *v.q ? u.p : *u.q == *v.p || *u.q == *v.q ? u.q : nullptr;
-      if (common && !(CGAL::collinear(*u.p, *u.q, *v.p) && CGAL::collinear(*u.p, *u.q, *v.q)) &&
-          is_vertex<K>(meshes_[tow], *common))
-        return;
+      const bool collinear = CGAL::collinear(*u.p, *u.q, *v.p) && CGAL::collinear(*u.p, *u.q, *v.q);
+      if (common && is_vertex<K>(meshes_[tow], *common)) {
+        const Point& u_end = common == u.p ? *u.q : *u.p;
+        const Point& v_end = *common == *v.p ? *v.q : *v.p;
+        const bool overlap = collinear && (typename K::Segment_3(*v.p, *v.q).has_on(u_end) ||
+                                           typename K::Segment_3(*u.p, *u.q).has_on(v_end));
+        if (!overlap) return;
+      }
+      // Allowed too: one segment of both curves, between two vertices of this tow (where the tow
+      // crosses an area over which the other two coincide; made so below).
+      const bool same = (*u.p == *v.p && *u.q == *v.q) || (*u.p == *v.q && *u.q == *v.p);
+      if (same && is_vertex<K>(meshes_[tow], *u.p) && is_vertex<K>(meshes_[tow], *u.q)) return;
       hits.emplace_back(std::min(x.info(), y.info()), std::max(x.info(), y.info()));
     });
     std::sort(hits.begin(), hits.end());  // deterministic, whatever the order found
@@ -858,23 +865,64 @@ template <class K> class TextileRun {
       m.p = std::min(u.pair, v.pair);
       m.q = std::max(u.pair, v.pair);
       m.at = *u.p;
-      const auto i = CGAL::intersection(typename K::Segment_3(*u.p, *u.q), typename K::Segment_3(*v.p, *v.q));
+      const typename K::Segment_3 su(*u.p, *u.q), sv(*v.p, *v.q);
+      const auto i = CGAL::intersection(su, sv);
       if (i)
         if (const Point* point = boost::get<Point>(&*i)) {
           m.point = true;
           m.at = detached<K>(*point);
         }
+      if (!m.point && kernel_traits<K>::exact_constructions) {
+        // An overlap along a segment: the two curves run together over an area where the two
+        // other tows coincide (their surfaces are one there, so every point of either curve on
+        // it lies on the three surfaces). Every end of the two segments on the overlap becomes a
+        // vertex of this tow; the curves, computed again, then both pass through all of them.
+        // (This tow's new edges from such a point cross the common surface at that point only:
+        // no other point is added to either curve, so one round does it.)
+        m.point = m.along = true;
+        if (const auto* overlap = i ? boost::get<typename K::Segment_3>(&*i) : nullptr)
+          m.middle = detached<K>(CGAL::midpoint(overlap->source(), overlap->target()));
+        for (const Point* end : {u.p, u.q, v.p, v.q})
+          if (su.has_on(*end) && sv.has_on(*end) && !is_vertex<K>(meshes_[tow], *end)) {
+            m.at = detached<K>(*end);
+            meetings.push_back(m);
+          }
+        continue;
+      }
       meetings.push_back(m);
       if (!m.point) break;  // refused
     }
     return meetings;
   }
 
+  /// Whether `at` lies on a curve (or is a point of contact) of tows `j` and `k`. A meeting point
+  /// of two curves on a third tow lies on both surfaces; where it lies on no curve of theirs, it
+  /// is inside an area over which they coincide (a flat contact), where neither needs it as a
+  /// vertex (it is a point of their curves with the third tow, which their embeddings make
+  /// vertices). There a vertex of one would only cut the other's coplanar faces at new points.
+  bool on_curve_of(std::size_t j, std::size_t k, const Point& at) {
+    const CGAL::Bbox_3 box = at.bbox();
+    for (std::size_t r = 0; r < work_.size(); ++r) {
+      if (std::minmax(work_[r].a, work_[r].b) != std::minmax(j, k)) continue;
+      for (const auto& c : curves_for(r, j)) {
+        if (c.size() == 1 && c.front() == at) return true;
+        for (std::size_t i = 0; i + 1 < c.size(); ++i)
+          if (CGAL::do_overlap(box, c[i].bbox() + c[i + 1].bbox()) && typename K::Segment_3(c[i], c[i + 1]).has_on(at))
+            return true;
+      }
+      for (const Point& c : work_[r].contacts)
+        if (c == at) return true;
+    }
+    return false;
+  }
+
   /// Triple overlaps: where the curves of two neighbours meet on a tow, three tows overlap in one
   /// place. Under the exact kernel the meeting point becomes a vertex of all three tows (it lies
   /// exactly on the three surfaces, so inserting it changes no surface), and their curves are
-  /// then computed again: they all pass through that vertex, which every embedding shares.
-  /// Otherwise, or when the curves overlap along a segment, the run stops naming the three tows.
+  /// then computed again: they all pass through that vertex, which every embedding shares
+  /// (inside a flat contact of the two others, a vertex of this tow only: see on_curve_of). Where
+  /// the curves overlap along a segment, the ends on the overlap become vertices of this tow
+  /// (meetings_on). Under the rounded kernels the run stops naming the three tows.
   void make_triple_points_vertices() {
     for (int round = 0;; ++round) {
       std::vector<std::vector<Meeting>> meetings(meshes_.size());
@@ -892,8 +940,17 @@ template <class K> class TextileRun {
                    "the curves overlap along a segment there (as where a tow crosses an area over which the "
                    "other two coincide): seam textile cannot embed that");
           if (round >= 4) refuse(tow, m, "making the meeting points vertices of the three tows did not end");
+          // An overlap along a curve of the other two as well: three curves along one segment
+          // (the three tows coincide over an area there, or meet along a line). This tow may then
+          // lie in their common plane, and its new vertices would cut their faces at new points.
+          if (m.along && on_curve_of(other(m.p, tow), other(m.q, tow), m.middle))
+            refuse(tow, m,
+                   "the curves of the three pairs run along one segment there (as where the three tows coincide "
+                   "over an area): seam textile cannot embed that");
           bool inserted = false, known = false;
+          const bool three = !m.along && on_curve_of(other(m.p, tow), other(m.q, tow), m.at);
           for (std::size_t x : {tow, other(m.p, tow), other(m.q, tow)}) {
+            if (!three && x != tow) continue;
             const auto point = detached<K>(m.at);
             if (insert_vertex<K>(meshes_[x], point, provenance_[x])) {
               modified[x] = inserted = true;

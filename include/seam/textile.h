@@ -15,10 +15,20 @@
 //      the surfaces are unchanged) and the curves of their pairs are computed again: they then
 //      all pass through that common vertex, where the embeddings meet. A point where two tows
 //      touch (4a) inside a curve segment of one of them with a third is such a meeting too.
-//      Under the rounded kernels, or where two curves overlap along a segment (as where a tow
-//      crosses an area over which two others coincide), the run stops with InvalidInput naming the
-//      three tows (no output is produced); curves of a rounded kernel that meet within rounding
-//      can also go unseen and stop the embedding of the tow with an InternalError naming it.
+//      A meeting point that lies on no curve of B and C (nor is a point of contact of theirs) is
+//      inside an area over which B and C coincide (a flat contact): it becomes a vertex of A
+//      only (B and C get it as a point of their curves with A; a vertex of B there would cut C's
+//      coplanar faces at new points).
+//      Where A crosses such an area, its curves with B and with C run along the same segments
+//      there (every point of either lies on the three surfaces). Under the exact kernel every end
+//      of two such segments on their overlap becomes a vertex of A; computed again, both curves
+//      then pass through all of them, and the overlap is a chain of segments common to both,
+//      between vertices of A. (A's new edges from such a point cross the common surface at that
+//      point only, so no other point joins either curve: one round does it.)
+//      Under the rounded kernels a meeting, or an overlap, stops the run with InvalidInput naming
+//      the three tows (no output is produced); curves of a rounded kernel that meet within
+//      rounding can also go unseen and stop the embedding of the tow with an InternalError naming
+//      it. Making the meeting points vertices is repeated while new ones appear, at most 4 rounds.
 //   4. Tows (concurrently): each tow receives every curve that involves it in one seam::embed
 //      call (curve points kept at their own coordinates, as in seam::pair), so that for every
 //      pair both outputs share the pair's curves vertex for vertex and edge for edge.
@@ -27,12 +37,16 @@
 //   4b. Flat contacts (one pair at a time, in order): where two tows coincide over an area, the
 //      inside is made one common triangulation in both, as seam::pair does
 //      (internal/flat_contacts.h), refined to the angle bound (and max_area) when step 5 runs; a
-//      tow's curves with its other neighbours follow the renumbering, and faces it shares with one
-//      neighbour stay as they are in its contacts with the others.
+//      tow's curves with its other neighbours follow the renumbering (their segments inside the
+//      contact, where a third tow crosses it, are constraints it never splits), and faces it
+//      shares with one neighbour stay as they are in its contacts with the others.
 //   5. Improve: the quality stage (seam/improve.h) on all tows at once, every curve of every pair
 //      shared by its two tows, within `quality.tolerance` of the input tows (automatic: a tenth
 //      of the smallest mean edge length, as seam::pair). Its acceptance predicate tests every
-//      edit against every tow, so no edit makes two tows cross.
+//      edit against every tow, so no edit makes two tows cross. Curves of two pairs that share
+//      segments (step 3's overlaps) go to it as pieces that share none, each held by every tow
+//      holding its segments (internal/curve_pieces.h), and are joined again after it. Should
+//      the stage fail (InternalError), step 6 verifies the tows as they were before it.
 //   6. Verify: every pair's outputs and curves, rounded to doubles as written, checked with
 //      seam::check_pair (exact kernel) at TextileStats::verify_tolerance (the snapping's and the
 //      closing's moves, plus step 5's tolerance or the closing's, whichever is larger, and at

@@ -15,7 +15,9 @@
 // embedded before (the boundary of the contact region and its ridges) make it so. Its CDT, in the
 // plane projected along the axis of the normal's largest component (exact: a coordinate is
 // dropped), holds the points that are vertices of both meshes there (the border's, the curves'
-// and the points of contact), with the border and the curve segments inside as constraints; the
+// and the points of contact), with the border and the curve segments inside as constraints (and
+// the segments of `others` that both meshes hold inside, a third tow's curves with each where it
+// crosses the contact: constraints never split); the
 // triangles inside the border are kept (odd nesting depth). The vertices of one mesh only inside
 // the patch are dropped: interleaved, the two meshes' own vertices made the common
 // triangulation's slivers.
