@@ -159,6 +159,7 @@ nlohmann::json textile_report_json(seam::KernelKind kernel, const seam::TextileS
   j["intersecting_pairs"] = st.intersecting_pairs;
   j["touching_pairs"] = st.touching_pairs;
   j["triple_points"] = st.triple_points;
+  j["flat_crossing_points"] = st.flat_crossing_points;
   j["vertices_closed"] = st.vertices_closed;
   j["max_close_move"] = st.max_close_move;
   j["improve"] = improve_json(st.improve, st.improved, names);

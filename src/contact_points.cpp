@@ -10,13 +10,16 @@
 
 namespace seam::internal {
 
+namespace {
+
+/// The insertion into one mesh, which is not given back: empty when a point lies on no face (the points
+/// before it are inserted then).
 template <class K>
-std::vector<typename MeshTypes<K>::V> insert_points(Mesh<K>& mesh, const std::vector<typename K::Point_3>& points) {
+std::vector<typename MeshTypes<K>::V> insert_points_in_place(Mesh<K>& mesh, const std::vector<typename K::Point_3>& points) {
   using T = MeshTypes<K>;
   using V = typename T::V;
   using H = typename T::H;
   using F = typename T::F;
-  const Mesh<K> original = mesh;
   auto source = mesh.template property_map<F, std::uint32_t>(source_face_property);
   auto is_new = mesh.template property_map<F, bool>(new_face_property);
   std::vector<V> result;
@@ -73,18 +76,35 @@ std::vector<typename MeshTypes<K>::V> insert_points(Mesh<K>& mesh, const std::ve
       found = v;
       break;
     }
-    if (!found) {
-      mesh = original;
-      return {};
-    }
+    if (!found) return {};
     result.push_back(*found);
   }
   return result;
 }
 
-template std::vector<MeshTypes<Exact>::V> insert_points<Exact>(Mesh<Exact>&, const std::vector<Exact::Point_3>&);
-template std::vector<MeshTypes<Filtered>::V> insert_points<Filtered>(Mesh<Filtered>&,
-                                                                     const std::vector<Filtered::Point_3>&);
-template std::vector<MeshTypes<Float>::V> insert_points<Float>(Mesh<Float>&, const std::vector<Float::Point_3>&);
+}  // namespace
+
+template <class K>
+bool insert_points(Mesh<K>& a, Mesh<K>& b, const std::vector<typename K::Point_3>& points,
+                   std::vector<typename MeshTypes<K>::V>& in_a, std::vector<typename MeshTypes<K>::V>& in_b) {
+  if (points.empty()) return true;
+  Mesh<K> a_before = a, b_before = b;
+  in_a = insert_points_in_place<K>(a, points);
+  in_b = in_a.empty() ? in_a : insert_points_in_place<K>(b, points);
+  if (in_a.size() == points.size() && in_b.size() == points.size()) return true;
+  a = std::move(a_before);
+  b = std::move(b_before);
+  in_a.clear();
+  in_b.clear();
+  return false;
+}
+
+#define SEAM_INSTANTIATE(K)                                                                               \
+  template bool insert_points<K>(Mesh<K>&, Mesh<K>&, const std::vector<K::Point_3>&, std::vector<MeshTypes<K>::V>&, \
+                                 std::vector<MeshTypes<K>::V>&);
+SEAM_INSTANTIATE(Exact)
+SEAM_INSTANTIATE(Filtered)
+SEAM_INSTANTIATE(Float)
+#undef SEAM_INSTANTIATE
 
 }  // namespace seam::internal

@@ -176,12 +176,11 @@ PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
   if (result.a.curves != result.b.curves) throw InternalError("pair: the two meshes received different curves");
   result.curves = result.a.curves;
   // Isolated points of contact: a vertex of both, and a curve of one point (see
-  // internal/contact_points.h). Under the rounded kernels a point off the faces is left out (the
-  // verification then fails and says so).
+  // internal/contact_points.h). Under the rounded kernels a point off the faces of either mesh
+  // leaves both as they were (the verification then fails and says so).
   if (!contacts.empty()) {
-    const auto va = internal::insert_points<K>(a, contacts);
-    const auto vb = va.empty() ? va : internal::insert_points<K>(b, contacts);
-    if (va.size() == contacts.size() && vb.size() == contacts.size()) {
+    std::vector<typename Mesh<K>::Vertex_index> va, vb;
+    if (internal::insert_points<K>(a, b, contacts, va, vb)) {
       for (std::size_t i = 0; i < contacts.size(); ++i) {
         result.curves.push_back({contacts[i]});
         result.a.curve_vertices.push_back({va[i]});

@@ -882,12 +882,15 @@ template <class K> class TextileRun {
         m.point = m.along = true;
         if (const auto* overlap = i ? boost::get<typename K::Segment_3>(&*i) : nullptr)
           m.middle = detached<K>(CGAL::midpoint(overlap->source(), overlap->target()));
+        bool pushed = false;
         for (const Point* end : {u.p, u.q, v.p, v.q})
           if (su.has_on(*end) && sv.has_on(*end) && !is_vertex<K>(meshes_[tow], *end)) {
             m.at = detached<K>(*end);
             meetings.push_back(m);
+            pushed = true;
           }
-        continue;
+        if (pushed) continue;
+        m.point = m.along = false;  // every end a vertex already, and still two different segments: refused
       }
       meetings.push_back(m);
       if (!m.point) break;  // refused
@@ -959,7 +962,7 @@ template <class K> class TextileRun {
             }
           }
           if (!inserted && !known) refuse(tow, m, "seam textile could not make that point a vertex of the three tows");
-          if (inserted) ++result_.stats.triple_points;
+          if (inserted) ++(three ? result_.stats.triple_points : result_.stats.flat_crossing_points);
         }
       if (!any) break;
       recompute_pairs_of(modified, "pairs (triple points)");
@@ -1091,11 +1094,8 @@ template <class K> class TextileRun {
       if (contacts.empty()) continue;
       auto& pair = result_.pairs[p];
       const std::size_t a = pair.stats.a, b = pair.stats.b;
-      Mesh<K> a_before = meshes_[a];  // (given back if b refuses them)
-      const auto va = internal::insert_points<K>(meshes_[a], contacts);
-      const auto vb = va.empty() ? va : internal::insert_points<K>(meshes_[b], contacts);
-      if (va.size() != contacts.size() || vb.size() != contacts.size()) {
-        if (!va.empty()) meshes_[a] = std::move(a_before);
+      std::vector<typename Mesh<K>::Vertex_index> va, vb;
+      if (!internal::insert_points<K>(meshes_[a], meshes_[b], contacts, va, vb)) {
         internal::append_note(result_.stats.note, internal::say("the ", contacts.size(), " points of contact of ",
                                                                 quoted(names_[a]), " and ", quoted(names_[b]),
                                                                 " lie on no face exactly: not made vertices"));

@@ -84,6 +84,7 @@ void check_flat_crossing(const Run& run, const std::string& what) {
   std::vector<std::pair<Point, Point>> common;
   std::set_intersection(ac.begin(), ac.end(), bc.begin(), bc.end(), std::back_inserter(common));
   CHECK(common.size() >= 4);
+  CHECK(run.result.stats.flat_crossing_points > 0);
   for (const auto& [p, q] : common)
     for (const auto& m : run.out) CHECK(has_edge(m, p, q));
   seam_test::TempDir dir("seam_flat_crossing");

@@ -153,6 +153,9 @@ struct TextileStats {
   std::size_t intersecting_pairs = 0;  ///< with curves
   std::size_t touching_pairs = 0;      ///< touching without crossing
   std::size_t triple_points = 0;       ///< points where three tows meet, made vertices of all three
+  /// Points where a tow crosses a flat contact of two others (ends of its two curves' common
+  /// segments, meetings inside the contact), made vertices of the crossing tow only (step 3).
+  std::size_t flat_crossing_points = 0;
   /// Step 2c: vertices moved onto a curve to close a feature thinner than the vertex separation,
   /// the largest move, and (when any moved) how far a part of an intersection could move with
   /// them: verify_tolerance includes the move and that tolerance.

@@ -13,13 +13,15 @@
 
 namespace seam::internal {
 
-/// Makes each of `points` (each exactly on the surface of `mesh`) a vertex of `mesh`: the vertex
+/// Makes each of `points` (each exactly on both surfaces) a vertex of `a` and of `b`: the vertex
 /// already there, or a new one splitting the edge (the two faces on it split in their planes) or
-/// the face that holds it (three faces in its plane): the surface is unchanged. New faces keep
+/// the face that holds it (three faces in its plane): the surfaces are unchanged. New faces keep
 /// the source face of the face they were cut from and are marked new. Exact tests under the exact
-/// kernel. Returns the vertices in the order of `points`, or an empty vector when a point lies on
-/// no face exactly (rounded kernels): then nothing was inserted.
+/// kernel. Fills `in_a` and `in_b` with the vertices in the order of `points` and returns true; or
+/// returns false when a point lies on no face of one of them exactly (rounded kernels), and then
+/// neither mesh is changed (both vectors are left empty).
 template <class K>
-std::vector<typename MeshTypes<K>::V> insert_points(Mesh<K>& mesh, const std::vector<typename K::Point_3>& points);
+bool insert_points(Mesh<K>& a, Mesh<K>& b, const std::vector<typename K::Point_3>& points,
+                   std::vector<typename MeshTypes<K>::V>& in_a, std::vector<typename MeshTypes<K>::V>& in_b);
 
 }  // namespace seam::internal
