@@ -57,7 +57,7 @@ def main():
         return 0
     tows = {k: read_stl(os.path.join(args.data, f)) for k, f in FILES.items()}
     only = set(int(x) for x in args.only.split(',') if x)
-    header = ('| # | cell | tows | exit | time (s) | pairs (triple points) | seam check on every pair | tetgen -d on all '
+    header = ('| # | cell | tows | exit | time (s) | pairs (triple points, flat-crossing points) | seam check on every pair | tetgen -d on all '
               '| new faces | below 10 deg | below 20 deg |\n|---|---|---|---|---|---|---|---|---|---|---|')
     rows = [header]
     print(header, flush=True)
@@ -109,8 +109,8 @@ def main():
                     b20 += angle < 20
             verdict = tetgen_merged([os.path.join(out_dir, 't%d.off' % k) for k in range(len(parts))],
                                     os.path.join(work, 'merged.off'), work, timeout=1800)
-            row = '| %d | %s | %d | 0 | %.1f | %d (%d) | %s | %s | %d | %d (%.1f%%) | %d (%.1f%%) |' % (
-                n, name, len(parts), seconds, len(pairs), r['triple_points'],
+            row = '| %d | %s | %d | 0 | %.1f | %d (%d, %d) | %s | %s | %d | %d (%.1f%%) | %d (%.1f%%) |' % (
+                n, name, len(parts), seconds, len(pairs), r['triple_points'], r.get('flat_crossing_points', 0),
                 'OK' if all(checks) else '%d of %d fail' % (checks.count(False), len(checks)), verdict, new, b10,
                 100.0 * b10 / max(new, 1), b20, 100.0 * b20 / max(new, 1))
         rows.append(row)

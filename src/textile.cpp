@@ -30,12 +30,14 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <exception>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -254,27 +256,71 @@ void for_each_index(tbb::task_arena& arena, std::size_t n, Body&& body, Done&& d
     if (e) std::rethrow_exception(e);
 }
 
-/// Whether `p` is (exactly) the point of a vertex of `m`.
-template <class K> bool is_vertex(const Mesh<K>& m, const typename K::Point_3& p) {
-  const CGAL::Bbox_3 box = p.bbox();
-  for (auto v : m.vertices())
-    if (CGAL::do_overlap(m.point(v).bbox(), box) && m.point(v) == p) return true;
-  return false;
-}
+/// The faces of a tow that may hold given points, over one round of insertions: per point, the
+/// faces (at the round's start) whose boxes meet its box, and every face cut from them since (each
+/// lies inside the triangle it was cut from). Faces are listed in index order, the order of
+/// Mesh::faces(), so a search over them finds the face a search over all faces would.
+template <class K> class FaceLookup {
+ public:
+  using F = typename Mesh<K>::Face_index;
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
 
-/// Makes `p`, a point of the surface of `m`, a vertex of it: the face holding it is cut in three,
-/// or the two faces at the edge holding it in two each (exact tests; the surface is unchanged).
-/// Returns false when `p` is a vertex already or lies on no face.
-template <class K> bool insert_vertex(Mesh<K>& m, const typename K::Point_3& p, internal::FaceProvenance& prov) {
+  FaceLookup(const Mesh<K>& m, const std::vector<typename K::Point_3>& points) : candidates_(points.size()) {
+    std::vector<Box> faces, queries;
+    for (F f : m.faces()) {
+      CGAL::Bbox_3 box;
+      for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) box += m.point(v).bbox();
+      faces.emplace_back(box, std::size_t(f));
+      root_.push_back(std::size_t(f));
+      members_.push_back({std::size_t(f)});
+    }
+    for (std::size_t i = 0; i < points.size(); ++i) queries.emplace_back(points[i].bbox(), i);
+    CGAL::box_intersection_d(queries.begin(), queries.end(), faces.begin(), faces.end(),
+                             [&](const Box& q, const Box& f) { candidates_[q.info()].push_back(f.info()); });
+  }
+
+  /// The faces that may hold point `i`, in index order.
+  std::vector<F> faces_for(std::size_t i) const {
+    std::vector<std::size_t> out;
+    for (std::size_t f : candidates_[i]) out.insert(out.end(), members_[f].begin(), members_[f].end());
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return std::vector<F>(out.begin(), out.end());
+  }
+
+  /// Faces [first, first + count) were cut from face `from`.
+  void added(std::size_t first, std::size_t count, std::size_t from) {
+    const std::size_t r = root_[from];
+    root_.resize(std::max(root_.size(), first + count));
+    for (std::size_t f = first; f < first + count; ++f) {
+      root_[f] = r;
+      members_[r].push_back(f);
+    }
+  }
+
+ private:
+  std::vector<std::size_t> root_;                      ///< by face: the face at the start it lies in
+  std::vector<std::vector<std::size_t>> members_;      ///< by face at the start: it and its pieces
+  std::vector<std::vector<std::size_t>> candidates_;   ///< by point: faces at the start
+};
+
+/// Makes `p`, a point of the surface of `m`, a vertex of it: the first face of `faces` (a
+/// FaceLookup's, in index order) holding it is cut in three, or the two faces at the edge holding
+/// it in two each (exact tests; the surface is unchanged). `before()` is called before the mesh
+/// changes, and `added(first, count, from)` of each face cut: faces [first, first + count) are
+/// new pieces of face `from`. Returns false when `p` is a vertex already or lies on none of `faces`.
+template <class K, class Before, class Added>
+bool insert_vertex(Mesh<K>& m, const typename K::Point_3& p, const std::vector<typename Mesh<K>::Face_index>& faces,
+                   Before&& before, Added&& added) {
   using F = typename Mesh<K>::Face_index;
   const CGAL::Bbox_3 box = p.bbox();
-  for (F f : m.faces()) {
+  for (F f : faces) {
     const auto h = m.halfedge(f);
     const auto &a = m.point(m.source(h)), &b = m.point(m.target(h)), &c = m.point(m.target(m.next(h)));
     if (!CGAL::do_overlap(a.bbox() + b.bbox() + c.bbox(), box)) continue;
     if (!internal::on_triangle<K>(a, b, c, p)) continue;
     if (p == a || p == b || p == c) return false;
-    prov.start<K>(m);
+    before();
     // On an edge of f?
     for (auto e : CGAL::halfedges_around_face(h, m)) {
       const auto &s = m.point(m.source(e)), &t = m.point(m.target(e));
@@ -284,19 +330,19 @@ template <class K> bool insert_vertex(Mesh<K>& m, const typename K::Point_3& p, 
       m.point(m.target(hnew)) = p;
       std::size_t n = m.number_of_faces();
       CGAL::Euler::split_face(hnew, m.next(e), m);
-      prov.added(n, m.number_of_faces(), std::size_t(f));
+      added(n, m.number_of_faces() - n, std::size_t(f));
       if (f2 != Mesh<K>::null_face()) {
         const auto o = m.opposite(e);  // target -> new vertex, then opposite(hnew)
         n = m.number_of_faces();
         CGAL::Euler::split_face(o, m.next(m.opposite(hnew)), m);
-        prov.added(n, m.number_of_faces(), std::size_t(f2));
+        added(n, m.number_of_faces() - n, std::size_t(f2));
       }
       return true;
     }
     const std::size_t n = m.number_of_faces();
     const auto hc = CGAL::Euler::add_center_vertex(h, m);
     m.point(m.target(hc)) = p;
-    prov.added(n, m.number_of_faces(), std::size_t(f));
+    added(n, m.number_of_faces() - n, std::size_t(f));
     return true;
   }
   return false;
@@ -822,6 +868,16 @@ template <class K> class TextileRun {
     sboxes.reserve(segs.size());
     for (std::size_t s = 0; s < segs.size(); ++s) sboxes.emplace_back(segs[s].p->bbox() + segs[s].q->bbox(), s);
     std::vector<std::pair<std::size_t, std::size_t>> hits;
+    // Whether a point is (exactly) a vertex of this tow: its vertices sorted, when first asked.
+    auto less = [](const Point& x, const Point& y) { return CGAL::compare_xyz(x, y) == CGAL::SMALLER; };
+    std::vector<Point> vertices;
+    auto is_vertex = [&](const Point& x) {
+      if (vertices.empty()) {
+        for (auto v : meshes_[tow].vertices()) vertices.push_back(meshes_[tow].point(v));
+        std::sort(vertices.begin(), vertices.end(), less);
+      }
+      return std::binary_search(vertices.begin(), vertices.end(), x, less);
+    };
     CGAL::box_self_intersection_d(sboxes.begin(), sboxes.end(), [&](const Box& x, const Box& y) {
       const Seg &u = segs[x.info()], &v = segs[y.info()];
       if (u.pair == v.pair) return;
@@ -830,7 +886,7 @@ template <class K> class TextileRun {
       // point made a vertex below), not overlapping.
       const Point* common = *u.p == *v.p || *u.p == *v.q ? u.p : *u.q == *v.p || *u.q == *v.q ? u.q : nullptr;
       const bool collinear = CGAL::collinear(*u.p, *u.q, *v.p) && CGAL::collinear(*u.p, *u.q, *v.q);
-      if (common && is_vertex<K>(meshes_[tow], *common)) {
+      if (common && is_vertex(*common)) {
         const Point& u_end = common == u.p ? *u.q : *u.p;
         const Point& v_end = *common == *v.p ? *v.q : *v.p;
         const bool overlap = collinear && (typename K::Segment_3(*v.p, *v.q).has_on(u_end) ||
@@ -840,7 +896,7 @@ template <class K> class TextileRun {
       // Allowed too: one segment of both curves, between two vertices of this tow (where the tow
       // crosses an area over which the other two coincide; made so below).
       const bool same = (*u.p == *v.p && *u.q == *v.q) || (*u.p == *v.q && *u.q == *v.p);
-      if (same && is_vertex<K>(meshes_[tow], *u.p) && is_vertex<K>(meshes_[tow], *u.q)) return;
+      if (same && is_vertex(*u.p) && is_vertex(*u.q)) return;
       hits.emplace_back(std::min(x.info(), y.info()), std::max(x.info(), y.info()));
     });
     std::sort(hits.begin(), hits.end());  // deterministic, whatever the order found
@@ -884,7 +940,7 @@ template <class K> class TextileRun {
           m.middle = detached<K>(CGAL::midpoint(overlap->source(), overlap->target()));
         bool pushed = false;
         for (const Point* end : {u.p, u.q, v.p, v.q})
-          if (su.has_on(*end) && sv.has_on(*end) && !is_vertex<K>(meshes_[tow], *end)) {
+          if (su.has_on(*end) && sv.has_on(*end) && !is_vertex(*end)) {
             m.at = detached<K>(*end);
             meetings.push_back(m);
             pushed = true;
@@ -932,9 +988,25 @@ template <class K> class TextileRun {
       for_each_index(
           arena_, meshes_.size(), [&](std::size_t tow) { meetings[tow] = meetings_on(tow); }, [](std::size_t) {});
       std::vector<char> modified(meshes_.size(), 0);
-      bool any = false;
+      // Per tow, the points that may become its vertices in this round (each meeting's point, in
+      // each of its three tows), and a lookup of the faces that may hold them, made before the
+      // tow's first insertion of the round.
+      std::vector<std::vector<Point>> queries(meshes_.size());
+      std::vector<std::vector<std::array<std::size_t, 3>>> query_of(meshes_.size());
       for (std::size_t tow = 0; tow < meshes_.size(); ++tow)
         for (const Meeting& m : meetings[tow]) {
+          auto& q = query_of[tow].emplace_back();
+          const std::array<std::size_t, 3> three_tows = {tow, other(m.p, tow), other(m.q, tow)};
+          for (std::size_t k = 0; k < 3; ++k) {
+            q[k] = queries[three_tows[k]].size();
+            queries[three_tows[k]].push_back(m.at);
+          }
+        }
+      std::vector<std::unique_ptr<FaceLookup<K>>> lookups(meshes_.size());
+      bool any = false;
+      for (std::size_t tow = 0; tow < meshes_.size(); ++tow)
+        for (std::size_t i = 0; i < meetings[tow].size(); ++i) {
+          const Meeting& m = meetings[tow][i];
           any = true;
           if (!kernel_traits<K>::exact_constructions)
             refuse(tow, m, "only the exact kernel makes such a point a vertex of the three tows: use --kernel exact");
@@ -952,10 +1024,19 @@ template <class K> class TextileRun {
                    "over an area): seam textile cannot embed that");
           bool inserted = false, known = false;
           const bool three = !m.along && on_curve_of(other(m.p, tow), other(m.q, tow), m.at);
-          for (std::size_t x : {tow, other(m.p, tow), other(m.q, tow)}) {
+          const std::array<std::size_t, 3> three_tows = {tow, other(m.p, tow), other(m.q, tow)};
+          for (std::size_t k = 0; k < 3; ++k) {
+            const std::size_t x = three_tows[k];
             if (!three && x != tow) continue;
             const auto point = detached<K>(m.at);
-            if (insert_vertex<K>(meshes_[x], point, provenance_[x])) {
+            if (!lookups[x]) lookups[x] = std::make_unique<FaceLookup<K>>(meshes_[x], queries[x]);
+            FaceLookup<K>& lookup = *lookups[x];
+            auto before = [&] { provenance_[x].start<K>(meshes_[x]); };
+            auto added = [&](std::size_t first, std::size_t count, std::size_t from) {
+              provenance_[x].added(first, first + count, from);
+              lookup.added(first, count, from);
+            };
+            if (insert_vertex<K>(meshes_[x], point, lookup.faces_for(query_of[tow][i][k]), before, added)) {
               modified[x] = inserted = true;
             } else {
               known = known || modified[x];  // made a vertex in this round already (seen from another tow)
