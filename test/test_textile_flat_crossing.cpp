@@ -119,3 +119,38 @@ TEST_CASE("textile: a tow crossing the border of the flat contact of two others"
     CHECK(run.result.stats.triple_points >= 2);  // where the curves part, on the contact's border
   }
 }
+
+TEST_CASE("textile: three tows coinciding over an area are refused naming them; a flat crossing under a rounded kernel "
+          "too",
+          "[textile][flat]") {
+  {
+    // Three copies of the unit cube moved along y: the three coincide over parts of four of its
+    // faces, and their curves run along the same edges.
+    std::vector<M> meshes{seam::mesh_from_soup<K>(seam_test::box_soup({0, 0, 0}, {1, 1, 1}), "p"),
+                          seam::mesh_from_soup<K>(seam_test::box_soup({0, 0.3, 0}, {1, 1.3, 1}), "q"),
+                          seam::mesh_from_soup<K>(seam_test::box_soup({0, -0.3, 0}, {1, 0.7, 1}), "r")};
+    std::string what;
+    try {
+      seam::textile<K>(meshes, {"p", "q", "r"});
+    } catch (const seam::InvalidInput& e) {
+      what = e.what();
+    }
+    CHECK_THAT(what, Catch::Contains("'p', 'q' and 'r'") && Catch::Contains("run along one segment"));
+  }
+  {
+    // The first case above under the filtered kernel: refused as before (exact constructions
+    // are needed to make the overlap's points vertices).
+    using KF = seam::Filtered;
+    std::vector<seam::Mesh<KF>> meshes{
+        seam::mesh_from_soup<KF>(seam_test::box_soup({0, 0, 0}, {1, 1, 1}), "a"),
+        seam::mesh_from_soup<KF>(seam_test::box_soup({1, -0.2, 0.1}, {2, 1.1, 1.2}), "b"),
+        seam::mesh_from_soup<KF>(seam_test::box_soup({0.5, 0.3, 0.2}, {1.5, 0.6, 0.8}), "c")};
+    std::string what;
+    try {
+      seam::textile<KF>(meshes, {"a", "b", "c"});
+    } catch (const seam::InvalidInput& e) {
+      what = e.what();
+    }
+    CHECK_THAT(what, Catch::Contains("triple overlap") && Catch::Contains("use --kernel exact"));
+  }
+}
