@@ -23,14 +23,17 @@ template <class K> CurvePieces<K> cut_into_pieces(const std::vector<PairCurveRef
   // Every curve's point ids, and every segment's tows (sorted) and number of curves.
   std::vector<std::vector<std::vector<int>>> id(pairs.size());
   std::map<SegmentKey, std::vector<std::size_t>> holders;
+  std::map<SegmentKey, std::vector<std::pair<std::size_t, std::size_t>>> covering;  // (pair, curve)s
   std::map<SegmentKey, int> curves_of;
   for (std::size_t p = 0; p < pairs.size(); ++p)
-    for (const auto& curve : *pairs[p].curves) {
+    for (std::size_t c = 0; c < pairs[p].curves->size(); ++c) {
+      const auto& curve = (*pairs[p].curves)[c];
       auto& ci = id[p].emplace_back();
       for (const Point& x : curve) ci.push_back(ids.emplace(x, int(ids.size())).first->second);
       for (std::size_t i = 0; i + 1 < ci.size(); ++i) {
         const SegmentKey k = key_of(ci[i], ci[i + 1]);
         ++curves_of[k];
+        covering[k].emplace_back(p, c);
         auto& h = holders[k];
         for (const std::size_t tow : {pairs[p].a, pairs[p].b})
           if (!std::binary_search(h.begin(), h.end(), tow)) h.insert(std::upper_bound(h.begin(), h.end(), tow), tow);
@@ -40,6 +43,7 @@ template <class K> CurvePieces<K> cut_into_pieces(const std::vector<PairCurveRef
   for (const auto& [k, n] : curves_of) out.shared_segments += n > 1 ? 1 : 0;
   out.shared.vertices.resize(tows);
   out.uses.resize(pairs.size());
+  out.whole.resize(pairs.size());
   std::vector<std::vector<int>> piece_ids;  // per piece, its point ids
   std::map<SegmentKey, std::size_t> piece_of;  // every segment of a cut curve -> its piece
 
@@ -68,25 +72,29 @@ template <class K> CurvePieces<K> cut_into_pieces(const std::vector<PairCurveRef
           out.shared.vertices[t].push_back(t == refs.a ? va : t == refs.b ? vb : std::vector<V>{});
         piece_ids.push_back(ci);
         out.uses[p].push_back({{piece, false}});
+        out.whole[p].push_back(1);
         continue;
       }
-      // Cut where the tows holding the segments change (a closed curve with no such place: at its
-      // smallest point, the same in every curve that runs along it).
+      // Cut where the curves running along the segments change (so where the tows holding them
+      // may change, and where another curve joins, leaves or ends): every curve along a stretch
+      // is cut at the same points. A closed curve with no such place is cut at its smallest
+      // point, the same in every curve that runs along it.
       const bool closed = is_closed(curve);
       const std::size_t n = closed ? curve.size() - 1 : curve.size();  // distinct points
       const std::size_t segments = closed ? n : n - 1;
-      auto tows_of = [&](std::size_t s) -> const std::vector<std::size_t>& {
-        return holders[key_of(ci[s % n], ci[(s + 1) % n])];
+      auto curves_along = [&](std::size_t s) -> const std::vector<std::pair<std::size_t, std::size_t>>& {
+        return covering[key_of(ci[s % n], ci[(s + 1) % n])];
       };
       std::vector<std::size_t> starts;
       for (std::size_t s = 0; s < segments; ++s)
-        if ((s == 0 && !closed) || tows_of(s) != tows_of((s + segments - 1) % segments)) starts.push_back(s);
+        if ((s == 0 && !closed) || curves_along(s) != curves_along((s + segments - 1) % segments)) starts.push_back(s);
       if (starts.empty()) {
         std::size_t smallest = 0;
         for (std::size_t i = 1; i < n; ++i)
           if (less(curve[i], curve[smallest])) smallest = i;
         starts.push_back(smallest);
       }
+      out.whole[p].push_back(0);
       auto& uses = out.uses[p].emplace_back();
       for (std::size_t k = 0; k < starts.size(); ++k) {
         const std::size_t from = starts[k];
@@ -164,6 +172,22 @@ template <class K> void join_pieces(const CurvePieces<K>& pieces, const std::vec
       }
       if (closed && (points.size() < 2 || !(points.front() == points.back())))
         throw InternalError("textile: a closed curve did not close again from its pieces");
+      // A closed curve cut into pieces starts where it did, if that point is still on it.
+      if (closed && !pieces.whole[p][c]) {
+        const auto& first = (*refs.curves)[c].front();
+        const auto at = std::find(points.begin(), points.end() - 1, first);
+        if (at != points.end() - 1 && at != points.begin()) {
+          const auto k = at - points.begin();
+          auto rotate = [k](auto& list) {
+            list.pop_back();  // the repeated first point
+            std::rotate(list.begin(), list.begin() + k, list.end());
+            list.push_back(list.front());
+          };
+          rotate(points);
+          rotate(in_a);
+          rotate(in_b);
+        }
+      }
       (*refs.curves)[c] = std::move(points);
       (*refs.vertices_a)[c] = std::move(in_a);
       (*refs.vertices_b)[c] = std::move(in_b);

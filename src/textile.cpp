@@ -488,7 +488,13 @@ void improve_tows(std::vector<Mesh<K>>& meshes, const std::vector<Mesh<K>>& inpu
   for (std::size_t p = 0; p < result.pairs.size(); ++p)
     refs.push_back({result.pairs[p].stats.a, result.pairs[p].stats.b, &result.pairs[p].curves, &pair_vertices[p][0],
                     &pair_vertices[p][1]});
-  internal::CurvePieces<K> pieces = internal::cut_into_pieces<K>(refs, meshes.size());
+  internal::CurvePieces<K> pieces;
+  try {
+    pieces = internal::cut_into_pieces<K>(refs, meshes.size());
+  } catch (const InternalError& e) {  // nothing changed yet: the tows go on without the stage
+    internal::append_note(st.note, std::string("the quality stage was not run (") + e.what() + ")");
+    return;
+  }
   ImproveOptions io = quality_options(options, smallest_mean_edge<K>(inputs, result));
   // No new point closer to a vertex than the vertex separation seam check requires of a pair
   // (min_vertex_separation x the diagonal of the two tows), for the widest pair: so for every pair.
@@ -933,8 +939,9 @@ template <class K> class TextileRun {
         // other tows coincide (their surfaces are one there, so every point of either curve on
         // it lies on the three surfaces). Every end of the two segments on the overlap becomes a
         // vertex of this tow; the curves, computed again, then both pass through all of them.
-        // (This tow's new edges from such a point cross the common surface at that point only:
-        // no other point is added to either curve, so one round does it.)
+        // (Where this tow crosses a planar contact, its new edges from such a point meet the
+        // common plane at that point only, and one round does it; where the contact bends inside
+        // one of its faces, or the tow lies in the plane, more rounds may follow: at most 4.)
         m.point = m.along = true;
         if (const auto* overlap = i ? boost::get<typename K::Segment_3>(&*i) : nullptr)
           m.middle = detached<K>(CGAL::midpoint(overlap->source(), overlap->target()));
@@ -955,10 +962,11 @@ template <class K> class TextileRun {
   }
 
   /// Whether `at` lies on a curve (or is a point of contact) of tows `j` and `k`. A meeting point
-  /// of two curves on a third tow lies on both surfaces; where it lies on no curve of theirs, it
-  /// is inside an area over which they coincide (a flat contact), where neither needs it as a
-  /// vertex (it is a point of their curves with the third tow, which their embeddings make
-  /// vertices). There a vertex of one would only cut the other's coplanar faces at new points.
+  /// of two curves on a third tow lies on both surfaces; where it lies on no curve of theirs (as
+  /// inside an area over which they coincide, a flat contact), no curve of theirs needs it as a
+  /// vertex, and it is a point of their curves with the third tow, which their embeddings make
+  /// vertices. In a flat contact a vertex of one would only cut the other's coplanar faces at new
+  /// points.
   bool on_curve_of(std::size_t j, std::size_t k, const Point& at) {
     const CGAL::Bbox_3 box = at.bbox();
     for (std::size_t r = 0; r < work_.size(); ++r) {
@@ -983,6 +991,7 @@ template <class K> class TextileRun {
   /// the curves overlap along a segment, the ends on the overlap become vertices of this tow
   /// (meetings_on). Under the rounded kernels the run stops naming the three tows.
   void make_triple_points_vertices() {
+    std::vector<std::pair<std::size_t, Meeting>> flat_points;  // (tow, meeting) made a vertex of that tow only
     for (int round = 0;; ++round) {
       std::vector<std::vector<Meeting>> meetings(meshes_.size());
       for_each_index(
@@ -1014,7 +1023,11 @@ template <class K> class TextileRun {
             refuse(tow, m,
                    "the curves overlap along a segment there (as where a tow crosses an area over which the "
                    "other two coincide): seam textile cannot embed that");
-          if (round >= 4) refuse(tow, m, "making the meeting points vertices of the three tows did not end");
+          if (round >= 4)
+            refuse(tow, m,
+                   m.along ? "the curves still run together after 4 rounds of making their points vertices (as where "
+                             "this tow coincides with the other two over an area): seam textile cannot embed that"
+                           : "making the meeting points vertices of the three tows did not end");
           // An overlap along a curve of the other two as well: three curves along one segment
           // (the three tows coincide over an area there, or meet along a line). This tow may then
           // lie in their common plane, and its new vertices would cut their faces at new points.
@@ -1044,9 +1057,50 @@ template <class K> class TextileRun {
           }
           if (!inserted && !known) refuse(tow, m, "seam textile could not make that point a vertex of the three tows");
           if (inserted) ++(three ? result_.stats.triple_points : result_.stats.flat_crossing_points);
+          if (inserted && !three) flat_points.push_back({tow, m});
         }
       if (!any) break;
       recompute_pairs_of(modified, "pairs (triple points)");
+    }
+    refuse_crowded_flat_crossings(flat_points);
+  }
+
+  /// Points made vertices of one crossing tow only (a flat crossing) come from edges of two tows
+  /// that coincide there; where those edges cross it almost at one place, two such points lie
+  /// closer than the vertex separation (seam check's, for the pairs of the meeting), which no
+  /// later step moves apart: the run stops naming the three tows (as the meeting they came from).
+  void refuse_crowded_flat_crossings(const std::vector<std::pair<std::size_t, Meeting>>& flat_points) {
+    std::vector<std::vector<std::pair<std::size_t, Meeting>>> by_tow(meshes_.size());
+    for (const auto& fp : flat_points) by_tow[fp.first].push_back(fp);
+    for (std::size_t tow = 0; tow < meshes_.size(); ++tow) {
+      if (by_tow[tow].empty()) continue;
+      const Mesh<K>& mesh = meshes_[tow];
+      std::vector<std::pair<std::array<double, 3>, typename Mesh<K>::Vertex_index>> vertices;
+      for (auto v : mesh.vertices()) {
+        const auto q = to_filtered(mesh.point(v));
+        vertices.push_back({{q.x(), q.y(), q.z()}, v});
+      }
+      std::sort(vertices.begin(), vertices.end(),
+                [](const auto& x, const auto& y) { return x.first[0] < y.first[0]; });
+      for (const auto& [t, m] : by_tow[tow]) {
+        const double separation =
+            min_vertex_separation *
+            std::max(internal::bbox_diagonal(frozen_[tow].bbox + frozen_[other(m.p, tow)].bbox),
+                     internal::bbox_diagonal(frozen_[tow].bbox + frozen_[other(m.q, tow)].bbox));
+        const auto a = to_filtered(m.at);
+        auto it = std::lower_bound(vertices.begin(), vertices.end(), a.x() - separation,
+                                   [](const auto& x, double value) { return x.first[0] < value; });
+        for (; it != vertices.end() && it->first[0] <= a.x() + separation; ++it) {
+          const double dx = it->first[0] - a.x(), dy = it->first[1] - a.y(), dz = it->first[2] - a.z();
+          if (dx * dx + dy * dy + dz * dz >= separation * separation || mesh.point(it->second) == m.at) continue;
+          refuse(tow, m,
+                 internal::say("the curves run together there, and two of their points (where edges of the other "
+                               "two cross it) lie ", std::sqrt(dx * dx + dy * dy + dz * dz),
+                               " apart, closer than the vertex separation ", separation,
+                               ": seam textile cannot embed that")
+                     .c_str());
+        }
+      }
     }
   }
 

@@ -101,6 +101,8 @@ TEST_CASE("curve pieces: common stretches go once, held by every tow holding the
   };
   CHECK(same_loop(c02[0], c02_in[0]));
   CHECK(same_loop(c12[0], c12_in[0]));
+  CHECK(c02 == c02_in);  // from the same first point, as before the cut
+  CHECK(c12 == c12_in);
   // Vertex lists follow their points.
   for (std::size_t i = 0; i < c02[0].size(); ++i) {
     const std::size_t k = std::size_t(std::find(pts.begin(), pts.end(), c02[0][i]) - pts.begin());
@@ -132,4 +134,30 @@ TEST_CASE("curve pieces: a stretch that moved where two curves part is an error,
           if (vs.size() == 3 && std::size_t(vs.front()) % 100 == 0) vs.erase(vs.begin());
     }
   CHECK_THROWS_AS(seam::internal::join_pieces<K>(pieces, refs), seam::InternalError);
+}
+
+TEST_CASE("curve pieces: a stretch along which one curve continues and two others meet end to end is cut there",
+          "[curve_pieces]") {
+  // Tow 2's curve with tow 1 runs 0-1-2-3-4 along a line; its two curves with tow 0 run 5-0-1-2
+  // and 2-3-4-6, meeting at 2. The tows holding each segment of the line are the same on both
+  // sides of 2 ({0, 1, 2}); the curves along it are not, and every curve is cut there.
+  const std::vector<Point> pts{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}, {4, 0, 0}, {0, 1, 0}, {4, 1, 0}};
+  Curves c02{{pts[5], pts[0], pts[1], pts[2]}, {pts[2], pts[3], pts[4], pts[6]}};
+  Curves c12{{pts[0], pts[1], pts[2], pts[3], pts[4]}};
+  Vertices a0 = vertices_for(c02, pts, 0), a2 = vertices_for(c02, pts, 200);
+  Vertices b1 = vertices_for(c12, pts, 100), b2 = vertices_for(c12, pts, 200);
+  const Curves c02_in = c02, c12_in = c12;
+  std::vector<seam::internal::PairCurveRefs<K>> refs{{0, 2, &c02, &a0, &a2}, {1, 2, &c12, &b1, &b2}};
+  auto pieces = seam::internal::cut_into_pieces<K>(refs, 3);
+  CHECK(pieces.shared_segments == 4);
+  std::map<std::pair<Point, Point>, int> count;
+  for (const auto& c : pieces.shared.curves)
+    for (std::size_t i = 0; i + 1 < c.size(); ++i) ++count[std::minmax(c[i], c[i + 1])];
+  CHECK(count.size() == 6);
+  for (const auto& [segment, n] : count) CHECK(n == 1);
+  seam::internal::join_pieces<K>(pieces, refs);
+  CHECK(c02 == c02_in);
+  CHECK(c12 == c12_in);
+  CHECK(a0 == vertices_for(c02_in, pts, 0));
+  CHECK(b2 == vertices_for(c12_in, pts, 200));
 }

@@ -61,6 +61,9 @@ Run run_and_check(const std::vector<seam::TriangleSoup>& soups, bool improve) {
   run.result = seam::textile<K>(run.out, names, options);
   INFO(run.result.stats.note);
   REQUIRE(run.result.stats.verified);
+  // The quality stage ran and its result is the one given (no fallback).
+  CHECK(run.result.stats.improved == improve);
+  CHECK(run.result.stats.note.find("quality stage") == std::string::npos);
   for (const auto& p : run.result.pairs) {
     INFO(names[p.stats.a] << " x " << names[p.stats.b]);
     const auto report = seam::check_pair<K>(run.inputs[p.stats.a], run.inputs[p.stats.b], run.out[p.stats.a],

@@ -15,16 +15,21 @@
 //      the surfaces are unchanged) and the curves of their pairs are computed again: they then
 //      all pass through that common vertex, where the embeddings meet. A point where two tows
 //      touch (4a) inside a curve segment of one of them with a third is such a meeting too.
-//      A meeting point that lies on no curve of B and C (nor is a point of contact of theirs) is
-//      inside an area over which B and C coincide (a flat contact): it becomes a vertex of A
-//      only (B and C get it as a point of their curves with A; a vertex of B there would cut C's
-//      coplanar faces at new points).
+//      A meeting point that lies on no curve of B and C (nor is a point of contact of theirs),
+//      as inside an area over which B and C coincide (a flat contact), becomes a vertex of A
+//      only: no curve of B and C needs it there, B and C get it as a point of their curves with
+//      A, and a vertex of B there would cut C's coplanar faces at new points.
 //      Where A crosses such an area, its curves with B and with C run along the same segments
 //      there (every point of either lies on the three surfaces). Under the exact kernel every end
 //      of two such segments on their overlap becomes a vertex of A; computed again, both curves
 //      then pass through all of them, and the overlap is a chain of segments common to both,
-//      between vertices of A. (A's new edges from such a point cross the common surface at that
-//      point only, so no other point joins either curve: one round does it.)
+//      between vertices of A. (Where A crosses a planar contact, A's new edges from such a point
+//      meet the common plane at that point only, so no other point joins either curve and one
+//      round does it; where the contact bends inside a face of A, or A lies in its plane, more
+//      rounds may follow.) Two such points closer than the vertex separation (edges of B and C
+//      crossing A almost at one place) stop the run with InvalidInput naming the three tows, as
+//      do three curves along one segment (the three tows coinciding over an area) and overlaps
+//      left after the last round.
 //      Under the rounded kernels a meeting, or an overlap, stops the run with InvalidInput naming
 //      the three tows (no output is produced); curves of a rounded kernel that meet within
 //      rounding can also go unseen and stop the embedding of the tow with an InternalError naming

@@ -42,6 +42,7 @@ template <class K> struct CurvePieces {
     bool reversed = false;
   };
   std::vector<std::vector<std::vector<Use>>> uses;  ///< per pair, per curve: its pieces in order
+  std::vector<std::vector<char>> whole;             ///< per pair, per curve: it is its own piece, uncut
   std::size_t shared_segments = 0;                   ///< segments of two or more curves
 };
 
@@ -50,7 +51,8 @@ template <class K> struct CurvePieces {
 /// twice along a segment, say).
 template <class K> CurvePieces<K> cut_into_pieces(const std::vector<PairCurveRefs<K>>& pairs, std::size_t tows);
 
-/// The pairs' curves and vertex lists again, from the pieces as the quality stage left them.
+/// The pairs' curves and vertex lists again, from the pieces as the quality stage left them (a
+/// closed curve that was cut starts at its first point again, if that point is still on it).
 template <class K> void join_pieces(const CurvePieces<K>& pieces, const std::vector<PairCurveRefs<K>>& pairs);
 
 }  // namespace seam::internal
