@@ -13,6 +13,7 @@
 #include <seam/textile.h>
 
 #include <algorithm>
+#include <array>
 #include <set>
 #include <string>
 #include <utility>
@@ -156,4 +157,29 @@ TEST_CASE("textile: three tows coinciding over an area are refused naming them; 
     }
     CHECK_THAT(what, Catch::Contains("triple overlap") && Catch::Contains("use --kernel exact"));
   }
+}
+
+TEST_CASE("textile: points of a flat crossing closer than the vertex separation are refused naming the three tows",
+          "[textile][flat]") {
+  // a: a prism over the house (0,0) (2,0) (2,1) (1,1.3) (0,1) in xz, along y from 0 to 1; b: a
+  // prism over its roof, from y = -0.2 to 1.2, so the two coincide on the roof; c crosses the
+  // roof where a diagonal of a and one of b cross it about 1e-16 apart. No step moves them apart, and
+  // written as they are a volume mesher takes them for one point.
+  const std::vector<std::array<std::size_t, 3>> prism_faces{
+      {0, 1, 2}, {5, 7, 6}, {0, 2, 3}, {5, 8, 7}, {0, 3, 4}, {5, 9, 8}, {0, 6, 1}, {0, 5, 6},
+      {1, 7, 2}, {1, 6, 7}, {2, 8, 3}, {2, 7, 8}, {3, 9, 4}, {3, 8, 9}, {4, 5, 0}, {4, 9, 5}};
+  seam::TriangleSoup a, b;
+  a.points = {{0, 0, 0}, {2, 0, 0}, {2, 0, 1}, {1, 0, 1.3}, {0, 0, 1}, {0, 1, 0}, {2, 1, 0}, {2, 1, 1}, {1, 1, 1.3}, {0, 1, 1}};
+  b.points = {{1, -0.2, 1.3}, {2, -0.2, 1}, {2, -0.2, 2}, {0, -0.2, 2}, {0, -0.2, 1},
+              {1, 1.2, 1.3},  {2, 1.2, 1},  {2, 1.2, 2},  {0, 1.2, 2},  {0, 1.2, 1}};
+  a.triangles = b.triangles = prism_faces;
+  std::vector<M> meshes{seam::mesh_from_soup<K>(a, "a"), seam::mesh_from_soup<K>(b, "b"),
+                        seam::mesh_from_soup<K>(seam_test::box_soup({0.5, 0.3, 0.8}, {1.4, 0.6, 1.5}), "c")};
+  std::string what;
+  try {
+    seam::textile<K>(meshes, {"a", "b", "c"});
+  } catch (const seam::InvalidInput& e) {
+    what = e.what();
+  }
+  CHECK_THAT(what, Catch::Contains("'a', 'b' and 'c'") && Catch::Contains("closer than the vertex separation"));
 }
