@@ -97,6 +97,17 @@ void check_flat_crossing(const Run& run, const std::string& what) {
   CHECK(seam_test::tetgen_intersecting_pairs(soups, dir) == 0);
 }
 
+/// The message of the InvalidInput seam::textile throws on `meshes` (empty when it throws none).
+template <class Kernel>
+std::string refusal(std::vector<seam::Mesh<Kernel>> meshes, const std::vector<std::string>& names) {
+  try {
+    seam::textile<Kernel>(meshes, names);
+  } catch (const seam::InvalidInput& e) {
+    return e.what();
+  }
+  return {};
+}
+
 }  // namespace
 
 TEST_CASE("textile: a tow crossing inside the flat contact of two others", "[textile][flat]") {
@@ -133,12 +144,7 @@ TEST_CASE("textile: three tows coinciding over an area are refused naming them; 
     std::vector<M> meshes{seam::mesh_from_soup<K>(seam_test::box_soup({0, 0, 0}, {1, 1, 1}), "p"),
                           seam::mesh_from_soup<K>(seam_test::box_soup({0, 0.3, 0}, {1, 1.3, 1}), "q"),
                           seam::mesh_from_soup<K>(seam_test::box_soup({0, -0.3, 0}, {1, 0.7, 1}), "r")};
-    std::string what;
-    try {
-      seam::textile<K>(meshes, {"p", "q", "r"});
-    } catch (const seam::InvalidInput& e) {
-      what = e.what();
-    }
+    const std::string what = refusal<K>(meshes, {"p", "q", "r"});
     CHECK_THAT(what, Catch::Contains("'p', 'q' and 'r'") && Catch::Contains("run along one segment"));
   }
   {
@@ -149,12 +155,7 @@ TEST_CASE("textile: three tows coinciding over an area are refused naming them; 
         seam::mesh_from_soup<KF>(seam_test::box_soup({0, 0, 0}, {1, 1, 1}), "a"),
         seam::mesh_from_soup<KF>(seam_test::box_soup({1, -0.2, 0.1}, {2, 1.1, 1.2}), "b"),
         seam::mesh_from_soup<KF>(seam_test::box_soup({0.5, 0.3, 0.2}, {1.5, 0.6, 0.8}), "c")};
-    std::string what;
-    try {
-      seam::textile<KF>(meshes, {"a", "b", "c"});
-    } catch (const seam::InvalidInput& e) {
-      what = e.what();
-    }
+    const std::string what = refusal<KF>(meshes, {"a", "b", "c"});
     CHECK_THAT(what, Catch::Contains("triple overlap") && Catch::Contains("use --kernel exact"));
   }
 }
@@ -175,11 +176,6 @@ TEST_CASE("textile: points of a flat crossing closer than the vertex separation 
   a.triangles = b.triangles = prism_faces;
   std::vector<M> meshes{seam::mesh_from_soup<K>(a, "a"), seam::mesh_from_soup<K>(b, "b"),
                         seam::mesh_from_soup<K>(seam_test::box_soup({0.5, 0.3, 0.8}, {1.4, 0.6, 1.5}), "c")};
-  std::string what;
-  try {
-    seam::textile<K>(meshes, {"a", "b", "c"});
-  } catch (const seam::InvalidInput& e) {
-    what = e.what();
-  }
+  const std::string what = refusal<K>(meshes, {"a", "b", "c"});
   CHECK_THAT(what, Catch::Contains("'a', 'b' and 'c'") && Catch::Contains("closer than the vertex separation"));
 }
