@@ -1021,8 +1021,8 @@ template <class K> class TextileRun {
             refuse(tow, m, "only the exact kernel makes such a point a vertex of the three tows: use --kernel exact");
           if (!m.point)
             refuse(tow, m,
-                   "the curves overlap along a segment there (as where a tow crosses an area over which the "
-                   "other two coincide): seam textile cannot embed that");
+                   "the curves overlap along a segment there as two different segments between vertices of this "
+                   "tow: seam textile cannot embed that");
           if (round >= 4)
             refuse(tow, m,
                    m.along ? "the curves still run together after 4 rounds of making their points vertices (as where "
