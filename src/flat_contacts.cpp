@@ -906,17 +906,14 @@ template <class K> class FlatContactUnifier {
         curves_(curves),
         options_(options),
         others_(std::move(others)) {
-    auto segments_of = [&](const std::vector<std::vector<V>>& vertices) {
-      std::set<std::pair<V, V>> segments;
-      for (const auto& curve : vertices)
-        for (std::size_t k = 0; k + 1 < curve.size(); ++k)
-          segments.emplace(std::min(curve[k], curve[k + 1]), std::max(curve[k], curve[k + 1]));
-      return segments;
+    auto add_segments = [](const std::vector<V>& curve, std::set<std::pair<V, V>>& segments) {
+      for (std::size_t k = 0; k + 1 < curve.size(); ++k)
+        segments.emplace(std::min(curve[k], curve[k + 1]), std::max(curve[k], curve[k + 1]));
     };
-    curve_segments_a_ = segments_of(curves.vertices_a);
-    curve_segments_b_ = segments_of(curves.vertices_b);
-    for (const auto* list : others_.a) other_segments_a_.merge(segments_of({*list}));
-    for (const auto* list : others_.b) other_segments_b_.merge(segments_of({*list}));
+    for (const auto& curve : curves.vertices_a) add_segments(curve, curve_segments_a_);
+    for (const auto& curve : curves.vertices_b) add_segments(curve, curve_segments_b_);
+    for (const auto* list : others_.a) add_segments(*list, other_segments_a_);
+    for (const auto* list : others_.b) add_segments(*list, other_segments_b_);
   }
 
   FlatContactStats run() {

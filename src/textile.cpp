@@ -840,6 +840,11 @@ template <class K> class TextileRun {
     Point middle;  // along: the middle of the overlap
   };
 
+  /// The three tows of a meeting on `tow`: that tow, then the other tow of each pair.
+  std::array<std::size_t, 3> tows_of(std::size_t tow, const Meeting& m) const {
+    return {tow, other(m.p, tow), other(m.q, tow)};
+  }
+
   [[noreturn]] void refuse(std::size_t tow, const Meeting& m, const char* why) const {
     const std::size_t j = other(m.p, tow), k = other(m.q, tow);
     std::set<std::size_t> three{tow, j, k};
@@ -1005,7 +1010,7 @@ template <class K> class TextileRun {
       for (std::size_t tow = 0; tow < meshes_.size(); ++tow)
         for (const Meeting& m : meetings[tow]) {
           auto& q = query_of[tow].emplace_back();
-          const std::array<std::size_t, 3> three_tows = {tow, other(m.p, tow), other(m.q, tow)};
+          const auto three_tows = tows_of(tow, m);
           for (std::size_t k = 0; k < 3; ++k) {
             q[k] = queries[three_tows[k]].size();
             queries[three_tows[k]].push_back(m.at);
@@ -1037,7 +1042,7 @@ template <class K> class TextileRun {
                    "over an area): seam textile cannot embed that");
           bool inserted = false, known = false;
           const bool three = !m.along && on_curve_of(other(m.p, tow), other(m.q, tow), m.at);
-          const std::array<std::size_t, 3> three_tows = {tow, other(m.p, tow), other(m.q, tow)};
+          const auto three_tows = tows_of(tow, m);
           for (std::size_t k = 0; k < 3; ++k) {
             const std::size_t x = three_tows[k];
             if (!three && x != tow) continue;
