@@ -55,6 +55,7 @@ nlohmann::json improve_json(const seam::ImproveStats& s, bool done, const std::v
           {"flat_contact_reasons", flat_reasons},
           {"shortfall_faces", faces},
           {"feature_size", s.feature_size},
+          {"small_curves", s.small_curves},
           {"shortfalls_where_curves_closer_than_feature_size", curves_closer},
           {"seconds", s.seconds}};
 }

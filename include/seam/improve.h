@@ -57,6 +57,13 @@
 //         than `merge_reach` x feature_size merges as in a, if that raises its smallest angle.
 //   Splits and exact insertions keep the surface; flips, merges and rounded insertions change it
 //   and pass the acceptance predicate first.
+//   The feature size in a, c and d is `feature_size`, except near a small curve: a curve smaller
+//   than it across, with no other curve near (two tows that barely overlap make one, far smaller
+//   than a face). There it is the curve's size / small_curve_divisions (or half the gap between
+//   its sides), growing by small_curve_grading per unit of distance up to feature_size: Ruppert's
+//   spacing at the local feature size, which such a curve sets by its own size. At the global
+//   scale every point near it lies nearer than feature_size to its vertices, and its faces stay
+//   slivers from its few points to the corners of the face it lies in.
 //
 // The acceptance predicate (one, for every edit that changes the surface): the new faces are
 // not degenerate (exact), turn less than 80 degrees from their input surface (doubles; not asked
@@ -141,6 +148,16 @@ struct ImproveOptions {
   /// Points closer than this are not made; edges shorter than it are merged where the tolerance
   /// allows. Negative: the larger of `tolerance` and 1/64 of the mean edge length.
   double feature_size = -1.0;
+  /// A curve smaller than this many feature sizes across (the diagonal of its points' box), with
+  /// no other curve within twice the feature size, is a small curve: near it the stage works at
+  /// a finer scale, its size / small_curve_divisions, growing by small_curve_grading per unit of
+  /// distance from its box up to feature_size (a graded size, as Ruppert's refinement spaces
+  /// points at the local feature size, which an isolated curve sets by its own size). So a curve
+  /// much smaller than a face (tows that barely overlap) gets points around it instead of
+  /// slivers from its few points to the face's corners. Elsewhere: feature_size.
+  double small_curve_limit = 1.0;
+  double small_curve_divisions = 4.0;
+  double small_curve_grading = 0.5;
   /// Where no point can be inserted for a face below the bound (each lies nearer than
   /// feature_size to a vertex), an edge of it shorter than merge_reach x feature_size merges, if
   /// that raises the face's smallest angle (step 2d). 2: an input vertex left between one and two
@@ -211,6 +228,7 @@ struct ImproveStats {
   std::size_t above_max_area_after = 0;
   std::vector<Shortfall> shortfalls;  ///< the faces below the bound at the end, with causes
   double feature_size = 0;            ///< the feature size the stage used (ImproveOptions::feature_size)
+  std::size_t small_curves = 0;       ///< curves near which it used a finer one (small_curve_limit)
   double seconds = 0;
 };
 

@@ -108,13 +108,13 @@ template <class K> class Refiner {
   bool merge_plan(std::size_t m, V u, V w, Edit<K>& edit) const;
   Outcome split_constraint(std::size_t m, H h);
   /// A constraint split_constraint would split (a curve segment, the mesh's border) shorter than
-  /// twice feature_size (doubles): refused for the feature size. The band's border is never too
-  /// short: the face beyond joins the band, nothing is split.
+  /// twice the feature size at its middle (doubles): refused for the feature size. The band's
+  /// border is never too short: the face beyond joins the band, nothing is split.
   bool too_short_to_split(std::size_t m, H h) const {
     if (band_border(m, h)) return false;
     const M& g = s_.mesh(m);
-    return std::sqrt(CGAL::squared_distance(s_.fpoint(m, g.source(h)), s_.fpoint(m, g.target(h)))) <
-           2 * s_.feature_size;
+    const FP a = s_.fpoint(m, g.source(h)), b = s_.fpoint(m, g.target(h));
+    return std::sqrt(CGAL::squared_distance(a, b)) < 2 * s_.feature_size_at(CGAL::midpoint(a, b));
   }
   /// The constraint of h is the band's border, no curve segment: a face beyond it, not in the band.
   bool band_border(std::size_t m, H h) const {
@@ -221,7 +221,8 @@ template <class K> void Refiner<K>::legalize(std::size_t m, V x) {
 template <class K> bool Refiner<K>::is_encroached(std::size_t m, H h) const {
   const M& g = s_.mesh(m);
   const FP a = s_.fpoint(m, g.source(h)), b = s_.fpoint(m, g.target(h));
-  if (CGAL::squared_distance(a, b) < 4 * s_.feature_size * s_.feature_size) return false;
+  const double size = s_.feature_size_at(CGAL::midpoint(a, b));
+  if (CGAL::squared_distance(a, b) < 4 * size * size) return false;
   for (H k : {h, g.opposite(h)}) {
     if (!s_.face_in_band(m, g.face(k))) continue;
     const FP w = s_.fpoint(m, g.target(g.next(k)));
@@ -386,13 +387,14 @@ template <class K> Outcome Refiner<K>::mend(std::size_t m, F f) {
   // Within the angle bound, only too large: its circumcenter (steps a and the constraint test
   // below are about small angles).
   if (too_large(m, f) && angle(m, f) >= angle_bound(m, f)) return insert_circumcenter(m, f);
-  // a. Edges shorter than the feature size, shortest first: their ends merge.
+  // a. Edges shorter than the feature size (at their middle), shortest first: their ends merge.
   std::array<std::size_t, 3> order = {0, 1, 2};  // edge i joins corners i and i + 1
   auto length = [&](std::size_t i) { return std::sqrt(CGAL::squared_distance(p[i], p[(i + 1) % 3])); };
+  auto size = [&](std::size_t i) { return s_.feature_size_at(CGAL::midpoint(p[i], p[(i + 1) % 3])); };
   std::sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return length(i) < length(j); });
   std::optional<Outcome> refused;
   for (std::size_t i : order) {
-    if (length(i) >= s_.feature_size) break;
+    if (length(i) >= size(i)) continue;
     if (auto out = merge_short_edge(m, c[i], c[(i + 1) % 3])) {
       if (out->changed) return *out;
       refused = out;
@@ -427,8 +429,7 @@ template <class K> Outcome Refiner<K>::mend(std::size_t m, F f) {
   if (!out.changed && out.cause == ShortfallCause::feature_size) {
     const double now = angle(m, f);
     for (std::size_t i : order) {
-      if (length(i) >= s_.options.merge_reach * s_.feature_size) break;
-      if (length(i) < s_.feature_size) continue;
+      if (length(i) >= s_.options.merge_reach * size(i) || length(i) < size(i)) continue;
       if (auto merged = merge_short_edge(m, c[i], c[(i + 1) % 3], now); merged && merged->changed) return *merged;
     }
   }
@@ -817,13 +818,14 @@ bool Refiner<K>::attempt_with_flips(const Edit<K>& edit, const std::vector<std::
 /// the predicate refuses that, the point alone, then each flip.
 template <class K> Outcome Refiner<K>::insert_at(std::size_t m, F g, const FP& at) {
   const M& mesh = s_.mesh(m);
-  // Closer than feature_size to a vertex around g: refused (the point inserted in the end, on the
-  // input surface or exactly in g, is tested again).
+  // Closer than the feature size (at the point) to a vertex around g: refused (the point
+  // inserted in the end, on the input surface or exactly in g, is tested again).
   auto too_close = [&](const FP& q) {
+    const double size = s_.feature_size_at(q), size2 = size * size;
     for (V v : s_.corners(m, g))
       for (H h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh))
-        if (CGAL::squared_distance(q, s_.fpoint(m, mesh.source(h))) < s_.feature_size * s_.feature_size ||
-            CGAL::squared_distance(q, s_.fpoint(m, v)) < s_.feature_size * s_.feature_size)
+        if (CGAL::squared_distance(q, s_.fpoint(m, mesh.source(h))) < size2 ||
+            CGAL::squared_distance(q, s_.fpoint(m, v)) < size2)
           return true;
     return false;
   };

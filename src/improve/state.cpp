@@ -199,6 +199,63 @@ template <class K> void add_properties(typename ImproveState<K>::MeshState& ms) 
   std::tie(ms.frozen, ms.has_frozen) = g.template property_map<F, bool>(frozen_face_property);
 }
 
+/// How close two segments of the curve with no common point come (doubles); infinity where no
+/// two are (a curve of three segments or fewer). A thin loop is narrower than its box: a finer
+/// scale than its size needs to fit between its sides.
+template <class P> double own_gap(const std::vector<P>& curve) {
+  double gap = std::numeric_limits<double>::infinity();
+  const std::size_t n = curve.size() - 1;  // segments (a closed curve repeats its first point)
+  const bool closed = curve.front() == curve.back();
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 2; j < n; ++j) {
+      if (closed && i == 0 && j == n - 1) continue;  // they meet at the first point
+      const Filtered::Segment_3 a(to_filtered(curve[i]), to_filtered(curve[i + 1]));
+      const Filtered::Segment_3 b(to_filtered(curve[j]), to_filtered(curve[j + 1]));
+      gap = std::min(gap, std::sqrt(CGAL::squared_distance(a, b)));
+    }
+  return gap;
+}
+
+/// The small curves (see ImproveOptions::small_curve_limit), with the feature size at them: their
+/// size over small_curve_divisions, or half the gap between their own sides where less (but not
+/// below their size over the square of small_curve_divisions). Only a
+/// curve alone is one: no segment of another curve comes within twice the feature size of its
+/// box (where its graded size is below feature_size), so that the finer scale meets no gap
+/// between two curves, which it cannot mesh better (step 2d's merges may). A curve of one point
+/// (a point of contact) has no size: none.
+template <class K> void find_small_curves(ImproveState<K>& s, const SharedCurves<K>& in) {
+  const ImproveOptions& o = s.options;
+  if (!(o.small_curve_limit > 0) || !(o.small_curve_divisions > 0)) return;
+  std::vector<CGAL::Bbox_3> boxes;
+  for (const auto& curve : in.curves) {
+    CGAL::Bbox_3 box;
+    for (const auto& p : curve) box += to_filtered(p).bbox();
+    boxes.push_back(box);
+  }
+  const double reach = 2 * s.feature_size;
+  for (std::size_t c = 0; c < in.curves.size(); ++c) {
+    const CGAL::Bbox_3& box = boxes[c];
+    const double size = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                  CGAL::square(box.zmax() - box.zmin()));
+    if (in.curves[c].size() < 2 || !(size > 0) || size >= o.small_curve_limit * s.feature_size) continue;
+    const CGAL::Bbox_3 around(box.xmin() - reach, box.ymin() - reach, box.zmin() - reach, box.xmax() + reach,
+                              box.ymax() + reach, box.zmax() + reach);
+    bool alone = true;
+    for (std::size_t d = 0; d < in.curves.size() && alone; ++d) {
+      if (d == c || !CGAL::do_overlap(boxes[d], around)) continue;
+      const auto& other = in.curves[d];
+      if (other.size() == 1) alone = !CGAL::do_overlap(to_filtered(other[0]).bbox(), around);
+      for (std::size_t i = 0; i + 1 < other.size() && alone; ++i)
+        alone = !CGAL::do_overlap(to_filtered(other[i]).bbox() + to_filtered(other[i + 1]).bbox(), around);
+    }
+    // Between its sides: at most small_curve_divisions^2 times finer than its size (a pinch
+    // narrower than that is left to the merges: refined into, it made thousands of points).
+    const double sides = std::max(own_gap(in.curves[c]) / 2, size / (o.small_curve_divisions * o.small_curve_divisions));
+    if (alone) s.small_curves.push_back({box, std::min({s.feature_size, size / o.small_curve_divisions, sides})});
+  }
+  s.stats.small_curves = s.small_curves.size();
+}
+
 }  // namespace
 
 template <class K>
@@ -220,6 +277,7 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
     add_properties<K>(ms);
   }
   number_curve_points<K>(s, curves);
+  find_small_curves<K>(s, curves);
   for (auto& point : s.points) fix_rounding(point.p);  // (copies of the curves' points may be other objects)
 
   // The band: faces made by the embedding or touching a curve point, not shared or frozen.

@@ -170,11 +170,32 @@ template <class K> struct ImproveState {
   FaceGrid grid;
   ImproveOptions options;
   double tolerance = 0, feature_size = 0, mean_edge = 0;
+  /// The small curves (ImproveOptions::small_curve_limit): their boxes (doubles) and the feature
+  /// size at them.
+  struct SmallCurve {
+    CGAL::Bbox_3 box;
+    double size;
+  };
+  std::vector<SmallCurve> small_curves;
   ImproveStats stats;
   std::size_t insertions_left = 0;
   std::uint32_t last_version = 0;  ///< faces made by an edit are numbered on from it
 
   // ---- queries (inline: they are used by every step)
+  /// The feature size at x: feature_size, or finer near a small curve (graded, see
+  /// ImproveOptions::small_curve_limit). Doubles.
+  double feature_size_at(const Filtered::Point_3& x) const {
+    double size = feature_size;
+    for (const SmallCurve& c : small_curves) {
+      double d2 = 0;
+      for (int i = 0; i < 3; ++i) {
+        const double out = std::max({c.box.min(i) - x[i], x[i] - c.box.max(i), 0.0});
+        d2 += out * out;
+      }
+      size = std::min(size, c.size + options.small_curve_grading * std::sqrt(d2));
+    }
+    return size;
+  }
   M& mesh(std::size_t m) const { return *meshes[m].mesh; }
   Filtered::Point_3 fpoint(std::size_t m, V v) const { return to_filtered(mesh(m).point(v)); }
   std::array<V, 3> corners(std::size_t m, F f) const {
