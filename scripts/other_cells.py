@@ -26,7 +26,15 @@ from real_tows import read_off, tetgen_merged, transformed, write_off  # noqa: E
 from real_cells import min_angle  # noqa: E402
 from other_weave import intersecting_pairs  # noqa: E402
 
-# name, generator arguments, transforms {tow: ops} applied after generation
+# a fine crimped weft (3 spacings, ~30k faces) and a fine straight one (orthogonal cell, layer 0)
+FINE_WEFT = ['--cell', 'plain', '--seed', '21', '--repeat', '3', '1', '--along', '40', '--around', '120',
+             '--dense', '0']
+STRAIGHT_WEFT = ['--cell', 'orthogonal', '--seed', '21', '--layers', '2', '--repeat', '3', '1', '--around', '128',
+                 '--dense', '0']
+STRAIGHT_16x32 = ['--cell', 'orthogonal', '--seed', '21', '--layers', '2', '--repeat', '3', '1', '--around', '32',
+                  '--dense', '0', '--along', '16', '--no-stagger']
+
+# name, generator arguments, transforms {tow: ops} applied after generation (see generate())
 CONFIGS = [
     ('plain 2x2, super-ellipse p=2.5, RMF frame, staggered rings, 10 rings/spacing',
      ['--cell', 'plain', '--seed', '1'], {}),
@@ -65,11 +73,107 @@ CONFIGS = [
     ('coarse: plain 3x3, ellipse, 4 rings/spacing, 8 points/ring for all, rings aligned, no densification',
      ['--cell', 'plain', '--seed', '13', '--repeat', '3', '3', '--exponent', '2', '--along', '4', '--around', '8',
       '--same-around', '--no-stagger', '--dense', '0'], {}),
+    # ---- harder: a fine tow against a copy of itself (as the CT pair table), contacts, resolution,
+    # many tows, three tows overlapping in one place
+    ('self: weft0 of a 3x1 plain cell, fine (40 x 120, no densification), and a copy moved (0.02, 0.03, 0.3 x height)',
+     FINE_WEFT, {'keep': ['weft0'], 'copy:weft0': [('move', (0.02, 0.03, 0.3 * 0.16))]}),
+    ('self: fine crimped weft0 (as above) and a copy turned 2 deg about x',
+     FINE_WEFT, {'keep': ['weft0'], 'copy:weft0': [('turn', 'x', 2)]}),
+    ('self: fine crimped weft0 (as above) and a copy turned 5 deg about z',
+     FINE_WEFT, {'keep': ['weft0'], 'copy:weft0': [('turn', 'z', 5)]}),
+    ('self: fine crimped weft0 (as above) and a copy scaled by 1.02 about its centre',
+     FINE_WEFT, {'keep': ['weft0'], 'copy:weft0': [('scale', 1.02)]}),
+    ('self: fine crimped weft0 (as above) and a copy moved along its length by 0.3 ring step (nearly coincident)',
+     FINE_WEFT, {'keep': ['weft0'], 'copy:weft0': [('move', (0.3 / 40, 0, 0))]}),
+    ('self: straight weft (orthogonal cell, 40 x 120, staggered) and a copy moved along it by 0.3 ring step',
+     STRAIGHT_WEFT + ['--along', '40'], {'keep': ['weft_l0_0'], 'copy:weft_l0_0': [('move', (0.3 / 40, 0, 0))]}),
+    ('flat: straight weft (32 x 128, rings aligned) and a copy moved along it by exactly one ring step '
+     '(vertices and faces coincide over the whole length)',
+     STRAIGHT_WEFT + ['--along', '32', '--no-stagger'],
+     {'keep': ['weft_l0_0'], 'copy:weft_l0_0': [('move', (1.0 / 32, 0, 0))]}),
+    ('self: straight weft (32 x 128, staggered) and a copy moved by exactly one ring step (its vertices on the '
+     'smooth surface between the original\'s)',
+     STRAIGHT_WEFT + ['--along', '32'], {'keep': ['weft_l0_0'], 'copy:weft_l0_0': [('move', (1.0 / 32, 0, 0))]}),
+    ('contact: orthogonal 3 layers, overlap 0 (every crossover touches tangentially at a point), rings aligned, '
+     '16 points/ring, up frame',
+     ['--cell', 'orthogonal', '--seed', '22', '--overlap', '0', '--no-stagger', '--same-around', '--around', '16',
+      '--frame', 'up'], {}),
+    ('contact: straight weft and its copy half-turned about its axis, moved 0.6 across: touching along a line of '
+     'shared edges; a stuffer lowered onto that line crosses both',
+     ['--cell', 'orthogonal', '--seed', '23', '--layers', '2', '--no-stagger', '--same-around', '--around', '20'],
+     {'keep': ['weft_l0_0', 'stuffer_l0_0'], 'copy:weft_l0_0': [('flip', 'x'), ('move', (0, 0.6, 0))],
+      'stuffer_l0_0': [('move', (0, 0, -0.1536))]}),
+    ('contact: straight weft and its half-turned copy touching along a line (staggered rings: isolated common '
+     'vertices), no third tow',
+     ['--cell', 'orthogonal', '--seed', '24', '--layers', '2', '--same-around', '--around', '20'],
+     {'keep': ['weft_l0_0'], 'copy:weft_l0_0': [('flip', 'x'), ('move', (0, 0.6, 0))]}),
+    ('resolution: plain 2x2, p=2.5, 100 rings/spacing x 124 points (~50k faces per tow)',
+     ['--cell', 'plain', '--seed', '25', '--along', '100', '--around', '124', '--same-around'], {}),
+    ('many: twill 2/2 4x4 (8 tows), varying section (vary 0.15, twist 6), jitter 0.3, meander 0.03, fine (24 x 40)',
+     ['--cell', 'twill', '--seed', '26', '--section', 'varying', '--vary', '0.15', '--twist', '6', '--jitter', '0.3',
+      '--waviness', '0.03', '--along', '24', '--around', '40'], {}),
+    ('many: orthogonal 4x2, 3 weft layers, 3 binders (17 tows), jitter 0.2, Hermite path, strip caps',
+     ['--cell', 'orthogonal', '--seed', '27', '--repeat', '4', '2', '--jitter', '0.2', '--path', 'hermite',
+      '--cap', 'strip'], {}),
+    ('triple: plain 2x2 and a copy of warp0 moved 0.15 across (warp0, its copy and both wefts overlap at each '
+     'crossover of warp0)',
+     ['--cell', 'plain', '--seed', '28', '--along', '16', '--around', '28'],
+     {'copy:warp0': [('move', (0.15, 0, 0.01))]}),
+    ('triple: orthogonal 2 layers, binder0 moved onto stuffer column 0 (+0.07) and pushed down 0.18 into the '
+     'top weft x stuffer crossovers',
+     ['--cell', 'orthogonal', '--seed', '29', '--layers', '2', '--along', '14', '--around', '24'],
+     {'binder0': [('move', (-0.43, 0, -0.18))]}),
+    ('self: as 19 (staggered straight weft, copy moved along it by 0.3 ring step) but coarse (20 x 60)',
+     ['--cell', 'orthogonal', '--seed', '21', '--layers', '2', '--repeat', '3', '1', '--around', '60', '--dense', '0',
+      '--along', '20'],
+     {'keep': ['weft_l0_0'], 'copy:weft_l0_0': [('move', (0.3 / 20, 0, 0))]}),
+    ('self: as 16 (crimped weft0 and a copy turned 5 deg about z) but coarse (20 x 60)',
+     ['--cell', 'plain', '--seed', '21', '--repeat', '3', '1', '--along', '20', '--around', '60', '--dense', '0'],
+     {'keep': ['weft0'], 'copy:weft0': [('turn', 'z', 5)]}),
+    ('flat + third: straight weft (16 x 32, rings aligned), a copy moved along it by one ring step (faces coincide) '
+     'and a stuffer lowered 0.1 across both (crosses their flat contact)',
+     STRAIGHT_16x32,
+     {'keep': ['weft_l0_0', 'stuffer_l0_1'], 'copy:weft_l0_0': [('move', (1.0 / 16, 0, 0))],
+      'stuffer_l0_1': [('move', (0, 0, -0.1))]}),
+    ('flat, three: straight weft (16 x 32, rings aligned) and copies moved along it by one and two ring steps '
+     '(three tows coincide over an area, where the docs promise exit 2)',
+     STRAIGHT_16x32,
+     {'keep': ['weft_l0_0'], 'copy:weft_l0_0': [('move', (1.0 / 16, 0, 0))],
+      'copy2:weft_l0_0': [('move', (2.0 / 16, 0, 0))]}),
+    ('flat + third: as 32, but the stuffer also moved 0.013 along x (its bottom ridge off the weft\'s ring plane)',
+     STRAIGHT_16x32,
+     {'keep': ['weft_l0_0', 'stuffer_l0_1'], 'copy:weft_l0_0': [('move', (1.0 / 16, 0, 0))],
+      'stuffer_l0_1': [('move', (0.013, 0, -0.1))]}),
+    ('contact: orthogonal 3 layers, overlap 0 (tangential point contacts), default rings (staggered, RMF frame)',
+     ['--cell', 'orthogonal', '--seed', '35', '--overlap', '0'], {}),
+    ('flat + third: as 32, but the stuffer turned 7 deg about z and moved (0.013, 0.0071, -0.1) (generic position)',
+     STRAIGHT_16x32,
+     {'keep': ['weft_l0_0', 'stuffer_l0_1'], 'copy:weft_l0_0': [('move', (1.0 / 16, 0, 0))],
+      'stuffer_l0_1': [('turn', 'z', 7), ('move', (0.013, 0.0071, -0.1))]}),
 ]
 
 
+def apply_ops(points, ops):
+    """transformed() (real_tows.py) on each run of its ops, plus ('flip', axis): an exact half turn
+    about that coordinate axis through the origin (the other two coordinates negated)."""
+    out, run_ = list(points), []
+    for op in list(ops) + [None]:
+        if op is None or op[0] == 'flip':
+            if run_:
+                out = transformed(out, run_)
+                run_ = []
+            if op is not None:
+                k = 'xyz'.index(op[1])
+                out = [tuple(q[d] if d == k else -q[d] for d in range(3)) for q in out]
+        else:
+            run_.append(op)
+    return out
+
+
 def generate(work, gen_args, ops):
-    """Runs the generator into work/in, applies the transforms; returns the input paths in order."""
+    """Runs the generator into work/in, applies the transforms; returns the input paths in order.
+    ops: {tow: list of ops (transformed in place) or None (dropped)}; 'copy:TOW' ('copyX:TOW')
+    adds TOW_copy (TOW_copyX) transformed; 'keep': [tows] drops every other generated tow."""
     indir = os.path.join(work, 'in')
     if os.path.isdir(indir):
         for f in os.listdir(indir):
@@ -80,11 +184,17 @@ def generate(work, gen_args, ops):
         raise RuntimeError('generator failed: %s' % run.stderr)
     paths = [line.split()[0] for line in run.stdout.splitlines() if line.endswith(')') and '.off' in line]
     for name, o in ops.items():
-        if name.startswith('copy:'):
-            src = os.path.join(indir, name[5:] + '.off')
+        if name == 'keep':
+            for path in list(paths):
+                if os.path.splitext(os.path.basename(path))[0] not in o:
+                    os.remove(path)
+                    paths.remove(path)
+        elif name.startswith('copy') and ':' in name:
+            tag, tow = name.split(':', 1)
+            src = os.path.join(indir, tow + '.off')
             p, f = read_off(src)
-            dst = os.path.join(indir, name[5:] + '_copy.off')
-            write_off(dst, transformed(p, o), f)
+            dst = os.path.join(indir, tow + '_' + tag + '.off')
+            write_off(dst, apply_ops(p, o), f)
             paths.append(dst)
         elif o is None:  # drop the tow
             path = os.path.join(indir, name + '.off')
@@ -93,7 +203,7 @@ def generate(work, gen_args, ops):
         else:
             path = os.path.join(indir, name + '.off')
             p, f = read_off(path)
-            write_off(path, transformed(p, o), f)
+            write_off(path, apply_ops(p, o), f)
     return paths
 
 
