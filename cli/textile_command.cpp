@@ -359,7 +359,7 @@ Command add_textile_command(CLI::App& app) {
       "parallel. Writes DIR/<name>.off per tow and DIR/<A>__<B>.polylines.txt per pair that meets (A before B "
       "in input order). Vertices within a tiny distance of a curve are snapped onto it first; then the quality stage "
       "refines the faces along the curves of all tows at once, and every pair is checked as written: "
-      "`seam check A B DIR/A.off DIR/B.off DIR/A__B.polylines.txt --tol T` passes for each, with the T printed. Where three tows overlap in one place, the exact kernel makes the point a vertex of all three, and where a tow crosses a flat contact of two others, their common curve segments edges of all three; where three tows coincide over an area (or under a rounded kernel) the run stops with exit 2 naming them.");
+      "`seam check A B DIR/A.off DIR/B.off DIR/A__B.polylines.txt --tol T` passes for each, with the T printed. Where three tows overlap in one place, the exact kernel makes the point a vertex of all three, and where a tow crosses a flat contact of two others, their common curve segments edges of all three; where three tows coincide over an area with different faces there (or under a rounded kernel) the run stops with exit 2 naming them.");
   cmd->add_option("TOW", ta.tows, "Input tow meshes (.off, .obj, .ply, .stl); outputs are named after their base names");
   cmd->add_option("--tows", ta.tows_list,
                   "A file listing tow meshes, one path per line (relative paths from the list's directory; blank "
