@@ -23,7 +23,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from real_tows import read_off, tetgen_merged, transformed, write_off  # noqa: E402
-from real_cells import min_angle  # noqa: E402
+from real_cells import new_face_angles  # noqa: E402
 from other_weave import intersecting_pairs  # noqa: E402
 
 # a fine crimped weft (3 spacings, ~30k faces) and a fine straight one (orthogonal cell, layer 0)
@@ -215,24 +215,6 @@ def run(cmd, timeout):
     except subprocess.TimeoutExpired:
         code, err = 'timeout', ''
     return code, err, time.time() - start
-
-
-def new_face_angles(inputs, outputs):
-    """New faces (corners not a face of the input, by coordinates), below 10 and 20 degrees."""
-    new = b10 = b20 = 0
-    for a, b in zip(inputs, outputs):
-        p0, f0 = read_off(a)
-        p1, f1 = read_off(b)
-        old = set(tuple(sorted(p0[i] for i in t)) for t in f0)
-        for t in f1:
-            corners = [p1[i] for i in t]
-            if tuple(sorted(corners)) in old:
-                continue
-            new += 1
-            angle = min_angle(corners)
-            b10 += angle < 10
-            b20 += angle < 20
-    return new, b10, b20
 
 
 def main():

@@ -52,6 +52,9 @@ import os
 import random
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from real_tows import write_off  # noqa: E402  (the OFF writer of the real-tow scripts)
+
 TWO_PI = 2.0 * math.pi
 PARAMS = []  # (ring, index, angle, path position) of each vertex of the last tow meshed (debugging)
 
@@ -497,15 +500,6 @@ def intersecting_pairs(meshes):
             if hit:
                 out.append((a, b, hit))
     return out
-
-
-def write_off(path, points, faces):
-    with open(path, 'w') as f:
-        f.write('OFF\n%d %d 0\n' % (len(points), len(faces)))
-        for p in points:
-            f.write('%.17g %.17g %.17g\n' % p)
-        for t in faces:
-            f.write('3 %d %d %d\n' % t)
 
 
 # ---------------------------------------------------------------- cells

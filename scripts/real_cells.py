@@ -84,7 +84,7 @@ def main():
         else:
             r = json.load(open(report))
             tol = r['verify_tolerance']
-            checks, new, b10, b20 = [], 0, 0, 0
+            checks = []
             pairs = [p for p in r['pairs'] if p['curves'] + p['contact'].get('points', 0) > 0]
             for p in pairs:
                 a, b = p['a'], p['b']
@@ -95,18 +95,7 @@ def main():
                                     '--report', cr], capture_output=True, text=True)
                 checks.append(c.returncode == 0)
             # New faces over the whole cell: each tow's faces not in its input (by coordinates).
-            for k in range(len(parts)):
-                p0, f0 = read_off(inputs[k])
-                p1, f1 = read_off(os.path.join(out_dir, 't%d.off' % k))
-                old = set(tuple(sorted(p0[i] for i in t)) for t in f0)
-                for t in f1:
-                    corners = [p1[i] for i in t]
-                    if tuple(sorted(corners)) in old:
-                        continue
-                    new += 1
-                    angle = min_angle(corners)
-                    b10 += angle < 10
-                    b20 += angle < 20
+            new, b10, b20 = new_face_angles(inputs, [os.path.join(out_dir, 't%d.off' % k) for k in range(len(parts))])
             verdict = tetgen_merged([os.path.join(out_dir, 't%d.off' % k) for k in range(len(parts))],
                                     os.path.join(work, 'merged.off'), work, timeout=1800)
             row = '| %d | %s | %d | 0 | %.1f | %d (%d, %d) | %s | %s | %d | %d (%.1f%%) | %d (%.1f%%) |' % (
@@ -119,6 +108,24 @@ def main():
         with open(args.markdown, 'w') as f:
             f.write('\n'.join(rows) + '\n')
     return 0
+
+
+def new_face_angles(inputs, outputs):
+    """New faces (corners not a face of the input, by coordinates), below 10 and 20 degrees."""
+    new = b10 = b20 = 0
+    for a, b in zip(inputs, outputs):
+        p0, f0 = read_off(a)
+        p1, f1 = read_off(b)
+        old = set(tuple(sorted(p0[i] for i in t)) for t in f0)
+        for t in f1:
+            corners = [p1[i] for i in t]
+            if tuple(sorted(corners)) in old:
+                continue
+            new += 1
+            angle = min_angle(corners)
+            b10 += angle < 10
+            b20 += angle < 20
+    return new, b10, b20
 
 
 def min_angle(p):
