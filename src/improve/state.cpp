@@ -200,8 +200,8 @@ template <class K> void add_properties(typename ImproveState<K>::MeshState& ms) 
 }
 
 /// How close two segments of the curve with no common point come (doubles); infinity where no
-/// two are (a curve of three segments or fewer). A thin loop is narrower than its box: a finer
-/// scale than its size needs to fit between its sides.
+/// two are (a closed curve of three segments, an open one of two). A thin loop is narrower than
+/// its box: a finer scale than its size needs to fit between its sides.
 template <class P> double own_gap(const std::vector<P>& curve) {
   double gap = std::numeric_limits<double>::infinity();
   const std::size_t n = curve.size() - 1;  // segments (a closed curve repeats its first point)
@@ -218,11 +218,11 @@ template <class P> double own_gap(const std::vector<P>& curve) {
 
 /// The small curves (see ImproveOptions::small_curve_limit), with the feature size at them: their
 /// size over small_curve_divisions, or half the gap between their own sides where less (but not
-/// below their size over the square of small_curve_divisions). Only a
-/// curve alone is one: no segment of another curve comes within twice the feature size of its
-/// box (where its graded size is below feature_size), so that the finer scale meets no gap
-/// between two curves, which it cannot mesh better (step 2d's merges may). A curve of one point
-/// (a point of contact) has no size: none.
+/// below their size over the square of small_curve_divisions). Only a curve alone is one: no
+/// segment of another curve comes within twice the feature size of its box (where its graded
+/// size is below feature_size), so that the finer scale meets no gap between two curves, which
+/// it cannot mesh better (step 2d's merges may). A curve of one point (a point of contact) has
+/// no size: none.
 template <class K> void find_small_curves(ImproveState<K>& s, const SharedCurves<K>& in) {
   const ImproveOptions& o = s.options;
   if (!(o.small_curve_limit > 0) || !(o.small_curve_divisions > 0)) return;
@@ -248,10 +248,11 @@ template <class K> void find_small_curves(ImproveState<K>& s, const SharedCurves
       for (std::size_t i = 0; i + 1 < other.size() && alone; ++i)
         alone = !CGAL::do_overlap(to_filtered(other[i]).bbox() + to_filtered(other[i + 1]).bbox(), around);
     }
+    if (!alone) continue;
     // Between its sides: at most small_curve_divisions^2 times finer than its size (a pinch
     // narrower than that is left to the merges: refined into, it made thousands of points).
     const double sides = std::max(own_gap(in.curves[c]) / 2, size / (o.small_curve_divisions * o.small_curve_divisions));
-    if (alone) s.small_curves.push_back({box, std::min({s.feature_size, size / o.small_curve_divisions, sides})});
+    s.small_curves.push_back({box, std::min({s.feature_size, size / o.small_curve_divisions, sides})});
   }
   s.stats.small_curves = s.small_curves.size();
 }
