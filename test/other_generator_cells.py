@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """seam textile on cells of the second, independent generator (scripts/other_weave.py), which seam
 was not tuned on: a plain weave of lenticular tows with jittered, mixed rings and strip caps, an
-orthogonal cell (straight wefts and stuffers, a binder) and a coarse 2/2 twill of flat tows.
+orthogonal cell (straight wefts and stuffers, a binder), a plain weave whose tows barely overlap
+(one curve far smaller than a face) and a coarse 2/2 twill of flat tows.
 Asserts the output invariants, not a printout: exit 0; every pair that meets passes `seam check`
 (conformity: every curve point a vertex and every curve segment an edge of both tows; no crossing
 off the curves; each tow within the tolerance of its input; the curves cover the intersection) at
@@ -26,6 +27,8 @@ CELLS = [
                                      '--waviness', '0.04', '--jitter', '0.25', '--ring-mix', '--cap', 'strip',
                                      '--dense', '0.7']),
     ('orthogonal, jittered', ['--cell', 'orthogonal', '--seed', '5', '--jitter', '0.1']),
+    ('plain, grazing (a curve far smaller than a face: small curves)',
+     ['--cell', 'plain', '--seed', '11', '--section', 'lenticular', '--overlap', '0.0005', '--jitter', '0.3']),
     ('twill, coarse', ['--cell', 'twill', '--seed', '4', '--exponent', '3', '--path', 'hermite', '--tension', '0.3',
                        '--along', '7', '--around', '12', '--crimp', '0.7']),
 ]

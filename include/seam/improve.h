@@ -57,10 +57,11 @@
 //         than `merge_reach` x feature_size merges as in a, if that raises its smallest angle.
 //   Splits and exact insertions keep the surface; flips, merges and rounded insertions change it
 //   and pass the acceptance predicate first.
-//   The feature size in a, c and d is `feature_size`, except near a small curve: a curve smaller
-//   than it across, with no other curve near (two tows that barely overlap make one, far smaller
-//   than a face). There it is the curve's size / small_curve_divisions (or half the gap between
-//   its sides), growing by small_curve_grading per unit of distance up to feature_size: Ruppert's
+//   The feature size in 1, a, c and d is `feature_size`, except near a small curve: a curve
+//   smaller than it across, with no other curve near (two tows that barely overlap make one, far
+//   smaller than a face). There it is the curve's size / small_curve_divisions (or half the gap
+//   between its sides, but not below its size / small_curve_divisions^2 nor twice
+//   min_separation), growing by small_curve_grading per unit of distance up to feature_size: Ruppert's
 //   spacing at the local feature size, which such a curve sets by its own size. At the global
 //   scale every point near it lies nearer than feature_size to its vertices, and its faces stay
 //   slivers from its few points to the corners of the face it lies in.
@@ -81,11 +82,14 @@
 // the start over max_area (n points make about 2n faces); between two changes of the vertices
 // flips strictly raise the sorted vector of angles, of which there are finitely many: the stage
 // ends. A face left when that budget runs out is reported as `budget`. Why the budget is rarely
-// reached: every inserted point lies at least `feature_size` from the vertices around the face it
-// goes into (tested where it is finally placed: rounded onto the input surface, or exactly in the
-// face), and only curve segments at least twice that long are split, so the points packed into
-// the band are bounded by its area over about feature_size^2 (a local test: not a proof of
-// spacing from every vertex, which Lawson's flips may join to the new point).
+// reached: every inserted point lies at least the feature size there from the vertices around
+// the face it goes into (tested where it is finally placed: rounded onto the input surface, or
+// exactly in the face), and only curve segments at least twice that long are split, so the
+// points packed into the band are bounded by its area over about feature_size^2, plus, near each
+// small curve (whose scale grows linearly from at least its size / small_curve_divisions^2 and
+// twice min_separation), a number that grows with the logarithm of feature_size over that scale
+// (a local test: not a proof of spacing from every vertex, which Lawson's flips may join to the
+// new point).
 //
 // The bound. In the plane, Ruppert's algorithm with diametral balls ends with every angle at
 // least arcsin(1/(2 sqrt 2)) = 20.7 degrees where the input's angles between constraints are at
@@ -146,12 +150,15 @@ struct ImproveOptions {
   /// apart from the merges of curve points closer than min_separation.
   double tolerance = 0.0;
   /// Points closer than this are not made; edges shorter than it are merged where the tolerance
-  /// allows. Negative: the larger of `tolerance` and 1/64 of the mean edge length.
+  /// allows (finer near small curves, below). Negative: the larger of `tolerance` and 1/64 of the
+  /// mean edge length.
   double feature_size = -1.0;
   /// A curve smaller than this many feature sizes across (the diagonal of its points' box), with
-  /// no other curve within twice the feature size, is a small curve: near it the stage works at
-  /// a finer scale, its size / small_curve_divisions, growing by small_curve_grading per unit of
-  /// distance from its box up to feature_size (a graded size, as Ruppert's refinement spaces
+  /// no other curve within max(2, 1 / small_curve_grading) feature sizes, is a small curve: near
+  /// it the stage works at a finer scale, its size / small_curve_divisions (or half the gap
+  /// between its sides, not below size / small_curve_divisions^2 nor 2 x min_separation), growing
+  /// by small_curve_grading per unit of distance from its box up to feature_size (0 or a
+  /// grading <= 0 or divisions < 1: no small curves; a graded size, as Ruppert's refinement spaces
   /// points at the local feature size, which an isolated curve sets by its own size). So a curve
   /// much smaller than a face (tows that barely overlap) gets points around it instead of
   /// slivers from its few points to the face's corners. Elsewhere: feature_size.

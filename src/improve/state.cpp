@@ -205,7 +205,7 @@ template <class K> void add_properties(typename ImproveState<K>::MeshState& ms) 
 template <class P> double own_gap(const std::vector<P>& curve) {
   double gap = std::numeric_limits<double>::infinity();
   const std::size_t n = curve.size() - 1;  // segments (a closed curve repeats its first point)
-  const bool closed = curve.front() == curve.back();
+  const bool closed = is_closed(curve);
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t j = i + 2; j < n; ++j) {
       if (closed && i == 0 && j == n - 1) continue;  // they meet at the first point
@@ -218,21 +218,23 @@ template <class P> double own_gap(const std::vector<P>& curve) {
 
 /// The small curves (see ImproveOptions::small_curve_limit), with the feature size at them: their
 /// size over small_curve_divisions, or half the gap between their own sides where less (but not
-/// below their size over the square of small_curve_divisions). Only a curve alone is one: no
-/// segment of another curve comes within twice the feature size of its box (where its graded
-/// size is below feature_size), so that the finer scale meets no gap between two curves, which
+/// below their size over the square of small_curve_divisions, nor twice min_separation). Only a
+/// curve alone is one: no segment of another curve comes within max(2, 1 / grading) feature
+/// sizes of its box (where its graded size is below feature_size), so that the finer scale meets no gap between two curves, which
 /// it cannot mesh better (step 2d's merges may). A curve of one point (a point of contact) has
 /// no size: none.
 template <class K> void find_small_curves(ImproveState<K>& s, const SharedCurves<K>& in) {
   const ImproveOptions& o = s.options;
-  if (!(o.small_curve_limit > 0) || !(o.small_curve_divisions > 0)) return;
+  if (!(o.small_curve_limit > 0) || !(o.small_curve_divisions >= 1) || !(o.small_curve_grading > 0)) return;
   std::vector<CGAL::Bbox_3> boxes;
   for (const auto& curve : in.curves) {
     CGAL::Bbox_3 box;
     for (const auto& p : curve) box += to_filtered(p).bbox();
     boxes.push_back(box);
   }
-  const double reach = 2 * s.feature_size;
+  // Where the graded size of a curve's scale stays below feature_size: (feature_size - scale) /
+  // grading from its box, at most feature_size / grading.
+  const double reach = std::max(2.0, 1.0 / o.small_curve_grading) * s.feature_size;
   for (std::size_t c = 0; c < in.curves.size(); ++c) {
     const CGAL::Bbox_3& box = boxes[c];
     const double size = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
@@ -252,7 +254,9 @@ template <class K> void find_small_curves(ImproveState<K>& s, const SharedCurves
     // Between its sides: at most small_curve_divisions^2 times finer than its size (a pinch
     // narrower than that is left to the merges: refined into, it made thousands of points).
     const double sides = std::max(own_gap(in.curves[c]) / 2, size / (o.small_curve_divisions * o.small_curve_divisions));
-    s.small_curves.push_back({box, std::min({s.feature_size, size / o.small_curve_divisions, sides})});
+    // Not below twice the vertex separation: points closer are refused by the predicate anyway.
+    const double scale = std::max(std::min({size / o.small_curve_divisions, sides}), 2 * o.min_separation);
+    if (scale < s.feature_size) s.small_curves.push_back({box, scale});
   }
   s.stats.small_curves = s.small_curves.size();
 }

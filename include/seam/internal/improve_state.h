@@ -192,7 +192,8 @@ template <class K> struct ImproveState {
         const double out = std::max({c.box.min(i) - x[i], x[i] - c.box.max(i), 0.0});
         d2 += out * out;
       }
-      size = std::min(size, c.size + options.small_curve_grading * std::sqrt(d2));
+      const double reach = (size - c.size) / options.small_curve_grading;  // beyond: no finer
+      if (d2 < reach * reach) size = std::min(size, c.size + options.small_curve_grading * std::sqrt(d2));
     }
     return size;
   }
