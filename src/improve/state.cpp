@@ -4,6 +4,7 @@
 
 #include <seam/embed.h>
 #include <seam/errors.h>
+#include <seam/internal/bbox_diagonal.h>
 #include <seam/internal/improve_state.h>
 #include <seam/internal/local_edits.h>
 #include <seam/quality.h>
@@ -220,9 +221,9 @@ template <class P> double own_gap(const std::vector<P>& curve) {
 /// size over small_curve_divisions, or half the gap between their own sides where less (but not
 /// below their size over the square of small_curve_divisions, nor twice min_separation). Only a
 /// curve alone is one: no segment of another curve comes within max(2, 1 / grading) feature
-/// sizes of its box (where its graded size is below feature_size), so that the finer scale meets no gap between two curves, which
-/// it cannot mesh better (step 2d's merges may). A curve of one point (a point of contact) has
-/// no size: none.
+/// sizes of its box (where its graded size is below feature_size), so that the finer scale meets
+/// no gap between two curves, which it cannot mesh better (step 2d's merges may). A curve of one
+/// point (a point of contact) has no size: none.
 template <class K> void find_small_curves(ImproveState<K>& s, const SharedCurves<K>& in) {
   const ImproveOptions& o = s.options;
   if (!(o.small_curve_limit > 0) || !(o.small_curve_divisions >= 1) || !(o.small_curve_grading > 0)) return;
@@ -237,8 +238,7 @@ template <class K> void find_small_curves(ImproveState<K>& s, const SharedCurves
   const double reach = std::max(2.0, 1.0 / o.small_curve_grading) * s.feature_size;
   for (std::size_t c = 0; c < in.curves.size(); ++c) {
     const CGAL::Bbox_3& box = boxes[c];
-    const double size = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
-                                  CGAL::square(box.zmax() - box.zmin()));
+    const double size = bbox_diagonal(box);
     if (in.curves[c].size() < 2 || !(size > 0) || size >= o.small_curve_limit * s.feature_size) continue;
     const CGAL::Bbox_3 around(box.xmin() - reach, box.ymin() - reach, box.zmin() - reach, box.xmax() + reach,
                               box.ymax() + reach, box.zmax() + reach);
