@@ -224,6 +224,8 @@ def main():
     ap.add_argument('--only', default='')
     ap.add_argument('--markdown', default='')
     ap.add_argument('--timeout', type=float, default=1800)
+    ap.add_argument('--strict', action='store_true',
+                    help='exit 1 when any run fails (a seam exit other than 0, a failed check, tetgen -d not clean)')
     args = ap.parse_args()
     args.out = os.path.abspath(args.out)
     seam = os.path.abspath(args.seam)
@@ -331,7 +333,7 @@ def main():
                 for n, what, cmd, code, err in failures:
                     f.write('- config %d, %s: exit %s\n  `%s`\n\n```\n%s\n```\n' % (n, what, code, ' '.join(cmd),
                                                                                   err.strip()))
-    return 0
+    return 1 if args.strict and failures else 0
 
 
 if __name__ == '__main__':

@@ -70,3 +70,28 @@ TEST_CASE("improve: splitting a segment of one curve links the new point once", 
   CHECK(s.segment_node.count({1, 2}) == 0);
   CHECK_THROWS_AS(seam::internal::split_curve_links(s, 0, 2, 3), seam::InternalError);
 }
+
+TEST_CASE("improve: the predicate refuses a merge that would leave a curve spike", "[improve]") {
+  // Curve 0-1-2-3-4, with 1, 2 and 3 one cluster (as where a curve zigzags within 1e-13): merging
+  // 1 into 3 would make the curve pass 3, 2, 3 (a spike, segment (2, 3) twice); merging 1 into
+  // its neighbour 2 is no spike. (An edit with no mesh parts: only the curve test decides.)
+  State s;
+  s.points.resize(5);
+  add_curve(s, {0, 1, 2, 3, 4});
+  seam::internal::Edit<seam::Exact> edit;
+  edit.keeps_surface = true;
+  edit.merged_point = 1;
+  edit.merged_into = 3;
+  CHECK(seam::internal::accept_edit(s, edit) == seam::internal::Verdict::shape);
+  edit.merged_into = 2;
+  CHECK(seam::internal::accept_edit(s, edit) == seam::internal::Verdict::accepted);
+  // A closed curve of three points: any merge leaves a spike.
+  State t;
+  t.points.resize(3);
+  add_curve(t, {0, 1, 2, 0});
+  seam::internal::Edit<seam::Exact> closed;
+  closed.keeps_surface = true;
+  closed.merged_point = 0;
+  closed.merged_into = 1;
+  CHECK(seam::internal::accept_edit(t, closed) == seam::internal::Verdict::shape);
+}

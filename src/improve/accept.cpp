@@ -170,14 +170,15 @@ Tri<K, PK> new_tri(const ImproveState<K>& s, const Edit<K>& edit, const EditPart
 /// tolerance of it (doubles). A face thinner than the vertex separation (its height on its
 /// longest edge) has no normal worth the name: rounding decides it. It is held to the distance
 /// (and, by the caller, to the crossing tests) only.
-template <class K> Verdict near_input(const ImproveState<K>& s, std::size_t m, const Tri<K, K>& t) {
+template <class K>
+Verdict near_input(const ImproveState<K>& s, std::size_t m, const Tri<K, K>& t, bool coincident_corners_allowed) {
   const Filtered::Point_3 p = to_filtered(t.p[0]), q = to_filtered(t.p[1]), r = to_filtered(t.p[2]);
   const Filtered::Vector_3 n = CGAL::cross_product(q - p, r - p);
   const double len = std::sqrt(n.squared_length());
-  if (!(len > 0)) return Verdict::shape;
   const double longest = std::sqrt(std::max({CGAL::squared_distance(p, q), CGAL::squared_distance(q, r),
                                              CGAL::squared_distance(r, p)}));
-  const bool thinner_than_separation = len / longest < s.options.min_separation;
+  if (!(len > 0) && !(coincident_corners_allowed && longest > 0)) return Verdict::shape;
+  const bool thinner_than_separation = !(len > 0) || len / longest < s.options.min_separation;
   const auto [closest, normal] = s.meshes[m].input->closest(CGAL::centroid(p, q, r));
   if (!thinner_than_separation && n * normal < std::cos(80 * M_PI / 180) * len) return Verdict::shape;
   const double slack = 1e-9 * s.mean_edge;
@@ -288,12 +289,46 @@ template <class K> bool too_near_a_vertex(const ImproveState<K>& s, const Edit<K
   return false;
 }
 
+/// Whether the edit keeps every curve point and the curves simple: the only vertex it removes
+/// that is a curve point is the merged one, and a merge of u into w leaves no spike (a curve
+/// passing w, x, w: u and w two apart along a curve, x between them). Combinatorial, exact.
+template <class K> bool keeps_curve_points(const ImproveState<K>& s, const Edit<K>& edit) {
+  for (const auto& part : edit.parts) {
+    const auto& g = s.mesh(part.mesh);
+    for (const auto f : part.removed)
+      for (const auto v : CGAL::vertices_around_face(g.halfedge(f), g)) {
+        const int id = s.meshes[part.mesh].point[v];
+        if (id < 0 || id == edit.merged_point) continue;
+        bool kept = false;  // a face of v outside the region
+        for (const auto fv : CGAL::faces_around_target(g.halfedge(v), g))
+          kept = kept || (fv != Mesh<K>::null_face() &&
+                          std::find(part.removed.begin(), part.removed.end(), fv) == part.removed.end());
+        if (!kept) return false;
+      }
+  }
+  if (edit.merged_point < 0) return true;
+  const auto point_of = [&s](int node) { return node < 0 ? -1 : s.nodes[std::size_t(node)].point; };
+  for (const int n : s.points[std::size_t(edit.merged_point)].nodes) {
+    const auto& node = s.nodes[std::size_t(n)];
+    for (const int x : {node.prev, node.next}) {
+      if (x < 0 || point_of(x) == edit.merged_into) continue;
+      const auto& nx = s.nodes[std::size_t(x)];
+      if (point_of(nx.prev) == edit.merged_into || point_of(nx.next) == edit.merged_into) return false;
+    }
+  }
+  return true;
+}
+
 template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) {
+  if (!keeps_curve_points<K>(s, edit)) return Verdict::shape;
   for (const auto& part : edit.parts)
     for (const auto& a : part.added) {
       if (CGAL::collinear(a[0].p, a[1].p, a[2].p)) return Verdict::shape;
-      if constexpr (kernel_traits<K>::exact_constructions)  // once written
-        if (CGAL::collinear(to_filtered(a[0].p), to_filtered(a[1].p), to_filtered(a[2].p))) return Verdict::shape;
+      if constexpr (kernel_traits<K>::exact_constructions) {  // once written
+        const auto p0 = to_filtered(a[0].p), p1 = to_filtered(a[1].p), p2 = to_filtered(a[2].p);
+        if (edit.coincident_corners_allowed && (p0 == p1 || p1 == p2 || p2 == p0)) continue;
+        if (CGAL::collinear(p0, p1, p2)) return Verdict::shape;
+      }
     }
   if (edit.has_fresh && s.options.min_separation > 0 && too_near_a_vertex<K>(s, edit)) return Verdict::separation;
   if (!edit.keeps_surface && !(s.tolerance > 0)) return Verdict::tolerance;  // no tolerance: the surfaces stay
@@ -309,7 +344,8 @@ template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) 
   } else {
     for (std::size_t k = 0; k < edit.parts.size(); ++k)
       for (std::size_t i = 0; i < edit.parts[k].added.size(); ++i)
-        if (const Verdict v = near_input<K>(s, edit.parts[k].mesh, new_tri<K, K>(s, edit, edit.parts[k], i));
+        if (const Verdict v = near_input<K>(s, edit.parts[k].mesh, new_tri<K, K>(s, edit, edit.parts[k], i),
+                                            edit.coincident_corners_allowed);
             v != Verdict::accepted)
           return v;
     near = nearby_faces<K>(s, edit);

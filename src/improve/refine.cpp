@@ -57,6 +57,7 @@ template <class K> class Refiner {
   void flip_all();
   void refine();
   void close_curve_points();
+  std::size_t close_curve_points_pass(double separation);
   bool flip_to_join(std::size_t m, V u, V w);
   F face_beyond(std::size_t m, V u, V w) const;
 
@@ -238,18 +239,30 @@ template <class K> void Refiner<K>::push_encroached(std::size_t m, F f) {
     if (is_encroached(m, h) && s_.is_constraint(m, h)) encroached_.emplace_back(m, g.source(h), g.target(h));
 }
 
-/// Curve points closer than options.min_separation (not consecutive along a curve, or else the
-/// merge of short edges would take them) merge where an edge joins them in every mesh holding
-/// them: the merge moves faces by less than that, so it is held to that tolerance at least.
+/// Curve points closer than options.min_separation merge where an edge joins them in every mesh
+/// holding them: the merge moves faces by less than that, so it is held to that tolerance at
+/// least. Where two such pairs sit side by side (a curve passing twice within 1e-17 of itself,
+/// say), the fan of the first merge has a face two of whose corners are one point once written;
+/// that is allowed here (Edit::coincident_corners_allowed), since the second merge removes it.
 template <class K> void Refiner<K>::close_curve_points() {
   const double separation = s_.options.min_separation;
   if (!(separation > 0)) return;
+  const double tolerance = s_.tolerance;
+  s_.tolerance = std::max(tolerance, 2 * separation);
+  // In passes until one merges nothing: which merge of a cluster of close points passes can
+  // depend on the order. Each merge removes a point, so the passes end.
+  while (close_curve_points_pass(separation) > 0) {
+  }
+  s_.tolerance = tolerance;
+}
+
+/// One pass of close_curve_points over the points by x; the number of merges made.
+template <class K> std::size_t Refiner<K>::close_curve_points_pass(double separation) {
+  std::size_t merged = 0;
   std::vector<std::pair<double, int>> by_x;
   for (std::size_t i = 0; i < s_.points.size(); ++i)
     if (!s_.points[i].removed) by_x.emplace_back(to_filtered(s_.points[i].p).x(), int(i));
   std::sort(by_x.begin(), by_x.end());
-  const double tolerance = s_.tolerance;
-  s_.tolerance = std::max(tolerance, 2 * separation);
   for (std::size_t i = 0; i < by_x.size(); ++i)
     for (std::size_t j = i + 1; j < by_x.size() && by_x[j].first - by_x[i].first < separation; ++j) {
       const int u = by_x[i].second, w = by_x[j].second;
@@ -303,9 +316,10 @@ template <class K> void Refiner<K>::close_curve_points() {
       if (!possible || edit.parts.empty()) continue;
       edit.merged_point = u;
       edit.merged_into = w;
-      if (!attempt(edit)) ++s_.stats.merges;
+      edit.coincident_corners_allowed = true;
+      if (!attempt(edit)) ++s_.stats.merges, ++merged;
     }
-  s_.tolerance = tolerance;
+  return merged;
 }
 
 /// The face of w across the edge of a face of u opposite u (one edge between them, not a curve

@@ -351,6 +351,10 @@ template <class K> struct Edit {
   int split_a = -1, split_b = -1;        ///< the curve segment a fresh curve point splits
   int merged_point = -1, merged_into = -1;  ///< a curve point merged into its neighbour
   bool keeps_surface = false;
+  /// A merge of close curve points (ImproveOptions::min_separation): a new face two of whose
+  /// corners are one point once written is not refused for that (another close pair, which the
+  /// same step merges next; if it does not, seam check refuses the output).
+  bool coincident_corners_allowed = false;
 };
 
 /// The part that replaces `region` (faces of mesh m forming a disk) by the fan from `apex` over
