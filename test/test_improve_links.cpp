@@ -71,27 +71,38 @@ TEST_CASE("improve: splitting a segment of one curve links the new point once", 
   CHECK_THROWS_AS(seam::internal::split_curve_links(s, 0, 2, 3), seam::InternalError);
 }
 
-TEST_CASE("improve: the predicate refuses a merge that would leave a curve spike", "[improve]") {
-  // Curve 0-1-2-3-4, with 1, 2 and 3 one cluster (as where a curve zigzags within 1e-13): merging
-  // 1 into 3 would make the curve pass 3, 2, 3 (a spike, segment (2, 3) twice); merging 1 into
-  // its neighbour 2 is no spike. (An edit with no mesh parts: only the curve test decides.)
+TEST_CASE("improve: the predicate refuses an edit that removes a curve point's vertex", "[improve]") {
+  // A 3 x 3 grid of vertices, each square split along its diagonal: the centre's star is six
+  // faces. An edit that replaces that star removes the centre (the corners of the star keep faces
+  // outside it). Seen on generator cell 23: a merge of two close curve points took a third one
+  // between them with it, and that point lost its vertex in one mesh.
+  using M = seam::Mesh<seam::Exact>;
+  using P = seam::Exact::Point_3;
+  M g;
+  std::vector<M::Vertex_index> v;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) v.push_back(g.add_vertex(P(i, j, 0)));
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      const auto a = v[std::size_t(3 * j + i)], b = v[std::size_t(3 * j + i + 1)], c = v[std::size_t(3 * j + i + 4)],
+                 d = v[std::size_t(3 * j + i + 3)];
+      REQUIRE(g.add_face(a, b, c) != M::null_face());
+      REQUIRE(g.add_face(a, c, d) != M::null_face());
+    }
+  const auto centre = v[4];
   State s;
-  s.points.resize(5);
-  add_curve(s, {0, 1, 2, 3, 4});
+  s.meshes.resize(1);
+  s.meshes[0].mesh = &g;
+  s.meshes[0].point = g.add_property_map<M::Vertex_index, std::int32_t>("v:point", -1).first;
   seam::internal::Edit<seam::Exact> edit;
-  edit.keeps_surface = true;
-  edit.merged_point = 1;
-  edit.merged_into = 3;
-  CHECK(seam::internal::accept_edit(s, edit) == seam::internal::Verdict::shape);
-  edit.merged_into = 2;
-  CHECK(seam::internal::accept_edit(s, edit) == seam::internal::Verdict::accepted);
-  // A closed curve of three points: any merge leaves a spike.
-  State t;
-  t.points.resize(3);
-  add_curve(t, {0, 1, 2, 0});
-  seam::internal::Edit<seam::Exact> closed;
-  closed.keeps_surface = true;
-  closed.merged_point = 0;
-  closed.merged_into = 1;
-  CHECK(seam::internal::accept_edit(t, closed) == seam::internal::Verdict::shape);
+  edit.parts.emplace_back();
+  for (const auto f : CGAL::faces_around_target(g.halfedge(centre), g)) edit.parts[0].removed.push_back(f);
+  REQUIRE(edit.parts[0].removed.size() == 6);
+  CHECK(seam::internal::keeps_curve_points(s, edit));  // no curve point at all
+  s.meshes[0].point[v[1]] = 7;  // a corner of the star on a curve: it keeps its other faces
+  CHECK(seam::internal::keeps_curve_points(s, edit));
+  s.meshes[0].point[centre] = 5;  // the centre on a curve: removed with the star
+  CHECK_FALSE(seam::internal::keeps_curve_points(s, edit));
+  edit.merged_point = 5;  // unless it is the point the edit merges away
+  CHECK(seam::internal::keeps_curve_points(s, edit));
 }

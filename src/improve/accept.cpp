@@ -289,36 +289,6 @@ template <class K> bool too_near_a_vertex(const ImproveState<K>& s, const Edit<K
   return false;
 }
 
-/// Whether the edit keeps every curve point and the curves simple: the only vertex it removes
-/// that is a curve point is the merged one, and a merge of u into w leaves no spike (a curve
-/// passing w, x, w: u and w two apart along a curve, x between them). Combinatorial, exact.
-template <class K> bool keeps_curve_points(const ImproveState<K>& s, const Edit<K>& edit) {
-  for (const auto& part : edit.parts) {
-    const auto& g = s.mesh(part.mesh);
-    for (const auto f : part.removed)
-      for (const auto v : CGAL::vertices_around_face(g.halfedge(f), g)) {
-        const int id = s.meshes[part.mesh].point[v];
-        if (id < 0 || id == edit.merged_point) continue;
-        bool kept = false;  // a face of v outside the region
-        for (const auto fv : CGAL::faces_around_target(g.halfedge(v), g))
-          kept = kept || (fv != Mesh<K>::null_face() &&
-                          std::find(part.removed.begin(), part.removed.end(), fv) == part.removed.end());
-        if (!kept) return false;
-      }
-  }
-  if (edit.merged_point < 0) return true;
-  const auto point_of = [&s](int node) { return node < 0 ? -1 : s.nodes[std::size_t(node)].point; };
-  for (const int n : s.points[std::size_t(edit.merged_point)].nodes) {
-    const auto& node = s.nodes[std::size_t(n)];
-    for (const int x : {node.prev, node.next}) {
-      if (x < 0 || point_of(x) == edit.merged_into) continue;
-      const auto& nx = s.nodes[std::size_t(x)];
-      if (point_of(nx.prev) == edit.merged_into || point_of(nx.next) == edit.merged_into) return false;
-    }
-  }
-  return true;
-}
-
 template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) {
   if (!keeps_curve_points<K>(s, edit)) return Verdict::shape;
   for (const auto& part : edit.parts)
@@ -364,6 +334,23 @@ template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) 
 
 }  // namespace
 
+template <class K> bool keeps_curve_points(const ImproveState<K>& s, const Edit<K>& edit) {
+  for (const auto& part : edit.parts) {
+    const auto& g = s.mesh(part.mesh);
+    for (const auto f : part.removed)
+      for (const auto v : CGAL::vertices_around_face(g.halfedge(f), g)) {
+        const int id = s.meshes[part.mesh].point[v];
+        if (id < 0 || id == edit.merged_point) continue;
+        bool kept = false;  // a face of v outside the region
+        for (const auto fv : CGAL::faces_around_target(g.halfedge(v), g))
+          kept = kept || (fv != Mesh<K>::null_face() &&
+                          std::find(part.removed.begin(), part.removed.end(), fv) == part.removed.end());
+        if (!kept) return false;
+      }
+  }
+  return true;
+}
+
 template <class K> Verdict accept_edit(ImproveState<K>& s, const Edit<K>& edit) {
   Verdict v = Verdict::shape;
   try {
@@ -378,7 +365,9 @@ template <class K> Verdict accept_edit(ImproveState<K>& s, const Edit<K>& edit) 
   return v;
 }
 
-#define SEAM_INSTANTIATE(K) template Verdict accept_edit<K>(ImproveState<K>&, const Edit<K>&);
+#define SEAM_INSTANTIATE(K)                                          \
+  template Verdict accept_edit<K>(ImproveState<K>&, const Edit<K>&); \
+  template bool keeps_curve_points<K>(const ImproveState<K>&, const Edit<K>&);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)
 SEAM_INSTANTIATE(Float)

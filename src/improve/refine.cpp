@@ -57,7 +57,7 @@ template <class K> class Refiner {
   void flip_all();
   void refine();
   void close_curve_points();
-  std::size_t close_curve_points_pass(double separation);
+  std::size_t close_curve_points_pass(double separation, bool consecutive);
   bool flip_to_join(std::size_t m, V u, V w);
   F face_beyond(std::size_t m, V u, V w) const;
 
@@ -249,15 +249,21 @@ template <class K> void Refiner<K>::close_curve_points() {
   if (!(separation > 0)) return;
   const double tolerance = s_.tolerance;
   s_.tolerance = std::max(tolerance, 2 * separation);
-  // In passes until one merges nothing: which merge of a cluster of close points passes can
-  // depend on the order. Each merge removes a point, so the passes end.
-  while (close_curve_points_pass(separation) > 0) {
+  // In passes until one merges nothing, each first the pairs that are consecutive along a curve
+  // (a merge of two points with a third between them would leave that one on a spike, or remove
+  // its vertex: the predicate refuses both) and then the others: which merge of a cluster of
+  // close points passes can depend on the order. Each merge removes a point, so the passes end.
+  for (bool any = true; any;) {
+    any = false;
+    while (close_curve_points_pass(separation, true) > 0) any = true;
+    if (close_curve_points_pass(separation, false) > 0) any = true;
   }
   s_.tolerance = tolerance;
 }
 
-/// One pass of close_curve_points over the points by x; the number of merges made.
-template <class K> std::size_t Refiner<K>::close_curve_points_pass(double separation) {
+/// One pass of close_curve_points over the points by x (only pairs joined by a curve segment, if
+/// `consecutive`); the number of merges made.
+template <class K> std::size_t Refiner<K>::close_curve_points_pass(double separation, bool consecutive) {
   std::size_t merged = 0;
   std::vector<std::pair<double, int>> by_x;
   for (std::size_t i = 0; i < s_.points.size(); ++i)
@@ -267,7 +273,7 @@ template <class K> std::size_t Refiner<K>::close_curve_points_pass(double separa
     for (std::size_t j = i + 1; j < by_x.size() && by_x[j].first - by_x[i].first < separation; ++j) {
       const int u = by_x[i].second, w = by_x[j].second;
       const auto &pu = s_.points[std::size_t(u)], &pw = s_.points[std::size_t(w)];
-      if (pu.removed || pw.removed ||
+      if (pu.removed || pw.removed || (consecutive && s_.segment_start(u, w) < 0) ||
           CGAL::squared_distance(to_filtered(pu.p), to_filtered(pw.p)) >= separation * separation)
         continue;
       Edit<K> edit;

@@ -393,6 +393,11 @@ enum class Verdict { accepted, tolerance, crossing, shape, separation };
 /// The acceptance predicate (seam/improve.h). Counts refusals in s.stats.
 template <class K> Verdict accept_edit(ImproveState<K>& s, const Edit<K>& edit);
 
+/// Part of the predicate: the edit removes no curve point's vertex but the merged point's (a
+/// curve point inside the region it replaces, other than that one, would lose its vertex in that
+/// mesh while its curve still passes there). Combinatorial, exact.
+template <class K> bool keeps_curve_points(const ImproveState<K>& s, const Edit<K>& edit);
+
 // ---------------------------------------------------------------- refinement (src/improve/refine.cpp)
 
 }  // namespace seam::internal
