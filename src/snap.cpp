@@ -4,6 +4,7 @@
 #include <seam/internal/retriangulate.h>  // KeepAway
 
 #include <CGAL/boost/graph/Euler_operations.h>
+#include <limits>
 #include <set>
 
 #include <CGAL/AABB_segment_primitive.h>
@@ -17,6 +18,7 @@
 #include <CGAL/property_map.h>
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <tuple>
 
@@ -236,31 +238,59 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
   using DK = CGAL::Exact_predicates_inexact_constructions_kernel;
   std::vector<DK::Segment_3> segments;
   std::vector<std::pair<const Point*, const Point*>> ends;
-  for (const auto& c : curves)
+  std::vector<const Point*> lone;  // curves of one point (isolated points of contact): vertices move onto them
+  for (const auto& c : curves) {
+    if (c.size() == 1) lone.push_back(&c[0]);
     for (std::size_t i = 0; i + 1 < c.size(); ++i) {
       const auto p = to_filtered(c[i]), q = to_filtered(c[i + 1]);
       if (p == q) continue;
       segments.emplace_back(p, q);
       ends.emplace_back(&c[i], &c[i + 1]);
     }
-  if (segments.empty()) return report;
+  }
+  if (segments.empty() && lone.empty()) return report;
   using Prim = CGAL::AABB_segment_primitive<DK, std::vector<DK::Segment_3>::const_iterator>;
   CGAL::AABB_tree<CGAL::AABB_traits<DK, Prim>> tree(segments.cbegin(), segments.cend());
-  tree.accelerate_distance_queries();
+  if (!segments.empty()) tree.accelerate_distance_queries();
   using V = typename MeshTypes<K>::V;
   const std::vector<bool> next_to_near = near ? corners_next_to<K>(mesh, *near, tolerance) : std::vector<bool>();
+  // (distance, vertex, target): a segment's index, or segments.size() + a lone point's index
   std::vector<std::tuple<double, std::size_t, std::size_t>> candidates;
   for (V v : mesh.vertices()) {
     if (near && !next_to_near[std::size_t(v)]) continue;
     const auto q = to_filtered(mesh.point(v));
-    const auto [cp, it] = tree.closest_point_and_primitive(q);
-    const double d = std::sqrt(CGAL::squared_distance(q, cp));
+    double d = std::numeric_limits<double>::infinity();
+    std::size_t target = 0;
+    if (!segments.empty()) {
+      const auto [cp, it] = tree.closest_point_and_primitive(q);
+      d = std::sqrt(CGAL::squared_distance(q, cp));
+      target = std::size_t(it - segments.cbegin());
+    }
+    for (std::size_t i = 0; i < lone.size(); ++i)
+      if (const double di = std::sqrt(CGAL::squared_distance(q, to_filtered(*lone[i]))); di < d)
+        d = di, target = segments.size() + i;
     if (!(d <= tolerance)) continue;
-    candidates.emplace_back(d, std::size_t(v), std::size_t(it - segments.cbegin()));
+    candidates.emplace_back(d, std::size_t(v), target);
   }
   std::sort(candidates.begin(), candidates.end());
   for (const auto& [d, vi, si] : candidates) {
     const V v(static_cast<typename V::size_type>(vi));
+    if (si >= segments.size()) {  // onto a lone point, exactly
+      Point target = *lone[si - segments.size()];
+      make_exact(target);
+      if (mesh.point(v) == target || (other && in_flat_contact<K>(mesh, v, *other))) continue;
+      const bool keeps_contact =
+          !other || !(contact_tolerance > 0) || move_keeps_contact<K>(mesh, v, target, *other, contact_tolerance);
+      if (!move_keeps_faces<K>(mesh, v, target) || !keeps_contact) {
+        ++report.refused;
+        continue;
+      }
+      mesh.point(v) = target;
+      ++report.snapped;
+      report.max_move = std::max(report.max_move, d);
+      report.moved.push_back(v);
+      continue;
+    }
     // The point of the segment (which lies on the surface) at the closest point's parameter
     // rounded to a multiple of 2^-16: exactly on the segment, at most 2^-17 of its length from
     // the closest point, and with far shorter exact coordinates than the closest point itself

@@ -787,16 +787,23 @@ template <class K> class TextileRun {
       std::vector<char> changed(meshes_.size(), 0), busy(meshes_.size(), 0);
       for (std::size_t p = 0; p < work_.size(); ++p) {
         const auto& w = work_[p];
-        if (done[p] || w.for_a.empty() || busy[w.a] || busy[w.b]) continue;
+        if (done[p] || (w.for_a.empty() && w.contacts.empty()) || busy[w.a] || busy[w.b]) continue;
         const double separation =
             min_vertex_separation * internal::bbox_diagonal(frozen_[w.a].bbox + frozen_[w.b].bbox);
-        const auto crowded =
-            internal::crowded_curve_points<K>(curves_of_tows(w.a, w.b), meshes_[w.a], meshes_[w.b], separation);
+        // The pair's isolated points of contact count as curves of one point: a vertex that close
+        // to one moves onto it (else the two would be a pair of vertices too close once made one).
+        std::vector<Polyline<K>> with_contacts = curves_of_tows(w.a, w.b);
+        for (const auto& q : work_)
+          if (q.a == w.a || q.b == w.a || q.a == w.b || q.b == w.b)
+            for (const auto& c : q.contacts) with_contacts.push_back({c});
+        const auto crowded = internal::crowded_curve_points<K>(with_contacts, meshes_[w.a], meshes_[w.b], separation);
         if (crowded.empty()) continue;
         done[p] = busy[w.a] = busy[w.b] = 1;
         for (const auto& [tow, partner] : {std::pair{w.a, w.b}, std::pair{w.b, w.a}}) {
-          const auto r = internal::snap_vertices_to_segments<K>(meshes_[tow], curves_for(p, tow), separation, false,
-                                                               true, &meshes_[partner], &crowded, tolerance);
+          std::vector<Polyline<K>> targets = curves_for(p, tow);
+          for (const auto& c : work_[p].contacts) targets.push_back({c});
+          const auto r = internal::snap_vertices_to_segments<K>(meshes_[tow], targets, separation, false, true,
+                                                               &meshes_[partner], &crowded, tolerance);
           st.vertices_closed += r.snapped;
           st.max_close_move = std::max(st.max_close_move, r.max_move);
           changed[tow] = changed[tow] || r.snapped > 0;
@@ -826,7 +833,7 @@ template <class K> class TextileRun {
   double close_tolerance() const {
     std::vector<std::pair<std::size_t, std::size_t>> pairs;
     for (const auto& w : work_)
-      if (!w.for_a.empty()) pairs.emplace_back(w.a, w.b);
+      if (!w.for_a.empty() || !w.contacts.empty()) pairs.emplace_back(w.a, w.b);
     if (pairs.empty()) return 0;
     return quality_options(options_, smallest_mean_edge<K>(inputs_.empty() ? meshes_ : inputs_, pairs)).tolerance;
   }

@@ -109,6 +109,31 @@ TEST_CASE("textile: tows touching at one point share a vertex there, a curve of 
   CHECK(has_vertex_at(out[1], p));
 }
 
+TEST_CASE("textile: a vertex closer to a point of contact than the vertex separation moves onto it",
+          "[textile][separate]") {
+  // The tetrahedron's apex touches the cube's top 1.4e-13 from the cube's corner (0, 0, 1), as
+  // where generated tows touch with their ring vertices 1e-13 apart (scripts/other_cells.py,
+  // configuration 22): made a vertex of the cube there, the contact would be a pair of vertices
+  // that close (a volume mesher takes them for one; seam check lets it pass here only because both
+  // are input vertices). The corner moves onto it instead.
+  const seam::Point3d touch{1e-13, 1e-13, 1.0};
+  const std::vector<seam::TriangleSoup> soups{
+      unit_cube(), tetrahedron({0.1, 0.0, 1.5}, {0.0, 0.1, 1.5}, {0.1, 0.1, 1.5}, touch)};
+  std::vector<M> out;
+  const auto r = textile_and_check(soups, {"cube", "standing"}, out);
+  REQUIRE(r.pairs.size() == 1);
+  CHECK(r.stats.vertices_closed == 1);
+  CHECK(r.stats.max_close_move < 2e-13);
+  CHECK(r.pairs[0].stats.touching_only);
+  REQUIRE(r.pairs[0].curves.size() == 1);
+  REQUIRE(r.pairs[0].curves[0].size() == 1);
+  const K::Point_3 p(touch[0], touch[1], touch[2]);
+  CHECK(r.pairs[0].curves[0][0] == p);
+  CHECK(has_vertex_at(out[0], p));
+  CHECK(has_vertex_at(out[1], p));
+  CHECK_FALSE(has_vertex_at(out[0], K::Point_3(0, 0, 1)));  // the corner is the contact now
+}
+
 TEST_CASE("textile: a point of contact inside another pair's curve segment is a vertex of all three tows",
           "[textile][separate]") {
   // The unit cube; a box standing through its top face (their curve runs along y = 0.3 on the top,

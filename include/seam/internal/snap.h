@@ -26,7 +26,8 @@ template <class K>
 SnapReport<K> snap_vertices(Mesh<K>& mesh, const std::vector<Polyline<K>>& curves, double tolerance);
 
 /// Snaps mesh vertices onto the closest point of the curves' segments (not only their nodes):
-/// for curves that lie on the surface, such as intersection curves, whose nodes are sparse.
+/// for curves that lie on the surface, such as intersection curves, whose nodes are sparse. A
+/// curve of one point (an isolated point of contact) is a target too: a vertex moves onto it.
 /// `skip_on_curves`: vertices already on their closest segment stay (exact test).
 /// `other`: vertices of a face that lies in one plane with a face of `other` and meets it (a
 /// flat contact) stay (exact tests): moving one would tilt the face out of the contact, and the
