@@ -1,6 +1,7 @@
 // seam, pipeline step 1: snapping. See seam/internal/snap.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/internal/snap.h>
+#include <seam/internal/bbox_diagonal.h>
 #include <seam/internal/retriangulate.h>  // KeepAway
 
 #include <CGAL/boost/graph/Euler_operations.h>
@@ -240,7 +241,15 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
   std::vector<std::pair<const Point*, const Point*>> ends;
   std::vector<const Point*> lone;  // curves of one point (isolated points of contact): vertices move onto them
   for (const auto& c : curves) {
-    if (c.size() == 1) lone.push_back(&c[0]);
+    // A closed curve smaller than the tolerance across (a crossing 1e-15 wide where two tows
+    // touch tangentially, say) is one target too, its first point: vertices of both meshes that
+    // close then meet there, instead of at different points of it.
+    CGAL::Bbox_3 box;
+    for (const auto& p : c) box += to_filtered(p).bbox();
+    if (c.size() == 1 || (c.size() > 2 && c.front() == c.back() && internal::bbox_diagonal(box) < tolerance)) {
+      lone.push_back(&c[0]);
+      continue;
+    }
     for (std::size_t i = 0; i + 1 < c.size(); ++i) {
       const auto p = to_filtered(c[i]), q = to_filtered(c[i + 1]);
       if (p == q) continue;

@@ -156,3 +156,37 @@ TEST_CASE("crowded curve points: a curve point with a vertex or another curve po
     CHECK(seam::internal::crowded_curve_points<K>(curves, a, b, distance).empty());
   }
 }
+
+TEST_CASE("snap to segments: a point of contact or a closed curve smaller than the tolerance is one target",
+          "[snap]") {
+  // The square [0, 2] x [0, 2] in z = 0 fanned from its centre v4 = (1, 1, 0).
+  const M a = mesh_of({P(0, 0, 0), P(2, 0, 0), P(2, 2, 0), P(0, 2, 0), P(1, 1, 0)},
+                      {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}});
+  const M::Vertex_index centre(4);
+  const double tolerance = 1e-8;
+  M a2 = a;
+  SECTION("a curve of one point (an isolated point of contact) 3e-14 away: the centre moves onto it") {
+    const P contact(1 + 3e-14, 1, 0);
+    const std::vector<seam::Polyline<K>> curves{{contact}};
+    const auto r = seam::internal::snap_vertices_to_segments<K>(a2, curves, tolerance);
+    CHECK(r.snapped == 1);
+    CHECK(a2.point(centre) == contact);
+  }
+  SECTION("a closed curve 2e-15 across (a tangential contact's crossing): the centre moves onto its first point") {
+    // Onto the segments, vertices of the two tows would land at different points of the loop,
+    // 1e-15 apart; all onto one point, they meet there.
+    const std::vector<seam::Polyline<K>> curves{
+        {P(1 + 9e-14, 1, 0), P(1 + 8e-14, 1 - 1e-15, 0), P(1 + 7e-14, 1, 0), P(1 + 8e-14, 1 + 1e-15, 0),
+         P(1 + 9e-14, 1, 0)}};  // (its first point is the farthest from the centre)
+    const auto r = seam::internal::snap_vertices_to_segments<K>(a2, curves, tolerance);
+    CHECK(r.snapped == 1);
+    CHECK(a2.point(centre) == curves[0][0]);
+  }
+  SECTION("a closed curve larger than the tolerance: onto its nearest segment, as before") {
+    const std::vector<seam::Polyline<K>> curves{
+        {P(1 + 7e-9, 1 - 1e-8, 0), P(1 + 7e-9, 1 + 1e-8, 0), P(1 + 2e-8, 1, 0), P(1 + 7e-9, 1 - 1e-8, 0)}};
+    const auto r = seam::internal::snap_vertices_to_segments<K>(a2, curves, tolerance);
+    CHECK(r.snapped == 1);
+    CHECK(K::Segment_3(curves[0][0], curves[0][1]).has_on(a2.point(centre)));
+  }
+}
