@@ -5,7 +5,6 @@
 #include <seam/internal/retriangulate.h>  // KeepAway
 
 #include <CGAL/boost/graph/Euler_operations.h>
-#include <limits>
 #include <set>
 
 #include <CGAL/AABB_segment_primitive.h>
@@ -281,23 +280,26 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
     if (!(d <= tolerance)) continue;
     candidates.emplace_back(d, std::size_t(v), target);
   }
+  // Moves v onto target unless that folds a face or takes a part of the intersection with it.
+  const auto move = [&](V v, const Point& target, double d) {
+    const bool keeps_contact =
+        !other || !(contact_tolerance > 0) || move_keeps_contact<K>(mesh, v, target, *other, contact_tolerance);
+    if (!move_keeps_faces<K>(mesh, v, target) || !keeps_contact) {
+      ++report.refused;
+      return;
+    }
+    mesh.point(v) = target;
+    ++report.snapped;
+    report.max_move = std::max(report.max_move, d);
+    report.moved.push_back(v);
+  };
   std::sort(candidates.begin(), candidates.end());
   for (const auto& [d, vi, si] : candidates) {
     const V v(static_cast<typename V::size_type>(vi));
     if (si >= segments.size()) {  // onto a lone point, exactly
       Point target = *lone[si - segments.size()];
       make_exact(target);
-      if (mesh.point(v) == target || (other && in_flat_contact<K>(mesh, v, *other))) continue;
-      const bool keeps_contact =
-          !other || !(contact_tolerance > 0) || move_keeps_contact<K>(mesh, v, target, *other, contact_tolerance);
-      if (!move_keeps_faces<K>(mesh, v, target) || !keeps_contact) {
-        ++report.refused;
-        continue;
-      }
-      mesh.point(v) = target;
-      ++report.snapped;
-      report.max_move = std::max(report.max_move, d);
-      report.moved.push_back(v);
+      if (mesh.point(v) != target && !(other && in_flat_contact<K>(mesh, v, *other))) move(v, target, d);
       continue;
     }
     // The point of the segment (which lies on the surface) at the closest point's parameter
@@ -318,16 +320,7 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
     make_exact(target);
     if (round_to_doubles)
       target = Point(CGAL::to_double(target.x()), CGAL::to_double(target.y()), CGAL::to_double(target.z()));
-    const bool keeps_contact =
-        !other || !(contact_tolerance > 0) || move_keeps_contact<K>(mesh, v, target, *other, contact_tolerance);
-    if (!move_keeps_faces<K>(mesh, v, target) || !keeps_contact) {
-      ++report.refused;
-      continue;
-    }
-    mesh.point(v) = target;
-    ++report.snapped;
-    report.max_move = std::max(report.max_move, d);
-    report.moved.push_back(v);
+    move(v, target, d);
   }
   return report;
 }

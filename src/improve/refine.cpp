@@ -250,8 +250,8 @@ template <class K> void Refiner<K>::close_curve_points() {
   const double tolerance = s_.tolerance;
   s_.tolerance = std::max(tolerance, 2 * separation);
   // In passes until one merges nothing, each first the pairs that are consecutive along a curve
-  // (a merge of two points with a third between them would leave that one on a spike, or remove
-  // its vertex: the predicate refuses both) and then the others: which merge of a cluster of
+  // (a merge of two points with a third between them can take that one's vertex with it, which
+  // the predicate refuses: keeps_curve_points) and then the others: which merge of a cluster of
   // close points passes can depend on the order. Each merge removes a point, so the passes end.
   for (bool any = true; any;) {
     any = false;
