@@ -264,6 +264,9 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
   const std::vector<bool> next_to_near = near ? corners_next_to<K>(mesh, *near, tolerance) : std::vector<bool>();
   // (distance, vertex, target): a segment's index, or segments.size() + a lone point's index
   std::vector<std::tuple<double, std::size_t, std::size_t>> candidates;
+  // A lone point takes one vertex of the mesh (the nearest), none if one is there already: two
+  // vertices moved onto one point would be one point twice.
+  std::vector<bool> taken(lone.size(), false);
   for (V v : mesh.vertices()) {
     if (near && !next_to_near[std::size_t(v)]) continue;
     const auto q = to_filtered(mesh.point(v));
@@ -274,9 +277,11 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
       d = std::sqrt(CGAL::squared_distance(q, cp));
       target = std::size_t(it - segments.cbegin());
     }
-    for (std::size_t i = 0; i < lone.size(); ++i)
-      if (const double di = std::sqrt(CGAL::squared_distance(q, to_filtered(*lone[i]))); di < d)
-        d = di, target = segments.size() + i;
+    for (std::size_t i = 0; i < lone.size(); ++i) {
+      const double di = std::sqrt(CGAL::squared_distance(q, to_filtered(*lone[i])));
+      if (di == 0 && mesh.point(v) == *lone[i]) taken[i] = true;  // (exact test)
+      if (di < d) d = di, target = segments.size() + i;
+    }
     if (!(d <= tolerance)) continue;
     candidates.emplace_back(d, std::size_t(v), target);
   }
@@ -297,9 +302,15 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
   for (const auto& [d, vi, si] : candidates) {
     const V v(static_cast<typename V::size_type>(vi));
     if (si >= segments.size()) {  // onto a lone point, exactly
-      Point target = *lone[si - segments.size()];
+      const std::size_t i = si - segments.size();
+      Point target = *lone[i];
       make_exact(target);
-      if (mesh.point(v) != target && !(other && in_flat_contact<K>(mesh, v, *other))) move(v, target, d);
+      if (round_to_doubles)
+        target = Point(CGAL::to_double(target.x()), CGAL::to_double(target.y()), CGAL::to_double(target.z()));
+      if (taken[i] || mesh.point(v) == target || (other && in_flat_contact<K>(mesh, v, *other))) continue;
+      const std::size_t before = report.snapped;
+      move(v, target, d);
+      taken[i] = report.snapped > before;
       continue;
     }
     // The point of the segment (which lies on the surface) at the closest point's parameter

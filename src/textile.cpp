@@ -799,15 +799,15 @@ template <class K> class TextileRun {
         const auto crowded = internal::crowded_curve_points<K>(with_contacts, meshes_[w.a], meshes_[w.b], separation);
         if (crowded.empty()) continue;
         done[p] = busy[w.a] = busy[w.b] = 1;
+        any = true;  // (another round for the pairs this one skipped as busy; each pair runs once)
         for (const auto& [tow, partner] : {std::pair{w.a, w.b}, std::pair{w.b, w.a}}) {
           std::vector<Polyline<K>> targets = curves_for(p, tow);
-          for (const auto& c : work_[p].contacts) targets.push_back({c});
+          for (const auto& c : work_[p].contacts) targets.push_back({detached<K>(c)});  // (each tow its own copy)
           const auto r = internal::snap_vertices_to_segments<K>(meshes_[tow], targets, separation, false, true,
                                                                &meshes_[partner], &crowded, tolerance);
           st.vertices_closed += r.snapped;
           st.max_close_move = std::max(st.max_close_move, r.max_move);
           changed[tow] = changed[tow] || r.snapped > 0;
-          any = any || r.snapped > 0;
         }
       }
       recompute_pairs_of(changed, "pairs (after closing)");

@@ -190,3 +190,27 @@ TEST_CASE("snap to segments: a point of contact or a closed curve smaller than t
     CHECK(K::Segment_3(curves[0][0], curves[0][1]).has_on(a2.point(centre)));
   }
 }
+
+TEST_CASE("snap to segments: a point of contact takes one vertex of a mesh, none if one is there", "[snap]") {
+  // Two unit squares 1e-9 apart (z = 0 and z = 1e-9), each fanned from its centre; a point of
+  // contact between the two centres, within the tolerance of both. Moved onto it, both centres
+  // would be one point twice (two vertices of the mesh at one point).
+  const M a = mesh_of({P(0, 0, 0), P(2, 0, 0), P(2, 2, 0), P(0, 2, 0), P(1, 1, 0), P(0, 0, 1e-9), P(2, 0, 1e-9),
+                       P(2, 2, 1e-9), P(0, 2, 1e-9), P(1 + 3e-9, 1, 1e-9)},
+                      {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}, {5, 6, 9}, {6, 7, 9}, {7, 8, 9}, {8, 5, 9}});
+  const M::Vertex_index low(4), high(9);
+  const double tolerance = 1e-8;
+  M a2 = a;
+  SECTION("the nearer centre moves, the other stays") {
+    const P contact(1 + 1e-9, 1, 0);
+    const auto r = seam::internal::snap_vertices_to_segments<K>(a2, {{contact}}, tolerance);
+    CHECK(r.snapped == 1);
+    CHECK(a2.point(low) == contact);
+    CHECK(a2.point(high) == a.point(high));
+  }
+  SECTION("a centre at the point already: the other stays") {
+    const auto r = seam::internal::snap_vertices_to_segments<K>(a2, {{a.point(low)}}, tolerance);
+    CHECK(r.snapped == 0);
+    CHECK(a2.point(high) == a.point(high));
+  }
+}

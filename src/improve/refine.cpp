@@ -243,7 +243,8 @@ template <class K> void Refiner<K>::push_encroached(std::size_t m, F f) {
 /// holding them: the merge moves faces by less than that, so it is held to that tolerance at
 /// least. Where two such pairs sit side by side (a curve passing twice within 1e-17 of itself,
 /// say), the fan of the first merge has a face two of whose corners are one point once written;
-/// that is allowed here (Edit::coincident_corners_allowed), since the second merge removes it.
+/// that is allowed here (Edit::coincident_corners_allowed), since the second merge may remove it
+/// (if it does not, seam check refuses the output, as it would the two points).
 template <class K> void Refiner<K>::close_curve_points() {
   const double separation = s_.options.min_separation;
   if (!(separation > 0)) return;
@@ -253,11 +254,10 @@ template <class K> void Refiner<K>::close_curve_points() {
   // (a merge of two points with a third between them can take that one's vertex with it, which
   // the predicate refuses: keeps_curve_points) and then the others: which merge of a cluster of
   // close points passes can depend on the order. Each merge removes a point, so the passes end.
-  for (bool any = true; any;) {
-    any = false;
-    while (close_curve_points_pass(separation, true) > 0) any = true;
-    if (close_curve_points_pass(separation, false) > 0) any = true;
-  }
+  do {
+    while (close_curve_points_pass(separation, true) > 0) {
+    }
+  } while (close_curve_points_pass(separation, false) > 0);
   s_.tolerance = tolerance;
 }
 

@@ -343,6 +343,7 @@ template <class K> void finish_state(ImproveState<K>& s, SharedCurves<K>& out) {
       }
       node = s.nodes[std::size_t(node)].next;
       if (node == sc.first) {  // closed: repeat the first point
+        if (points.size() == 1) break;  // (merged down to one point: a point of contact)
         points.push_back(points.front());
         for (std::size_t m : sc.meshes) out.vertices[m][c].push_back(out.vertices[m][c].front());
         break;

@@ -353,7 +353,7 @@ template <class K> struct Edit {
   bool keeps_surface = false;
   /// A merge of close curve points (ImproveOptions::min_separation): a new face two of whose
   /// corners are one point once written is not refused for that (another close pair, which the
-  /// same step merges next; if it does not, seam check refuses the output).
+  /// same step may merge next; if it does not, seam check refuses the output).
   bool coincident_corners_allowed = false;
 };
 

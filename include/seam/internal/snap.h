@@ -27,7 +27,9 @@ SnapReport<K> snap_vertices(Mesh<K>& mesh, const std::vector<Polyline<K>>& curve
 
 /// Snaps mesh vertices onto the closest point of the curves' segments (not only their nodes):
 /// for curves that lie on the surface, such as intersection curves, whose nodes are sparse. A
-/// curve of one point (an isolated point of contact) is a target too: a vertex moves onto it.
+/// curve of one point (an isolated point of contact), and a closed curve smaller than `tolerance`
+/// across (its first point), is a target too: the nearest vertex within `tolerance` moves onto
+/// it, unless a vertex is there already.
 /// `skip_on_curves`: vertices already on their closest segment stay (exact test).
 /// `other`: vertices of a face that lies in one plane with a face of `other` and meets it (a
 /// flat contact) stay (exact tests): moving one would tilt the face out of the contact, and the
