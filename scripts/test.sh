@@ -41,9 +41,11 @@ fi
 # command on files: the CLI contract tests; the quality stage on a set of crossovers: the other
 # quality-stage tests; the chain on a 4 x 4 weave: the chain on the bundled 2 x 2 weave; the
 # agreement of seam check and tetgen -d on many pairs: the other check tests; signals at every
-# moment of a run: the other contract tests), to keep CI well under 30 minutes.
+# moment of a run: the other contract tests; the generator's near-degenerate cells, whose seam
+# pair on cell 16 takes 9 s in Release and over 300 s sanitized: the unit tests of its rules and
+# the generator's other cells), to keep CI well under 30 minutes.
 exclude=()
 if [[ $sanitize -eq 1 ]]; then
-  exclude=(-E "install_and_find_package|the seam pair command conforms two tow files|crossovers the old repair steps were tuned on|a generated 4x4 plain weave|mesh_meshio_weave_4x4|seam check and tetgen -d agree on every pair|SIGINT or SIGTERM at any moment")
+  exclude=(-E "install_and_find_package|the seam pair command conforms two tow files|crossovers the old repair steps were tuned on|a generated 4x4 plain weave|mesh_meshio_weave_4x4|seam check and tetgen -d agree on every pair|SIGINT or SIGTERM at any moment|other_generator_near_degenerate")
 fi
 ctest --test-dir "$build_dir" --output-on-failure -j2 "${exclude[@]}"
