@@ -243,9 +243,12 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
     // A closed curve smaller than the tolerance across (a crossing 1e-15 wide where two tows
     // touch tangentially, say) is one target too, its first point: vertices of both meshes that
     // close then meet there, instead of at different points of it.
-    CGAL::Bbox_3 box;
-    for (const auto& p : c) box += to_filtered(p).bbox();
-    if (c.size() == 1 || (c.size() > 2 && c.front() == c.back() && internal::bbox_diagonal(box) < tolerance)) {
+    const auto smaller_than_tolerance = [&c, tolerance] {
+      CGAL::Bbox_3 box;
+      for (const auto& p : c) box += to_filtered(p).bbox();
+      return internal::bbox_diagonal(box) < tolerance;
+    };
+    if (c.size() == 1 || (is_closed(c) && smaller_than_tolerance())) {
       lone.push_back(&c[0]);
       continue;
     }
@@ -285,6 +288,13 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
     if (!(d <= tolerance)) continue;
     candidates.emplace_back(d, std::size_t(v), target);
   }
+  // The target as the move makes it: exact (short coordinates, see below), or rounded to doubles.
+  const auto as_moved = [round_to_doubles](Point target) {
+    make_exact(target);
+    if (round_to_doubles)
+      target = Point(CGAL::to_double(target.x()), CGAL::to_double(target.y()), CGAL::to_double(target.z()));
+    return target;
+  };
   // Moves v onto target unless that folds a face or takes a part of the intersection with it.
   const auto move = [&](V v, const Point& target, double d) {
     const bool keeps_contact =
@@ -303,10 +313,7 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
     const V v(static_cast<typename V::size_type>(vi));
     if (si >= segments.size()) {  // onto a lone point, exactly
       const std::size_t i = si - segments.size();
-      Point target = *lone[i];
-      make_exact(target);
-      if (round_to_doubles)
-        target = Point(CGAL::to_double(target.x()), CGAL::to_double(target.y()), CGAL::to_double(target.z()));
+      const Point target = as_moved(*lone[i]);
       if (taken[i] || mesh.point(v) == target || (other && in_flat_contact<K>(mesh, v, *other))) continue;
       const std::size_t before = report.snapped;
       move(v, target, d);
@@ -327,11 +334,7 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
     const double length = std::sqrt(CGAL::to_double(pq.squared_length()));
     if (closest * length <= tolerance) t = 0;
     else if ((1 - closest) * length <= tolerance) t = 1;
-    Point target = t == 0 ? p : t == 1 ? q : p + pq * typename K::FT(t);
-    make_exact(target);
-    if (round_to_doubles)
-      target = Point(CGAL::to_double(target.x()), CGAL::to_double(target.y()), CGAL::to_double(target.z()));
-    move(v, target, d);
+    move(v, as_moved(t == 0 ? p : t == 1 ? q : p + pq * typename K::FT(t)), d);
   }
   return report;
 }

@@ -53,6 +53,18 @@ seam::TextileResult<K> textile_and_check(const std::vector<seam::TriangleSoup>& 
   return r;
 }
 
+/// The run's one pair only touches, at `touch`: its one curve is that point, a vertex of both.
+void check_one_point_of_contact(const seam::TextileResult<K>& r, const std::vector<M>& out, const seam::Point3d& touch) {
+  REQUIRE(r.pairs.size() == 1);
+  CHECK(r.pairs[0].stats.touching_only);
+  REQUIRE(r.pairs[0].curves.size() == 1);
+  REQUIRE(r.pairs[0].curves[0].size() == 1);
+  const K::Point_3 p(touch[0], touch[1], touch[2]);
+  CHECK(r.pairs[0].curves[0][0] == p);
+  CHECK(has_vertex_at(out[0], p));
+  CHECK(has_vertex_at(out[1], p));
+}
+
 }  // namespace
 
 TEST_CASE("textile: a crossing thinner than the vertex separation is closed into a point of contact, a vertex of both",
@@ -97,16 +109,9 @@ TEST_CASE("textile: tows touching at one point share a vertex there, a curve of 
       unit_cube(), tetrahedron({0.2, 0.4, 1.5}, {0.5, 0.9, 1.5}, {0.6, 0.4, 1.5}, touch)};
   std::vector<M> out;
   const auto r = textile_and_check(soups, {"cube", "standing"}, out);
-  REQUIRE(r.pairs.size() == 1);
+  check_one_point_of_contact(r, out, touch);
   CHECK(r.stats.vertices_closed == 0);
-  CHECK(r.pairs[0].stats.touching_only);
   CHECK(r.pairs[0].stats.contact_points == 1);
-  REQUIRE(r.pairs[0].curves.size() == 1);
-  REQUIRE(r.pairs[0].curves[0].size() == 1);
-  const K::Point_3 p(touch[0], touch[1], touch[2]);
-  CHECK(r.pairs[0].curves[0][0] == p);
-  CHECK(has_vertex_at(out[0], p));
-  CHECK(has_vertex_at(out[1], p));
 }
 
 TEST_CASE("textile: a vertex closer to a point of contact than the vertex separation moves onto it",
@@ -121,16 +126,9 @@ TEST_CASE("textile: a vertex closer to a point of contact than the vertex separa
       unit_cube(), tetrahedron({0.1, 0.0, 1.5}, {0.0, 0.1, 1.5}, {0.1, 0.1, 1.5}, touch)};
   std::vector<M> out;
   const auto r = textile_and_check(soups, {"cube", "standing"}, out);
-  REQUIRE(r.pairs.size() == 1);
+  check_one_point_of_contact(r, out, touch);
   CHECK(r.stats.vertices_closed == 1);
   CHECK(r.stats.max_close_move < 2e-13);
-  CHECK(r.pairs[0].stats.touching_only);
-  REQUIRE(r.pairs[0].curves.size() == 1);
-  REQUIRE(r.pairs[0].curves[0].size() == 1);
-  const K::Point_3 p(touch[0], touch[1], touch[2]);
-  CHECK(r.pairs[0].curves[0][0] == p);
-  CHECK(has_vertex_at(out[0], p));
-  CHECK(has_vertex_at(out[1], p));
   CHECK_FALSE(has_vertex_at(out[0], K::Point_3(0, 0, 1)));  // the corner is the contact now
 }
 

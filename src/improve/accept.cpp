@@ -83,6 +83,9 @@ bool segment_after(const ImproveState<K>& s, const Edit<K>& edit, int x, int y, 
   return curve >= 0 && s.holds_curve(m1, curve) && s.holds_curve(m2, curve);
 }
 
+/// Whether two of the three points are one point (a face that is no triangle, as written).
+template <class P> bool two_coincide(const P& a, const P& b, const P& c) { return a == b || b == c || c == a; }
+
 /// Whether triangles t and u meet only as allowed (see the top of this file). Exact under the
 /// exact and filtered kernels.
 template <class K, class PK>
@@ -91,8 +94,7 @@ bool meet_as_allowed(const ImproveState<K>& s, const Edit<K>& edit, const Tri<K,
     // As written, a face two of whose corners round to one point is no triangle (CGAL's tests
     // do not take it): not tested as written. It was tested as it is; and if it stays, seam
     // check refuses the output (two vertices at one point).
-    const auto coincident = [](const Tri<K, PK>& x) { return x.p[0] == x.p[1] || x.p[1] == x.p[2] || x.p[2] == x.p[0]; };
-    if (coincident(t) || coincident(u)) return true;
+    if (two_coincide(t.p[0], t.p[1], t.p[2]) || two_coincide(u.p[0], u.p[1], u.p[2])) return true;
   }
   int shared = 0;
   std::array<int, 3> in_u{-1, -1, -1};  // for each corner of t, the same corner of u
@@ -304,7 +306,7 @@ template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) 
       if (CGAL::collinear(a[0].p, a[1].p, a[2].p)) return Verdict::shape;
       if constexpr (kernel_traits<K>::exact_constructions) {  // once written
         const auto p0 = to_filtered(a[0].p), p1 = to_filtered(a[1].p), p2 = to_filtered(a[2].p);
-        if (edit.coincident_corners_allowed && (p0 == p1 || p1 == p2 || p2 == p0)) continue;
+        if (edit.coincident_corners_allowed && two_coincide(p0, p1, p2)) continue;
         if (CGAL::collinear(p0, p1, p2)) return Verdict::shape;
       }
     }
