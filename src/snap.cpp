@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/internal/snap.h>
 #include <seam/internal/bbox_diagonal.h>
+#include <seam/internal/face_grid.h>
 #include <seam/internal/retriangulate.h>  // KeepAway
 
 #include <CGAL/boost/graph/Euler_operations.h>
@@ -18,6 +19,8 @@
 #include <CGAL/property_map.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <optional>
 #include <limits>
 #include <cmath>
 #include <tuple>
@@ -113,26 +116,55 @@ SnapReport<K> snap_vertices(Mesh<K>& mesh, const std::vector<Polyline<K>>& curve
 
 
 namespace {
-/// Calls visit(a, b, c) with the corners of each face of `other` whose box overlaps `box`, until
-/// it returns true (then true). Over every face of `other`, the box test first: for the few
-/// vertices near a curve.
-template <class K, class Visit> bool any_face_near(const Mesh<K>& other, const CGAL::Bbox_3& box, Visit visit) {
-  for (auto g : other.faces()) {
-    const auto k = other.halfedge(g);
-    const auto &a = other.point(other.source(k)), &b = other.point(other.target(k)),
-               &c = other.point(other.target(other.next(k)));
-    if (CGAL::do_overlap(box, a.bbox() + b.bbox() + c.bbox()) && visit(a, b, c)) return true;
+/// The faces of a mesh that stays as it is while this is used, indexed by their boxes (FaceGrid,
+/// built at the first query): a vertex near a curve asks for the few faces of the other mesh near
+/// it, where a scan of all its faces made snapping quadratic.
+template <class K> class FacesByBox {
+ public:
+  explicit FacesByBox(const Mesh<K>& mesh) : mesh_(mesh) {}
+  const Mesh<K>& mesh() const { return mesh_; }
+  /// Calls visit(a, b, c) with the corners of each face whose box overlaps `box`, in the mesh's
+  /// face order (that of a scan of all its faces), until it returns true (then true).
+  template <class Visit> bool any_near(const CGAL::Bbox_3& box, Visit visit) const {
+    if (!grid_) build();
+    std::vector<std::uint32_t> found;
+    for (const auto& entry : grid_->query(box)) found.push_back(entry.face);
+    std::sort(found.begin(), found.end());
+    for (const std::uint32_t i : found) {
+      const typename Mesh<K>::Face_index g(i);
+      const auto k = mesh_.halfedge(g);
+      const auto &a = mesh_.point(mesh_.source(k)), &b = mesh_.point(mesh_.target(k)),
+                 &c = mesh_.point(mesh_.target(mesh_.next(k)));
+      if (CGAL::do_overlap(box, a.bbox() + b.bbox() + c.bbox()) && visit(a, b, c)) return true;
+    }
+    return false;
   }
-  return false;
-}
+
+ private:
+  const Mesh<K>& mesh_;
+  mutable std::optional<FaceGrid> grid_;
+  static CGAL::Bbox_3 box_of(const Mesh<K>& g, typename Mesh<K>::Face_index f) {
+    const auto k = g.halfedge(f);
+    return g.point(g.source(k)).bbox() + g.point(g.target(k)).bbox() + g.point(g.target(g.next(k))).bbox();
+  }
+  void build() const {
+    double width = 0;  // the faces' mean box width: the grid's base cell
+    for (auto f : mesh_.faces()) {
+      const CGAL::Bbox_3 b = box_of(mesh_, f);
+      width += std::max({b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin()});
+    }
+    grid_.emplace(mesh_.number_of_faces() > 0 && width > 0 ? width / double(mesh_.number_of_faces()) : 1.0);
+    for (auto f : mesh_.faces()) grid_->insert({0, std::uint32_t(f), 0}, box_of(mesh_, f));
+  }
+};
 
 /// Whether a face around v lies in one plane with a face of `other` and meets it (exact).
-template <class K> bool in_flat_contact(const Mesh<K>& mesh, typename MeshTypes<K>::V v, const Mesh<K>& other) {
+template <class K> bool in_flat_contact(const Mesh<K>& mesh, typename MeshTypes<K>::V v, const FacesByBox<K>& other) {
   using Point = typename K::Point_3;
   for (auto f : CGAL::faces_around_target(mesh.halfedge(v), mesh)) {
     if (f == MeshTypes<K>::M::null_face()) continue;
     const auto t = face_triangle<K>(mesh, f);
-    if (any_face_near<K>(other, t.bbox(), [&](const Point& a, const Point& b, const Point& c) {
+    if (other.any_near(t.bbox(), [&](const Point& a, const Point& b, const Point& c) {
           return CGAL::coplanar(t[0], t[1], t[2], a) && CGAL::coplanar(t[0], t[1], t[2], b) &&
                  CGAL::coplanar(t[0], t[1], t[2], c) && CGAL::do_intersect(t, typename K::Triangle_3(a, b, c));
         }))
@@ -144,7 +176,7 @@ template <class K> bool in_flat_contact(const Mesh<K>& mesh, typename MeshTypes<
 /// Where the faces around v meet `other` (exact intersections, rounded to doubles): as segments,
 /// a point as a segment of length 0, a triangle or polygon of a flat contact as its edges.
 template <class K>
-std::vector<DK::Segment_3> contact_around(const Mesh<K>& mesh, typename MeshTypes<K>::V v, const Mesh<K>& other) {
+std::vector<DK::Segment_3> contact_around(const Mesh<K>& mesh, typename MeshTypes<K>::V v, const FacesByBox<K>& other) {
   using Point = typename K::Point_3;
   std::vector<DK::Segment_3> pieces;
   auto ring = [&](const std::vector<Point>& ps) {
@@ -155,7 +187,7 @@ std::vector<DK::Segment_3> contact_around(const Mesh<K>& mesh, typename MeshType
     if (f == MeshTypes<K>::M::null_face()) continue;
     const auto t = face_triangle<K>(mesh, f);
     if (t.is_degenerate()) continue;
-    any_face_near<K>(other, t.bbox(), [&](const Point& a, const Point& b, const Point& c) {
+    other.any_near(t.bbox(), [&](const Point& a, const Point& b, const Point& c) {
       const typename K::Triangle_3 u(a, b, c);
       if (u.is_degenerate()) return false;
       const auto meet = CGAL::intersection(t, u);
@@ -179,7 +211,7 @@ std::vector<DK::Segment_3> contact_around(const Mesh<K>& mesh, typename MeshType
 /// a rounded kernel failing in the intersections refuses the move.
 template <class K>
 bool move_keeps_contact(Mesh<K>& mesh, typename MeshTypes<K>::V v, const typename K::Point_3& target,
-                        const Mesh<K>& other, double distance) {
+                        const FacesByBox<K>& other, double distance) {
   std::vector<DK::Segment_3> before, after;
   const auto old = mesh.point(v);
   try {
@@ -288,6 +320,8 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
     if (!(d <= tolerance)) continue;
     candidates.emplace_back(d, std::size_t(v), target);
   }
+  std::optional<FacesByBox<K>> other_faces;  // (other does not change here)
+  if (other) other_faces.emplace(*other);
   // The target as the move makes it: exact (short coordinates, see below), or rounded to doubles.
   const auto as_moved = [round_to_doubles](Point target) {
     make_exact(target);
@@ -298,7 +332,7 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
   // Moves v onto target unless that folds a face or takes a part of the intersection with it.
   const auto move = [&](V v, const Point& target, double d) {
     const bool keeps_contact =
-        !other || !(contact_tolerance > 0) || move_keeps_contact<K>(mesh, v, target, *other, contact_tolerance);
+        !other || !(contact_tolerance > 0) || move_keeps_contact<K>(mesh, v, target, *other_faces, contact_tolerance);
     if (!move_keeps_faces<K>(mesh, v, target) || !keeps_contact) {
       ++report.refused;
       return;
@@ -314,7 +348,7 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
     if (si >= segments.size()) {  // onto a lone point, exactly
       const std::size_t i = si - segments.size();
       const Point target = as_moved(*lone[i]);
-      if (taken[i] || mesh.point(v) == target || (other && in_flat_contact<K>(mesh, v, *other))) continue;
+      if (taken[i] || mesh.point(v) == target || (other && in_flat_contact<K>(mesh, v, *other_faces))) continue;
       const std::size_t before = report.snapped;
       move(v, target, d);
       taken[i] = report.snapped > before;
@@ -326,7 +360,7 @@ SnapReport<K> snap_vertices_to_segments(Mesh<K>& mesh, const std::vector<Polylin
     // (whose parameter is a long rational): every later intersection is computed from them.
     const Point &p = *ends[si].first, &q = *ends[si].second;
     if (skip_on_curves && typename K::Segment_3(p, q).has_on(mesh.point(v))) continue;  // (exact test)
-    if (other && in_flat_contact<K>(mesh, v, *other)) continue;
+    if (other && in_flat_contact<K>(mesh, v, *other_faces)) continue;
     const auto pq = q - p;
     const double closest = CGAL::to_double(((mesh.point(v) - p) * pq) / pq.squared_length());
     double t = std::clamp(std::round(closest * 65536.0) / 65536.0, 0.0, 1.0);

@@ -175,8 +175,8 @@ Tri<K, PK> new_tri(const ImproveState<K>& s, const Edit<K>& edit, const EditPart
   return t;
 }
 
-/// The new face turns less than 80 degrees from the input surface there and lies within the
-/// tolerance of it (doubles). A face thinner than the vertex separation (its height on its
+/// The new face lies within the tolerance of the input surface and turns less than 80 degrees
+/// from it there (from its face closest to the new face's centroid; doubles). A face thinner than the vertex separation (its height on its
 /// longest edge) has no normal worth the name: rounding decides it. It is held to the distance
 /// (and, by the caller, to the crossing tests) only; so is a face whose cross product is 0 in
 /// doubles, if `coincident_corners_allowed` (Edit::coincident_corners_allowed).
@@ -189,10 +189,10 @@ Verdict near_input(const ImproveState<K>& s, std::size_t m, const Tri<K, K>& t, 
                                              CGAL::squared_distance(r, p)}));
   if (!(len > 0) && !(coincident_corners_allowed && longest > 0)) return Verdict::shape;
   const bool thinner_than_separation = !(len > 0) || len / longest < s.options.min_separation;
-  const auto [closest, normal] = s.meshes[m].input->closest(CGAL::centroid(p, q, r));
-  if (!thinner_than_separation && n * normal < std::cos(80 * M_PI / 180) * len) return Verdict::shape;
   const double slack = 1e-9 * s.mean_edge;
-  if (!s.meshes[m].input->within(p, q, r, s.tolerance + slack)) return Verdict::tolerance;
+  const auto normal = s.meshes[m].input->face_within(p, q, r, s.tolerance + slack);
+  if (!normal) return Verdict::tolerance;
+  if (!thinner_than_separation && n * *normal < std::cos(80 * M_PI / 180) * len) return Verdict::shape;
   return Verdict::accepted;
 }
 

@@ -155,6 +155,9 @@ template <class K> bool Refiner<K>::try_flip(std::size_t m, H h, Applied<K>* mad
   if (g.is_removed(g.edge(h)) || g.is_border(g.edge(h))) return false;
   const F f0 = g.face(h), f1 = g.face(g.opposite(h));
   const V u = g.source(h), v = g.target(h), p = g.target(g.next(h)), q = g.target(g.next(g.opposite(h)));
+  // Both faces in the band first (is_constraint asks it too): flip_all offers every edge of both
+  // meshes, most of them outside the band, and their angles need not be computed.
+  if (!s_.face_in_band(m, f0) || !s_.face_in_band(m, f1)) return false;
   if (p == q || g.halfedge(p, q) != M::null_halfedge()) return false;
   const FP fu = s_.fpoint(m, u), fv = s_.fpoint(m, v), fp = s_.fpoint(m, p), fq = s_.fpoint(m, q);
   const double before = std::min(angle(m, f0), angle(m, f1));

@@ -14,6 +14,7 @@
 #include <CGAL/AABB_triangle_primitive.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -111,6 +112,52 @@ bool InputSurface::within(const Filtered::Point_3& p, const Filtered::Point_3& q
   for (const auto& x : {CGAL::centroid(p, q, r), CGAL::midpoint(p, q), CGAL::midpoint(q, r), CGAL::midpoint(r, p), p, q, r})
     if (!near(x)) return false;
   return true;
+}
+
+namespace {
+
+/// An AABB tree traversal that collects the faces whose boxes overlap a box.
+template <class Primitive> struct BoxOverlap {
+  CGAL::Bbox_3 box;
+  std::vector<const Filtered::Triangle_3*> found;
+  bool go_further() const { return true; }
+  void intersection(const CGAL::Bbox_3&, const Primitive& primitive) {
+    if (CGAL::do_overlap(box, primitive.datum().bbox())) found.push_back(&*primitive.id());
+  }
+  template <class Node> bool do_intersect(const CGAL::Bbox_3&, const Node& node) const {
+    return CGAL::do_overlap(box, node.bbox());
+  }
+};
+
+}  // namespace
+
+std::optional<Filtered::Vector_3> InputSurface::face_within(const Filtered::Point_3& p, const Filtered::Point_3& q,
+                                                            const Filtered::Point_3& r, double distance) const {
+  if (tree_->triangles.empty()) return std::nullopt;
+  const Filtered::Point_3 centroid = CGAL::centroid(p, q, r);
+  const std::array<Filtered::Point_3, 7> samples{centroid, CGAL::midpoint(p, q), CGAL::midpoint(q, r),
+                                                 CGAL::midpoint(r, p), p, q, r};
+  // The samples' box grown by the distance, with room for the rounding of a squared distance
+  // computed at most `distance` (a face that near a sample overlaps it).
+  CGAL::Bbox_3 box;
+  for (const auto& x : samples) box += x.bbox();
+  const double grow = distance * (1 + 1e-6) + 1e-300;
+  BoxOverlap<Tree::Primitive> near{CGAL::Bbox_3(box.xmin() - grow, box.ymin() - grow, box.zmin() - grow,
+                                                box.xmax() + grow, box.ymax() + grow, box.zmax() + grow),
+                                   {}};
+  tree_->tree.traversal(near.box, near);
+  const double d2 = distance * distance;
+  for (const auto& x : samples)
+    if (std::none_of(near.found.begin(), near.found.end(),
+                     [&](const Filtered::Triangle_3* t) { return CGAL::squared_distance(x, *t) <= d2; }))
+      return std::nullopt;
+  const Filtered::Triangle_3* closest = nullptr;  // to the centroid, which lies within the distance
+  double best = std::numeric_limits<double>::infinity();
+  for (const Filtered::Triangle_3* t : near.found)
+    if (const double d = CGAL::squared_distance(centroid, *t); d < best) best = d, closest = t;
+  Filtered::Vector_3 n = CGAL::normal(closest->vertex(0), closest->vertex(1), closest->vertex(2));
+  const double len = std::sqrt(n.squared_length());
+  return len > 0 ? n / len : n;
 }
 
 // ---------------------------------------------------------------- state

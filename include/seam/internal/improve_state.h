@@ -90,6 +90,13 @@ class InputSurface {
   /// surface (a sampled test, not the Hausdorff distance; doubles). A point: p = q = r.
   bool within(const Filtered::Point_3& p, const Filtered::Point_3& q, const Filtered::Point_3& r,
               double distance) const;
+  /// For a new face (p, q, r): whether it passes `within` at that distance, and if so the unit
+  /// normal of the surface's face closest to its centroid (as `closest` gives it, but for a tie
+  /// between faces equally close in doubles, which one is not the same). One tree query for
+  /// all: the faces whose boxes come within the distance of the face's box, each sample then
+  /// tested on those (which hold every face within the distance of a sample: the same answer).
+  std::optional<Filtered::Vector_3> face_within(const Filtered::Point_3& p, const Filtered::Point_3& q,
+                                                const Filtered::Point_3& r, double distance) const;
 
  private:
   struct Tree;
