@@ -539,13 +539,14 @@ IntersectionCurves<Float> float_kernel_curves(const Mesh<Float>& a, const Mesh<F
 
 }  // namespace
 
-template <class K> IntersectionCurves<K> compute_intersection_curves(const Mesh<K>& a, const Mesh<K>& b) {
+template <class K>
+IntersectionCurves<K> compute_intersection_curves(const Mesh<K>& a, const Mesh<K>& b, bool known_degenerate) {
   if constexpr (std::is_same_v<K, Float>) {
     return float_kernel_curves(a, b);
   } else {
     IntersectionCurves<K> result;
     // Meshes in general position with respect to each other (no zero predicate): the direct path.
-    if (auto direct = general_position_curves<K>(a, b)) {
+    if (auto direct = known_degenerate ? std::nullopt : general_position_curves<K>(a, b)) {
       result.sites_a = std::move(direct->sites_a);
       result.sites_b = std::move(direct->sites_b);
       result.curves = chain(std::move(direct->curves));  // already oriented; chain() keeps the direction
@@ -591,7 +592,7 @@ std::vector<Polyline<K>> intersection_curves(const Mesh<K>& a, const Mesh<K>& b,
 
 #define SEAM_INSTANTIATE(K)                                                                                   \
   template internal::IntersectionCurves<K> internal::compute_intersection_curves<K>(const Mesh<K>&,           \
-                                                                                   const Mesh<K>&);           \
+                                                                                   const Mesh<K>&, bool);     \
   template std::vector<Polyline<K>> intersection_curves<K>(const Mesh<K>&, const Mesh<K>&, std::size_t*);
 SEAM_INSTANTIATE(Exact)
 SEAM_INSTANTIATE(Filtered)

@@ -23,7 +23,10 @@ template <class K> struct IntersectionCurves {
 };
 
 /// The intersection curves of `a` and `b` (exact under the exact kernel; under the float kernel
-/// computed with Epick on the same doubles).
-template <class K> IntersectionCurves<K> compute_intersection_curves(const Mesh<K>& a, const Mesh<K>& b);
+/// computed with Epick on the same doubles). `known_degenerate`: a vertex of one lies exactly on
+/// the other (moved onto a curve), so the general-position path would stop at that zero
+/// predicate after its box search: CGAL's surface_intersection at once.
+template <class K>
+IntersectionCurves<K> compute_intersection_curves(const Mesh<K>& a, const Mesh<K>& b, bool known_degenerate = false);
 
 }  // namespace seam::internal
