@@ -87,15 +87,22 @@ bool segment_after(const ImproveState<K>& s, const Edit<K>& edit, int x, int y, 
 template <class P> bool two_coincide(const P& a, const P& b, const P& c) { return a == b || b == c || c == a; }
 
 /// Whether triangles t and u meet only as allowed (see the top of this file). Exact under the
-/// exact and filtered kernels.
+/// exact and filtered kernels. `by_intervals` (if given) is set where the certified interval
+/// filters proved them allowed: then they are, for any corners within those intervals (see
+/// no_crossing).
 template <class K, class PK>
-bool meet_as_allowed(const ImproveState<K>& s, const Edit<K>& edit, const Tri<K, PK>& t, const Tri<K, PK>& u) {
+bool meet_as_allowed(const ImproveState<K>& s, const Edit<K>& edit, const Tri<K, PK>& t, const Tri<K, PK>& u,
+                     bool* by_intervals = nullptr) {
   if constexpr (!std::is_same_v<PK, K>) {
     // As written, a face two of whose corners round to one point is no triangle (CGAL's tests
     // do not take it): not tested as written. It was tested as it is; and if it stays, seam
     // check refuses the output (two vertices at one point).
     if (two_coincide(t.p[0], t.p[1], t.p[2]) || two_coincide(u.p[0], u.p[1], u.p[2])) return true;
   }
+  const auto proved = [by_intervals] {
+    if (by_intervals) *by_intervals = true;
+    return true;
+  };
   int shared = 0;
   std::array<int, 3> in_u{-1, -1, -1};  // for each corner of t, the same corner of u
   for (int i = 0; i < 3; ++i)
@@ -104,7 +111,7 @@ bool meet_as_allowed(const ImproveState<K>& s, const Edit<K>& edit, const Tri<K,
   using T3 = typename PK::Triangle_3;
   using S3 = typename PK::Segment_3;
   if (shared == 0) {
-    if (certified::surely_disjoint({&t.ip[0], &t.ip[1], &t.ip[2]}, {&u.ip[0], &u.ip[1], &u.ip[2]})) return true;
+    if (certified::surely_disjoint({&t.ip[0], &t.ip[1], &t.ip[2]}, {&u.ip[0], &u.ip[1], &u.ip[2]})) return proved();
     return !CGAL::do_intersect(T3(t.p[0], t.p[1], t.p[2]), T3(u.p[0], u.p[1], u.p[2]));
   }
   if (shared == 1) {
@@ -115,7 +122,7 @@ bool meet_as_allowed(const ImproveState<K>& s, const Edit<K>& edit, const Tri<K,
     const std::size_t i1 = std::size_t((i + 1) % 3), i2 = std::size_t((i + 2) % 3);
     const std::size_t j1 = std::size_t((j + 1) % 3), j2 = std::size_t((j + 2) % 3);
     const auto sure = certified::surely_only_vertex(t.ip[std::size_t(i)], t.ip[i1], t.ip[i2], u.ip[j1], u.ip[j2]);
-    if (sure) return *sure;
+    if (sure) return *sure ? proved() : false;
     if (const auto along = only_vertex_along_edges(tp[std::size_t(i)], tp[i1], tp[i2], up[j1], up[j2])) return *along;
     return !CGAL::do_intersect(S3(tp[i1], tp[i2]), T3(up[0], up[1], up[2])) &&
            !CGAL::do_intersect(S3(up[j1], up[j2]), T3(tp[0], tp[1], tp[2]));
@@ -130,7 +137,7 @@ bool meet_as_allowed(const ImproveState<K>& s, const Edit<K>& edit, const Tri<K,
     if (t.id[0].mesh != u.id[0].mesh &&
         !segment_after(s, edit, t.id[ti[0]].point, t.id[ti[1]].point, t.id[0].mesh, u.id[0].mesh))
       return false;
-    if (certified::surely_only_edge(t.ip[ti[0]], t.ip[ti[1]], t.ip[k], u.ip[l])) return true;
+    if (certified::surely_only_edge(t.ip[ti[0]], t.ip[ti[1]], t.ip[k], u.ip[l])) return proved();
     if (!CGAL::coplanar(t.p[ti[0]], t.p[ti[1]], t.p[k], u.p[l])) return true;
     return CGAL::coplanar_orientation(t.p[ti[0]], t.p[ti[1]], t.p[k], u.p[l]) == CGAL::NEGATIVE;
   }
@@ -232,17 +239,30 @@ template <class K> NearbyFaces nearby_faces(const ImproveState<K>& s, const Edit
   return near;
 }
 
+/// Per part k, new face i and nearby face j (`near`): whether the pair is to be tested as written.
+using Recheck = std::vector<std::vector<std::vector<bool>>>;
+
 /// Whether the new faces of the edit meet the faces of the meshes it keeps (`near`, from
 /// nearby_faces) and each other only as allowed; on the corners as they are (PK = K), or rounded
 /// as written (Filtered). `tested_as_they_are`: the test on the corners as they are has passed,
 /// so a pair of triangles whose corners are all doubles (the same as written) is not tested again.
+/// `record` (the test as they are): marks the pairs of a new face and a nearby face that the
+/// certified interval filters did not prove allowed. `recheck` (as written, after that): only
+/// those pairs are tested. A proof by intervals holds for any corners within the intervals, and
+/// the corners as written (the middles of the same approximations, or of narrower ones once a
+/// lazy number is refined) lie within them.
 template <class K, class PK>
-bool no_crossing(const ImproveState<K>& s, const Edit<K>& edit, const NearbyFaces& near, bool tested_as_they_are) {
+bool no_crossing(const ImproveState<K>& s, const Edit<K>& edit, const NearbyFaces& near, bool tested_as_they_are,
+                 Recheck* record = nullptr, const Recheck* recheck = nullptr) {
   std::vector<std::vector<Tri<K, PK>>> made(edit.parts.size());
   for (std::size_t k = 0; k < edit.parts.size(); ++k)
     for (std::size_t i = 0; i < edit.parts[k].added.size(); ++i)
       made[k].push_back(new_tri<K, PK>(s, edit, edit.parts[k], i));
   auto settled = [&](const Tri<K, PK>& t, const Tri<K, PK>& u) { return tested_as_they_are && t.doubles && u.doubles; };
+  if (record) {
+    record->assign(edit.parts.size(), {});
+    for (std::size_t k = 0; k < edit.parts.size(); ++k) (*record)[k].assign(made[k].size(), std::vector<bool>(near[k].size()));
+  }
   for (std::size_t k = 0; k < edit.parts.size(); ++k) {
     std::vector<std::optional<Tri<K, PK>>> kept(near[k].size());  // made once per edit, when needed
     for (std::size_t i = 0; i < made[k].size(); ++i) {
@@ -250,10 +270,13 @@ bool no_crossing(const ImproveState<K>& s, const Edit<K>& edit, const NearbyFace
       const CGAL::Bbox_3 box = new_face_box(edit.parts[k], i);
       for (std::size_t j = 0; j < near[k].size(); ++j) {
         const FaceGrid::Item& item = near[k][j];
-        if (!CGAL::do_overlap(item.box, box)) continue;
+        if (!CGAL::do_overlap(item.box, box) || (recheck && !(*recheck)[k][i][j])) continue;
         if (!kept[j])
           kept[j] = existing_tri<K, PK>(s, item.entry.mesh, typename Mesh<K>::Face_index(item.entry.face));
-        if (!settled(t, *kept[j]) && !meet_as_allowed<K, PK>(s, edit, t, *kept[j])) return false;
+        if (settled(t, *kept[j])) continue;
+        bool by_intervals = false;
+        if (!meet_as_allowed<K, PK>(s, edit, t, *kept[j], &by_intervals)) return false;
+        if (record) (*record)[k][i][j] = !by_intervals;
       }
       for (std::size_t l = k + 1; l < edit.parts.size(); ++l)  // new faces of the other meshes
         for (const Tri<K, PK>& u : made[l])
@@ -313,6 +336,7 @@ template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) 
   if (edit.has_fresh && s.options.min_separation > 0 && too_near_a_vertex<K>(s, edit)) return Verdict::separation;
   if (!edit.keeps_surface && !(s.tolerance > 0)) return Verdict::tolerance;  // no tolerance: the surfaces stay
   NearbyFaces near;
+  Recheck recheck;  // the pairs to test again as written (if tested as they are)
   if (edit.keeps_surface) {  // the new point lies on the current surface: within the tolerance of the input too?
     if (edit.has_fresh) {
       const double slack = 1e-9 * s.mean_edge;
@@ -329,14 +353,15 @@ template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) 
             v != Verdict::accepted)
           return v;
     near = nearby_faces<K>(s, edit);
-    if (!no_crossing<K, K>(s, edit, near, false)) return Verdict::crossing;  // exactly
+    if (!no_crossing<K, K>(s, edit, near, false, &recheck)) return Verdict::crossing;  // exactly
   }
   if constexpr (kernel_traits<K>::exact_constructions) {
     // As written; unless a face it removes already crosses once written (the embedding's
     // rounding): an edit that does not add a crossing where there is one is not refused for it.
     const bool tested_as_they_are = !edit.keeps_surface;
     if (edit.keeps_surface) near = nearby_faces<K>(s, edit);
-    if (!no_crossing<K, Filtered>(s, edit, near, tested_as_they_are) && !removes_a_written_crossing<K>(s, edit))
+    if (!no_crossing<K, Filtered>(s, edit, near, tested_as_they_are, nullptr, tested_as_they_are ? &recheck : nullptr) &&
+        !removes_a_written_crossing<K>(s, edit))
       return Verdict::crossing;
   }
   return Verdict::accepted;
