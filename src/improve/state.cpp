@@ -146,15 +146,19 @@ std::optional<Filtered::Vector_3> InputSurface::face_within(const Filtered::Poin
                                                 box.xmax() + grow, box.ymax() + grow, box.zmax() + grow),
                                    {}};
   tree_->tree.traversal(near.box, near);
-  const double d2 = distance * distance;
-  for (const auto& x : samples)
-    if (std::none_of(near.found.begin(), near.found.end(),
-                     [&](const Filtered::Triangle_3* t) { return CGAL::squared_distance(x, *t) <= d2; }))
-      return std::nullopt;
-  const Filtered::Triangle_3* closest = nullptr;  // to the centroid, which lies within the distance
+  if (near.found.empty()) return std::nullopt;
+  const Filtered::Triangle_3* closest = nullptr;  // to the centroid
   double best = std::numeric_limits<double>::infinity();
   for (const Filtered::Triangle_3* t : near.found)
     if (const double d = CGAL::squared_distance(centroid, *t); d < best) best = d, closest = t;
+  const double d2 = distance * distance;
+  if (!(best <= d2)) return std::nullopt;
+  // The other samples: that face first (the nearest to most of them), then the others.
+  for (std::size_t i = 1; i < samples.size(); ++i)
+    if (!(CGAL::squared_distance(samples[i], *closest) <= d2) &&
+        std::none_of(near.found.begin(), near.found.end(),
+                     [&](const Filtered::Triangle_3* t) { return CGAL::squared_distance(samples[i], *t) <= d2; }))
+      return std::nullopt;
   Filtered::Vector_3 n = CGAL::normal(closest->vertex(0), closest->vertex(1), closest->vertex(2));
   const double len = std::sqrt(n.squared_length());
   return len > 0 ? n / len : n;
