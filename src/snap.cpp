@@ -122,7 +122,6 @@ namespace {
 template <class K> class FacesByBox {
  public:
   explicit FacesByBox(const Mesh<K>& mesh) : mesh_(mesh) {}
-  const Mesh<K>& mesh() const { return mesh_; }
   /// Calls visit(a, b, c) with the corners of each face whose box overlaps `box`, in the mesh's
   /// face order (that of a scan of all its faces), until it returns true (then true).
   template <class Visit> bool any_near(const CGAL::Bbox_3& box, Visit visit) const {

@@ -183,10 +183,11 @@ Tri<K, PK> new_tri(const ImproveState<K>& s, const Edit<K>& edit, const EditPart
 }
 
 /// The new face lies within the tolerance of the input surface and turns less than 80 degrees
-/// from it there (from its face closest to the new face's centroid; doubles). A face thinner than the vertex separation (its height on its
-/// longest edge) has no normal worth the name: rounding decides it. It is held to the distance
-/// (and, by the caller, to the crossing tests) only; so is a face whose cross product is 0 in
-/// doubles, if `coincident_corners_allowed` (Edit::coincident_corners_allowed).
+/// from it there (from the input face closest to its centroid; doubles). A face thinner than the
+/// vertex separation (its height on its longest edge) has no normal worth the name: rounding
+/// decides it. It is held to the distance (and, by the caller, to the crossing tests) only; so is
+/// a face whose cross product is 0 in doubles, if `coincident_corners_allowed`
+/// (Edit::coincident_corners_allowed).
 template <class K>
 Verdict near_input(const ImproveState<K>& s, std::size_t m, const Tri<K, K>& t, bool coincident_corners_allowed) {
   const Filtered::Point_3 p = to_filtered(t.p[0]), q = to_filtered(t.p[1]), r = to_filtered(t.p[2]);
