@@ -118,8 +118,10 @@ PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
       std::sort(closed->begin(), closed->end());
     }
     st.max_close_move = std::max(sa.max_move, sb.max_move);
-    // (The vertices moved exactly onto the curves, which lie on both surfaces.)
-    if (st.vertices_closed > 0) found = internal::compute_intersection_curves<K>(a, b, /*known_degenerate=*/true);
+    // Under the exact kernel the vertices moved exactly onto the curves, which lie on both
+    // surfaces (under the others, onto the curves rounded).
+    if (st.vertices_closed > 0)
+      found = internal::compute_intersection_curves<K>(a, b, /*known_degenerate=*/kernel_traits<K>::exact_constructions);
   }
   const std::size_t touching = found.touching_points;
   const auto& curves = found.curves;
