@@ -341,10 +341,9 @@ template <class K> Verdict judge(const ImproveState<K>& s, const Edit<K>& edit) 
   if (edit.keeps_surface) {  // the new point lies on the current surface: within the tolerance of the input too?
     if (edit.has_fresh) {
       const double slack = 1e-9 * s.mean_edge;
-      for (const auto& part : edit.parts) {
-        const Filtered::Point_3 p = to_filtered(edit.fresh_point);
-        if (!s.meshes[part.mesh].input->within(p, p, p, s.tolerance + slack)) return Verdict::tolerance;
-      }
+      const Filtered::Point_3 p = to_filtered(edit.fresh_point);
+      for (const auto& part : edit.parts)
+        if (!s.meshes[part.mesh].input->within(p, s.tolerance + slack)) return Verdict::tolerance;
     }
   } else {
     for (std::size_t k = 0; k < edit.parts.size(); ++k)

@@ -99,19 +99,11 @@ template <class Primitive> struct WithinDistance {
 
 }  // namespace
 
-bool InputSurface::within(const Filtered::Point_3& p, const Filtered::Point_3& q, const Filtered::Point_3& r,
-                          double distance) const {
+bool InputSurface::within(const Filtered::Point_3& p, double distance) const {
   if (tree_->triangles.empty()) return false;
-  auto near = [&](const Filtered::Point_3& x) {
-    WithinDistance<Tree::Primitive> test{distance * distance};
-    tree_->tree.traversal(x, test);
-    return test.found;
-  };
-  if (p == q && q == r) return near(p);  // a point
-  // The centroid and the edge middles first: where a face leaves the surface, they leave it most.
-  for (const auto& x : {CGAL::centroid(p, q, r), CGAL::midpoint(p, q), CGAL::midpoint(q, r), CGAL::midpoint(r, p), p, q, r})
-    if (!near(x)) return false;
-  return true;
+  WithinDistance<Tree::Primitive> test{distance * distance};
+  tree_->tree.traversal(p, test);
+  return test.found;
 }
 
 namespace {

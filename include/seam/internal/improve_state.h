@@ -86,15 +86,14 @@ class InputSurface {
   InputSurface& operator=(const InputSurface&) = delete;
   /// The closest point of the surface, and the unit normal of the face it lies on.
   std::pair<Filtered::Point_3, Filtered::Vector_3> closest(const Filtered::Point_3& p) const;
-  /// Whether the triangle's corners, edge middles and centroid lie within `distance` of the
-  /// surface (a sampled test, not the Hausdorff distance; doubles). A point: p = q = r.
-  bool within(const Filtered::Point_3& p, const Filtered::Point_3& q, const Filtered::Point_3& r,
-              double distance) const;
-  /// For a new face (p, q, r): whether it passes `within` at that distance, and if so the unit
-  /// normal of the surface's face closest to its centroid (as `closest` gives it, but for a tie
-  /// between faces equally close in doubles, which one is not the same). One tree query for
-  /// all: the faces whose boxes come within the distance of the face's box, each sample then
-  /// tested on those (which hold every face within the distance of a sample: the same answer).
+  /// Whether the point lies within `distance` of the surface (doubles).
+  bool within(const Filtered::Point_3& p, double distance) const;
+  /// For a new face (p, q, r): whether its corners, edge middles and centroid lie within
+  /// `distance` of the surface (a sampled test, not the Hausdorff distance; doubles), and if so
+  /// the unit normal of the surface's face closest to its centroid (as `closest` gives it, but
+  /// for a tie between faces equally close in doubles, which one is not the same). One tree
+  /// query for all: the faces whose boxes come within the distance of the face's box, each
+  /// sample then tested on those (which hold every face within the distance of a sample).
   std::optional<Filtered::Vector_3> face_within(const Filtered::Point_3& p, const Filtered::Point_3& q,
                                                 const Filtered::Point_3& r, double distance) const;
 
