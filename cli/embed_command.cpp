@@ -11,7 +11,7 @@ namespace {
 
 struct EmbedArgs {
   std::string mesh, curves, out, curves_out, report, kernel = "exact";
-  NumberText snap_tol, min_angle, max_area, max_distance, curve_tol;
+  NumberText snap_tol, min_angle, max_area, max_distance, curve_tol, bound_reach;
   seam::EmbedRunOptions run;
 };
 
@@ -23,6 +23,7 @@ int run_embed(EmbedArgs& a) {
   o.max_area = number_option("--max-area", a.max_area, NumberRange::non_negative(), o.max_area);
   o.max_distance = number_option("--max-distance", a.max_distance, NumberRange::non_negative_or_auto(), o.max_distance);
   o.curve_tol = number_option("--curve-tol", a.curve_tol, NumberRange::non_negative(), o.curve_tol);
+  read_bound_reach_option(a.bound_reach, a.run.quality.bound_reach);
   seam::validate_options(o);
   // Every output path before any work: its format, no input overwritten, and its temporary file
   // created (a missing folder, a directory, a FIFO are found now).
@@ -120,6 +121,7 @@ Command add_embed_command(CLI::App& app) {
                     "The angle bound (degrees, 0..60): Delaunay refinement of the re-triangulated faces and the "
                     "quality stage aim for it (default: 20)");
   add_number_option(embed, "--max-area", ea.max_area, "Largest area of a new triangle: the re-triangulation and the quality stage refine to it; 0: no bound (default: 0)");
+  add_bound_reach_option(embed, ea.bound_reach);
   add_number_option(embed, "--max-distance", ea.max_distance,
                     "A curve node farther than this from the surface is an error (default: auto, 1.0 x mean edge "
                     "length)");

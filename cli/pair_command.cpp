@@ -16,7 +16,7 @@ namespace {
 
 struct PairArgs {
   std::string a, b, out_a, out_b, curves, curves_out, report, vtk, kernel = "exact";
-  NumberText snap_tol, min_angle, max_area;
+  NumberText snap_tol, min_angle, max_area, bound_reach;
   seam::PairOptions options;
 };
 
@@ -26,6 +26,7 @@ int run_pair(PairArgs& args) {
   o.snap_tol = number_option("--snap-tol", args.snap_tol, NumberRange::non_negative_or_auto(), o.snap_tol);
   o.min_angle_deg = number_option("--min-angle", args.min_angle, NumberRange::between(0, 60, "degrees"), o.min_angle_deg);
   o.max_area = number_option("--max-area", args.max_area, NumberRange::non_negative(), o.max_area);
+  read_bound_reach_option(args.bound_reach, args.options.quality.bound_reach);
   seam::validate_options(args.options.embed);
   // Every output path before any work: formats, no input overwritten, temporary files created
   // (renamed in this order at the end: meshes, curves, VTK, report).
@@ -155,6 +156,7 @@ Command add_pair_command(CLI::App& app) {
                     "The angle bound (degrees, 0..60): faces next to the curves below it are refined (default: 20)");
   add_number_option(cmd, "--max-area", pa.max_area,
                     "Largest area of a new triangle: the re-triangulation and the quality stage refine to it; 0: no bound (default: 0)");
+  add_bound_reach_option(cmd, pa.bound_reach);
   cmd->add_flag_callback(
       "--no-improve,--no-remesh", [&pa] { pa.options.improve = false; },
       "Keep the curves as embedded, without the quality stage");

@@ -32,7 +32,7 @@ constexpr double max_threads = 1024;
 struct TextileArgs {
   std::vector<std::string> tows;
   std::string tows_list, out_dir, report, kernel = "exact";
-  NumberText threads, min_angle, max_area, snap_tol;
+  NumberText threads, min_angle, max_area, snap_tol, bound_reach;
   bool quiet = false, resolve = false;
   seam::TextileOptions options;
 };
@@ -229,6 +229,7 @@ int run_textile(TextileArgs& args) {
   o.min_angle_deg = number_option("--min-angle", args.min_angle, NumberRange::between(0, 60, "degrees"), o.min_angle_deg);
   o.max_area = number_option("--max-area", args.max_area, NumberRange::non_negative(), o.max_area);
   o.snap_tol = number_option("--snap-tol", args.snap_tol, NumberRange::non_negative_or_auto(), o.snap_tol);
+  read_bound_reach_option(args.bound_reach, args.options.quality.bound_reach);
   seam::validate_options(args.options.embed);
   std::vector<std::string> inputs = args.tows;
   if (!args.tows_list.empty()) {
@@ -386,6 +387,7 @@ Command add_textile_command(CLI::App& app) {
                     "Move tow vertices within this distance of a curve onto it, then compute those curves again; 0 "
                     "disables (default: auto, 1e-10 x the smallest tow bounding-box diagonal, below seam check's "
                     "default tolerance)");
+  add_bound_reach_option(cmd, ta.bound_reach);
   return {cmd, [args] { return run_textile(*args); }};
 }
 

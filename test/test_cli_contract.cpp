@@ -449,17 +449,18 @@ TEST_CASE("contract: every numeric option refuses NaN, infinity, negative and ou
           "[cli][contract]") {
   // Only the documented automatic defaults may be negative inside seam: from the user, "auto".
   const std::vector<std::pair<std::string, std::vector<std::string>>> options = {
-      {"embed", {"--snap-tol", "--min-angle", "--max-area", "--max-distance", "--curve-tol"}},
-      {"pair", {"--snap-tol", "--min-angle", "--max-area"}},
+      {"embed", {"--snap-tol", "--min-angle", "--max-area", "--max-distance", "--curve-tol", "--bound-reach"}},
+      {"pair", {"--snap-tol", "--min-angle", "--max-area", "--bound-reach"}},
       {"check", {"--tol"}},
       {"check-embed", {"--tol"}},
-      {"textile", {"--snap-tol", "--min-angle", "--max-area", "--threads"}},
+      {"textile", {"--snap-tol", "--min-angle", "--max-area", "--threads", "--bound-reach"}},
   };
   for (const auto& [command, names] : options)
     for (const std::string& option : names) {
       std::vector<std::string> values = {"nan", "-nan", "inf", "-inf", "1e400", "-1", "-1e-300", "x", "1,5", " 1", ""};
       if (option == "--min-angle") values.insert(values.end(), {"60.5", "1e9"});
       if (option == "--threads") values.insert(values.end(), {"2.5", "1025", "99999999999", "auto"});
+      if (option == "--bound-reach") values.insert(values.end(), {"1.5", "2e9", "auto"});
       if (option == "--curve-tol" || option == "--max-area" || option == "--min-angle") values.push_back("auto");
       for (const std::string& value : values) {
         INFO(command << " " << option << " '" << value << "'");
@@ -478,6 +479,10 @@ TEST_CASE("contract: 'auto' and the ends of each option's range are accepted", "
       {"embed", {"--snap-tol", "auto", "--max-distance", "auto", "--min-angle", "60", "--curve-tol", "0"}},
       {"embed", {"--snap-tol", "0", "--max-area", "0", "--min-angle", "0", "--max-distance", "1e300"}},
       {"pair", {"--snap-tol", "auto", "--min-angle", "0", "--max-area", "0"}},
+      {"pair", {"--bound-reach", "0"}},
+      {"pair", {"--bound-reach", "1000000000"}},
+      {"embed", {"--bound-reach", "1"}},
+      {"textile", {"--bound-reach", "2"}},
       {"check", {"--tol", "auto"}},
       {"check", {"--tol", "0.5"}},
       {"textile", {"--snap-tol", "auto", "--threads", "0", "--min-angle", "20"}},

@@ -175,6 +175,16 @@ struct ImproveOptions {
   /// curves cross or touch); larger ones are refined like faces below the angle bound (after
   /// them: worst angle first). 0: no bound.
   double max_area = 0.0;
+  /// How far the angle bound holds where the band grows, in steps from the faces the curves cross
+  /// or touch (1: the faces beyond their border edges; 2: the faces beyond those). A face the
+  /// band reaches farther is held to its input face's smallest angle where that is below the
+  /// bound; faces at or above the bound in the input are held to it at any reach. A face below
+  /// the bound is mended by splitting its edges, which changes the faces beyond: where those are
+  /// below the bound in the input too (an anisotropic mesh, as tows swept with many more sections
+  /// than points around), the bound at every reach remeshes each such face connected to the
+  /// curves. A small reach keeps the change near the curves at the cost of new faces below the
+  /// bound (no worse than their input faces; reported as input_angle). Default: no limit.
+  std::size_t bound_reach = std::numeric_limits<std::size_t>::max();
   /// At most this many insertions and splits per face of the initial band (and, with max_area,
   /// one more per max_area of the initial band's area).
   std::size_t max_insertions_per_face = 16;

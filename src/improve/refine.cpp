@@ -72,15 +72,20 @@ template <class K> class Refiner {
   };
   std::priority_queue<Item> queue_;
   std::vector<std::tuple<std::size_t, V, V>> encroached_;  ///< constraint edges to split first
+  std::uint8_t mending_reach_ = 0;  ///< the reach (MeshState::reach) of the face being mended
   bool is_encroached(std::size_t m, H h) const;
   void push_encroached(std::size_t m, F f);
 
   double angle(std::size_t m, F f) const { return face_min_angle<K>(s_, m, f); }
-  /// The angle a face of the band is refined to. With no tolerance the input's edges are creases
-  /// (constraints): an input face's own small angle bounds the faces made from it, which are held
-  /// to that instead (refining towards the bound there only cascades into smaller faces).
+  /// The angle a face of the band is refined to: the bound within the input faces the band
+  /// reached in at most bound_reach steps from the band at the start. Farther, and
+  /// everywhere with no tolerance (the input's edges are then creases, constraints), an input
+  /// face's own small angle bounds the faces made from it, which are held to that instead: a face
+  /// below the bound is mended only by splitting its edges, which changes the faces beyond, and
+  /// where those are below it in the input too (an anisotropic mesh) each step needs the next.
   double angle_bound(std::size_t m, F f) const {
-    return s_.tolerance > 0 ? s_.options.min_angle_deg : s_.target_angle(m, f);
+    return s_.tolerance > 0 && s_.meshes[m].reach_of(f) <= s_.options.bound_reach ? s_.options.min_angle_deg
+                                                                                         : s_.target_angle(m, f);
   }
   /// A face held to ImproveOptions::max_area (MeshState::area_bounded) and larger.
   bool too_large(std::size_t m, F f) const {
@@ -386,6 +391,7 @@ template <class K> void Refiner<K>::refine() {
     queue_.pop();
     const M& g = s_.mesh(item.mesh);
     if (g.is_removed(item.face) || s_.meshes[item.mesh].version[item.face] != item.version) continue;
+    mending_reach_ = s_.meshes[item.mesh].reach_of(item.face);
     const Outcome out = mend(item.mesh, item.face);
     if (g.is_removed(item.face) || s_.meshes[item.mesh].version[item.face] != item.version) continue;
     if (out.changed)
@@ -552,6 +558,11 @@ template <class K> Outcome Refiner<K>::split_constraint(std::size_t m, H h) {
     // of reach (shared, frozen), the border stays as it is.
     if (!s_.may_join_band(m, beyond)) return {false, ShortfallCause::constraint_angle};
     s_.meshes[m].band[beyond] = true;
+    // One step farther than the face it grows from: the band's face beside the edge, or, where
+    // the edge lies beyond the band (a point encroaches an edge near where it lands), the face
+    // being mended.
+    const std::uint8_t from = s_.face_in_band(m, g.face(h)) ? s_.meshes[m].reach_of(g.face(h)) : mending_reach_;
+    s_.meshes[m].set_reach(beyond, std::uint8_t(std::min(from + 1, 254)));
     ++s_.stats.faces_absorbed;
     push_if_bad(m, beyond);
     push_encroached(m, beyond);

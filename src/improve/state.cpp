@@ -340,11 +340,8 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
       if (!touches) continue;
       ms.band[f] = true;
       ++s.stats.band_faces;
-      if (options.max_area > 0) {
-        if (ms.area_bounded_source.size() <= ms.source[f]) ms.area_bounded_source.resize(std::size_t(ms.source[f]) + 1);
-        ms.area_bounded_source[ms.source[f]] = true;
-        band_area += s.face_area(m, f);
-      }
+      ms.set_reach(f, 0);
+      if (options.max_area > 0) band_area += s.face_area(m, f);
       const double angle = face_min_angle<K>(s, m, f);
       s.stats.min_angle_deg_before = std::min(s.stats.min_angle_deg_before, angle);
       if (angle < s.target_angle(m, f)) ++s.stats.below_bound_before;

@@ -134,16 +134,22 @@ template <class K> struct ImproveState {
     typename M::template Property_map<F, bool> shared, frozen;  ///< valid when has_shared / has_frozen
     bool has_shared = false, has_frozen = false;
     const std::vector<double>* source_min_angle = nullptr;
-    /// With max_area: by source face (input face index), whether faces made from it are held to
-    /// the area bound: the source faces of the band at the start (crossed by a curve, or touching
-    /// a curve point). Faces made within a face that joined the band later are held to the angle
-    /// bound only, so the band grows for angles alone: an area bound there would refine every
-    /// face the band reaches, which then needs the next one (the band would spread over the mesh).
-    std::vector<bool> area_bounded_source;
-    /// Whether face f is held to max_area.
-    bool area_bounded(F f) const {
-      return is_new[f] && source[f] < area_bounded_source.size() && area_bounded_source[source[f]];
+    /// By source face (input face index): how many times the band grew from the band at the start
+    /// to reach it. 0: it held a face of the band at the start (crossed by a curve, or touching a
+    /// curve point); k: it joined the band as the face beyond a border edge of a face of reach k-1;
+    /// unreached (beyond the vector, or 255): not in the band. Faces of reach 0 are held to max_area;
+    /// faces of reach up to ImproveOptions::bound_reach to the angle bound, faces farther
+    /// to their input face's smallest angle where that is lower (target_angle; see angle_bound).
+    std::vector<std::uint8_t> reach;
+    static constexpr std::uint8_t unreached = 255;
+    std::uint8_t reach_of(F f) const { return source[f] < reach.size() ? reach[source[f]] : unreached; }
+    void set_reach(F f, std::uint8_t r) {
+      if (reach.size() <= source[f]) reach.resize(std::size_t(source[f]) + 1, unreached);
+      reach[source[f]] = std::min(reach[source[f]], r);
     }
+    /// Whether face f is held to max_area: made by the stage or the embedding within an input face
+    /// of the band at the start.
+    bool area_bounded(F f) const { return is_new[f] && reach_of(f) == 0; }
     /// is_crease's last answer per halfedge, valid while both faces keep the versions it was
     /// found for (an exact coplanarity test with no tolerance: costly on curve points).
     mutable typename M::template Property_map<H, CreaseMemo> crease_memo;
