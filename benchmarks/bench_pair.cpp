@@ -21,7 +21,8 @@
 // `--pair_files=A,B` runs the same comparison on two OFF files instead (the CT configurations
 // of scripts/real_tows.py, say; no seam_pair_snap0 run then).
 // The runs alternate (seam, corefine, seam, corefine, ...; `--pair_runs=N` pairs, default 3) so
-// that drifts of the machine affect both alike. `--pair_min_angle=D` sets seam's minimum angle
+// that drifts of the machine affect both alike. `--pair_bound_reach=N` runs seam with
+// --bound-reach N (ImproveOptions::bound_reach). `--pair_min_angle=D` sets seam's minimum angle
 // (diagnosis only: the comparison the issue asks for is with the default, 20 degrees). One iteration per run; the reported time is the
 // wall-clock time of read + compute + write (manual time); building the quality counters and
 // destroying the meshes are not timed.
@@ -73,6 +74,7 @@ using Clock = std::chrono::steady_clock;
 using Triple = std::array<seam::Point3d, 3>;
 
 double seam_min_angle = -1;  // --pair_min_angle=D (diagnosis only); < 0: seam's default (20)
+long seam_bound_reach = -1;   // --pair_bound_reach=N (seam's --bound-reach); < 0: seam's default (no limit)
 std::string given_a, given_b;  // --pair_files=A,B; empty: the generated crossover
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
@@ -201,6 +203,7 @@ void BM_seam_pair_whole(benchmark::State& state, bool defaults) {
       seam::PairOptions options;
       if (!defaults) options.embed.snap_tol = 0;  // --snap-tol 0
       if (seam_min_angle >= 0) options.embed.min_angle_deg = seam_min_angle;  // default: 20
+      if (seam_bound_reach >= 0) options.quality.bound_reach = std::size_t(seam_bound_reach);
       result.emplace(seam::pair<K>(*a, *b, options));
       pair_s = seconds_since(t);
       t = Clock::now();
@@ -268,7 +271,8 @@ void BM_seam_pair_whole(benchmark::State& state, bool defaults) {
   }
   state.SetLabel(std::string(defaults ? "seam pair (exact, default options" : "seam pair (exact, snap-tol 0") +
                  ", min angle " +
-                 (seam_min_angle >= 0 ? std::to_string(seam_min_angle) : std::string("20")) + ")");
+                 (seam_min_angle >= 0 ? std::to_string(seam_min_angle) : std::string("20")) +
+                 (seam_bound_reach >= 0 ? ", bound reach " + std::to_string(seam_bound_reach) : std::string()) + ")");
 }
 
 void BM_corefine_whole(benchmark::State& state) {
@@ -307,7 +311,8 @@ void BM_corefine_whole(benchmark::State& state) {
 
 int main(int argc, char** argv) {
   // Own options (removed before benchmark sees them): --pair_runs=N (number of seam/corefine
-  // pairs), --pair_min_angle=D (seam's minimum angle), --pair_files=A,B (two OFF files).
+  // pairs), --pair_min_angle=D (seam's minimum angle), --pair_bound_reach=N (seam's
+  // --bound-reach), --pair_files=A,B (two OFF files).
   int runs = 3;
   std::vector<char*> args;
   for (int i = 0; i < argc; ++i) {
@@ -317,6 +322,10 @@ int main(int argc, char** argv) {
     }
     if (i > 0 && std::strncmp(argv[i], "--pair_min_angle=", 17) == 0) {
       seam_min_angle = std::atof(argv[i] + 17);
+      continue;
+    }
+    if (i > 0 && std::strncmp(argv[i], "--pair_bound_reach=", 19) == 0) {
+      seam_bound_reach = std::max(0L, std::atol(argv[i] + 19));
       continue;
     }
     if (i > 0 && std::strncmp(argv[i], "--pair_files=", 13) == 0) {

@@ -299,21 +299,36 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
   using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Filtered, Primitive>>;
   const auto& m = out.mesh;
 
-  // Distances of the output vertices from the input surface.
+  // Output vertices at an input vertex's exact coordinates: on the input surface (distance 0).
+  std::vector<std::uint32_t> to_out(input.number_of_vertices() + input.number_of_removed_vertices(), none);
+  std::vector<char> at_input_vertex(out.vertex_slots(), 0);
+  for (auto v : input.vertices()) {
+    const auto it = out.vertex_at.find(input.point(v));
+    if (it == out.vertex_at.end()) continue;
+    to_out[std::size_t(v)] = std::uint32_t(it->second);
+    at_input_vertex[std::size_t(it->second)] = 1;
+  }
+
+  // Distances of the other output vertices from the input surface.
+  max_distance = 0;
+  const bool any_off_input_vertex = std::any_of(m.vertices().begin(), m.vertices().end(), [&](auto v) {
+    return !m.is_isolated(v) && !at_input_vertex[std::size_t(v)];
+  });
   std::vector<FT3> triangles;
   std::vector<typename Mesh<K>::Face_index> faces;
-  triangles.reserve(input.number_of_faces());
-  faces.reserve(input.number_of_faces());
   CGAL::Bbox_3 box;
-  for (auto f : input.faces()) {
-    const auto h = input.halfedge(f);
-    const FP p = to_filtered(input.point(input.source(h))), q = to_filtered(input.point(input.target(h))),
-             r = to_filtered(input.point(input.target(input.next(h))));
-    triangles.emplace_back(p, q, r);
-    faces.push_back(f);
-    box += triangles.back().bbox();
+  if (any_off_input_vertex) {
+    triangles.reserve(input.number_of_faces());
+    faces.reserve(input.number_of_faces());
+    for (auto f : input.faces()) {
+      const auto h = input.halfedge(f);
+      const FP p = to_filtered(input.point(input.source(h))), q = to_filtered(input.point(input.target(h))),
+               r = to_filtered(input.point(input.target(input.next(h))));
+      triangles.emplace_back(p, q, r);
+      faces.push_back(f);
+      box += triangles.back().bbox();
+    }
   }
-  max_distance = 0;
   if (!triangles.empty()) {
     Tree tree(triangles.begin(), triangles.end());
     tree.accelerate_distance_queries();
@@ -328,7 +343,7 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
     std::size_t first_far = 0;
     double first_far_distance = 0;
     for (auto v : m.vertices()) {
-      if (m.is_isolated(v)) continue;
+      if (m.is_isolated(v) || at_input_vertex[std::size_t(v)]) continue;
       const FP query = to_filtered(m.point(v));
       const auto [closest, id] = tree.closest_point_and_primitive(query);
       double d = std::sqrt(CGAL::squared_distance(query, closest));
@@ -358,11 +373,6 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
   }
 
   // Quality: every face's smallest angle; faces that are not input faces (same three points).
-  std::vector<std::uint32_t> to_out(input.number_of_vertices() + input.number_of_removed_vertices(), none);
-  for (auto v : input.vertices()) {
-    const auto it = out.vertex_at.find(input.point(v));
-    if (it != out.vertex_at.end()) to_out[std::size_t(v)] = std::uint32_t(it->second);
-  }
   std::set<std::array<std::uint32_t, 3>> input_faces;
   for (auto f : input.faces()) {
     const auto h = input.halfedge(f);
@@ -397,12 +407,14 @@ void check_vertex_separation(std::initializer_list<const Mesh<K>*> input_meshes,
                              std::initializer_list<const MeshView<K>*> outputs, PairCheckReport& report,
                              const char* subject) {
   // Pairs of vertices of the inputs themselves are not the outputs' doing: counted apart.
-  std::set<std::array<double, 3>> inputs;
+  std::vector<std::array<double, 3>> inputs;  // sorted, for binary_search
   for (const Mesh<K>* m : input_meshes)
     for (auto v : m->vertices()) {
       const auto q = to_filtered(m->point(v));
-      inputs.insert({q.x(), q.y(), q.z()});
+      inputs.push_back({q.x(), q.y(), q.z()});
     }
+  std::sort(inputs.begin(), inputs.end());
+  const auto in_inputs = [&](const std::array<double, 3>& p) { return std::binary_search(inputs.begin(), inputs.end(), p); };
   std::vector<std::array<double, 3>> points;
   CGAL::Bbox_3 box;
   for (const MeshView<K>* view : outputs)
@@ -429,7 +441,7 @@ void check_vertex_separation(std::initializer_list<const Mesh<K>*> input_meshes,
     const auto &p = points[x.info()], &q = points[y.info()];
     const double d = std::sqrt(CGAL::square(p[0] - q[0]) + CGAL::square(p[1] - q[1]) + CGAL::square(p[2] - q[2]));
     if (d >= r) return;
-    if (inputs.count(p) && inputs.count(q)) {
+    if (in_inputs(p) && in_inputs(q)) {
       ++report.close_vertex_pairs_in_inputs;
       return;
     }

@@ -961,6 +961,11 @@ template <class K> class FlatContactUnifier {
     return result;
   }
 
+  /// box_intersection_d's cutoff (as seam check's): ranges of fewer boxes are scanned pair by pair
+  /// rather than split further (CGAL's default, 10, is slow on whole tows). The same pairs, in
+  /// another order, which nothing here depends on (they are only joined into sets).
+  static constexpr std::ptrdiff_t box_cutoff = 2000;
+
   /// 1. Face pairs of A and B that may lie in one plane and overlap there: neither certainly off
   ///    the other's plane nor certainly apart in it (certified interval arithmetic).
   std::vector<std::pair<std::uint32_t, std::uint32_t>> candidate_pairs() const {
@@ -990,7 +995,8 @@ template <class K> class FlatContactUnifier {
                                if (surely_apart_in_plane(qs, ps, qt, pt, axis) || surely_apart_in_plane(qt, pt, qs, ps, axis))
                                  return;
                                overlapping.emplace_back(x.info(), y.info());
-                             });
+                             },
+                             box_cutoff);
     return overlapping;
   }
 
