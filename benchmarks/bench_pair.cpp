@@ -74,7 +74,7 @@ using Clock = std::chrono::steady_clock;
 using Triple = std::array<seam::Point3d, 3>;
 
 double seam_min_angle = -1;  // --pair_min_angle=D (diagnosis only); < 0: seam's default (20)
-long seam_bound_reach = -1;   // --pair_bound_reach=N (seam's --bound-reach); < 0: seam's default (no limit)
+long seam_bound_reach = -1;   // --pair_bound_reach=N (seam's --bound-reach); < 0: seam's default (auto)
 std::string given_a, given_b;  // --pair_files=A,B; empty: the generated crossover
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
@@ -203,7 +203,7 @@ void BM_seam_pair_whole(benchmark::State& state, bool defaults) {
       seam::PairOptions options;
       if (!defaults) options.embed.snap_tol = 0;  // --snap-tol 0
       if (seam_min_angle >= 0) options.embed.min_angle_deg = seam_min_angle;  // default: 20
-      if (seam_bound_reach >= 0) options.quality.bound_reach = std::size_t(seam_bound_reach);
+      if (seam_bound_reach >= 0) options.quality.bound_reach = seam_bound_reach;
       result.emplace(seam::pair<K>(*a, *b, options));
       pair_s = seconds_since(t);
       t = Clock::now();

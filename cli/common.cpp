@@ -34,16 +34,17 @@ CLI::Option* add_bound_reach_option(CLI::App* app, NumberText& value) {
   return add_number_option(
       app, "--bound-reach", value,
       "How far from the faces the curves cross the quality stage holds faces to the angle bound where "
-      "their input faces are below it, in steps of one face (integer); farther, such faces are held to "
-      "their input face's smallest angle. A small value (1 or 2) keeps the changes near the curves on "
-      "anisotropic meshes (many more sections than points around), where the bound at every reach "
-      "remeshes the mesh; faces at or above the bound in the input are held to it at any reach "
-      "(default: no limit)");
+      "their input faces are below it, in steps of one face (integer, or auto); farther, such faces are "
+      "held to their input face's smallest angle. 1 keeps the changes near the curves on anisotropic "
+      "meshes (many more sections than points around), where the bound at every reach remeshes the "
+      "mesh; faces at or above the bound in the input are held to it at any reach; 254 or more: no "
+      "limit (default: auto, per mesh: no limit where at least half of its faces meet the bound, else 1)");
 }
 
-void read_bound_reach_option(const NumberText& value, std::size_t& bound_reach) {
-  const double reach = number_option("--bound-reach", value, NumberRange::integer_between(0, 1e9, "faces"), -1);
-  if (reach >= 0) bound_reach = static_cast<std::size_t>(reach);
+void read_bound_reach_option(const NumberText& value, long& bound_reach) {
+  const double reach =
+      number_option("--bound-reach", value, {0, 1e9, true, true, "faces"}, double(bound_reach), -1.0);
+  bound_reach = reach < 0 ? -1 : long(std::min(reach, 254.0));
 }
 
 double number_option(const std::string& name, const NumberText& value, const NumberRange& range, double fallback,

@@ -74,9 +74,9 @@ double number_option(const std::string& name, const NumberText& value, const Num
                      double auto_value = -1.0);
 
 /// `--bound-reach N` of the commands that run the quality stage (ImproveOptions::bound_reach):
-/// registers it, and reads it into `bound_reach` (left as it is when not given).
+/// registers it, and reads it into `bound_reach` (left as it is when not given; "auto": -1).
 CLI::Option* add_bound_reach_option(CLI::App* app, NumberText& value);
-void read_bound_reach_option(const NumberText& value, std::size_t& bound_reach);
+void read_bound_reach_option(const NumberText& value, long& bound_reach);
 
 /// Whether two paths name the same file.
 bool same_path(const std::string& a, const std::string& b);

@@ -45,6 +45,7 @@ nlohmann::json improve_json(const seam::ImproveStats& s, bool done, const std::v
           {"edge_splits", s.edge_splits},
           {"merges", s.merges},
           {"faces_absorbed", s.faces_absorbed},
+          {"bound_reach", s.bound_reach},
           {"refused", {{"tolerance", s.refused_tolerance}, {"crossing", s.refused_crossing}, {"shape", s.refused_shape}, {"separation", s.refused_separation}}},
           {"below_bound_before", s.below_bound_before},
           {"below_bound_after", s.below_bound_after},

@@ -51,15 +51,18 @@ TEST_CASE("improve: bound_reach keeps the refinement of an anisotropic mesh near
   // Spacing along about 0.067 (weft) and 0.08 (warp), around about 0.25: input faces near 15 degrees.
   const auto tows = seam::make_crossover(150, 16, 125, 16, seam::Section::lenticular, 0.45);
   const seam::TriangleSoup soup_a = seam::make_tow(tows.weft), soup_b = seam::make_tow(tows.warp);
-  std::size_t absorbed[2] = {0, 0}, new_faces[2] = {0, 0};
-  for (int limited = 0; limited < 2; ++limited) {
-    INFO((limited ? "bound_reach 1" : "bound_reach unlimited (default)"));
+  // Runs: no limit, 1, and the default (automatic: 1 here, most input faces being below 20 degrees).
+  const long reaches[3] = {254, 1, -1};
+  std::size_t absorbed[3] = {0, 0, 0}, new_faces[3] = {0, 0, 0};
+  for (int run = 0; run < 3; ++run) {
+    INFO("bound_reach " << reaches[run]);
     Mesh a = seam::mesh_from_soup<K>(soup_a, "weft"), b = seam::mesh_from_soup<K>(soup_b, "warp");
     seam::PairOptions o;
-    if (limited) o.quality.bound_reach = 1;
+    o.quality.bound_reach = reaches[run];
     const auto r = seam::pair<K>(a, b, o);
     REQUIRE(r.stats.improved);
     CHECK(r.stats.verified);
+    CHECK(r.stats.improve.bound_reach == std::vector<std::size_t>(2, run == 0 ? 254 : 1));
     for (const auto& s : r.stats.improve.shortfalls) {
       CHECK(s.min_angle_deg < o.embed.min_angle_deg);
       CHECK(s.cause != seam::ShortfallCause::budget);
@@ -72,12 +75,24 @@ TEST_CASE("improve: bound_reach keeps the refinement of an anisotropic mesh near
       REQUIRE(from < input.triangles.size());
       CHECK(s.min_angle_deg >= input_face_angle(input, from) - 1e-6);
     }
-    absorbed[limited] = r.stats.improve.faces_absorbed;
-    new_faces[limited] = r.a.stats.faces_added + r.b.stats.faces_added;
+    absorbed[run] = r.stats.improve.faces_absorbed;
+    new_faces[run] = r.a.stats.faces_added + r.b.stats.faces_added;
   }
   // The limit cuts the growth the bound forces on faces that were below it in the input.
   INFO("faces absorbed " << absorbed[0] << " -> " << absorbed[1] << ", new faces " << new_faces[0] << " -> "
                          << new_faces[1]);
   CHECK(absorbed[1] * 3 < absorbed[0]);
   CHECK(new_faces[1] < new_faces[0]);
+  CHECK(absorbed[2] == absorbed[1]);
+  CHECK(new_faces[2] == new_faces[1]);
+}
+
+TEST_CASE("improve: bound_reach is unlimited by default where most input faces meet the bound", "[improve][pair]") {
+  // A crossover like the quality sweep's (about as many sections as points around).
+  const auto tows = seam::make_crossover(30, 14, 23, 12, seam::Section::elliptical, 0.5);
+  Mesh a = seam::mesh_from_soup<K>(seam::make_tow(tows.weft), "weft"), b = seam::mesh_from_soup<K>(seam::make_tow(tows.warp), "warp");
+  const auto r = seam::pair<K>(a, b, seam::PairOptions{});
+  REQUIRE(r.stats.improved);
+  CHECK(r.stats.verified);
+  CHECK(r.stats.improve.bound_reach == std::vector<std::size_t>(2, 254));
 }

@@ -183,8 +183,11 @@ struct ImproveOptions {
   /// below the bound in the input too (an anisotropic mesh, as tows swept with many more sections
   /// than points around), the bound at every reach remeshes each such face connected to the
   /// curves. A small reach keeps the change near the curves at the cost of new faces below the
-  /// bound (no worse than their input faces; reported as input_angle). Default: no limit.
-  std::size_t bound_reach = std::numeric_limits<std::size_t>::max();
+  /// bound (no worse than their input faces; reported as input_angle). 254 or more: no limit.
+  /// Negative (the default): per mesh, no limit where at least half of its input faces meet the
+  /// bound (their smallest angle), 1 where most do not (the mesh's own faces are anisotropic; a
+  /// mesh with no input angles given: no limit). ImproveStats::bound_reach gives what was used.
+  long bound_reach = -1;
   /// At most this many insertions and splits per face of the initial band (and, with max_area,
   /// one more per max_area of the initial band's area).
   std::size_t max_insertions_per_face = 16;
@@ -234,6 +237,8 @@ struct ImproveStats {
   /// Edits the acceptance predicate refused, by reason.
   std::size_t refused_tolerance = 0, refused_crossing = 0, refused_shape = 0, refused_separation = 0;
   std::size_t faces_absorbed = 0;  ///< faces that joined the band
+  /// Per mesh: the reach ImproveOptions::bound_reach came to (254: no limit).
+  std::vector<std::size_t> bound_reach;
   /// Faces of the band below the bound at the start and at the end.
   std::size_t below_bound_before = 0, below_bound_after = 0;
   double min_angle_deg_before = 0, min_angle_deg_after = 0;  ///< smallest angle in the band

@@ -78,13 +78,13 @@ template <class K> class Refiner {
 
   double angle(std::size_t m, F f) const { return face_min_angle<K>(s_, m, f); }
   /// The angle a face of the band is refined to: the bound within the input faces the band
-  /// reached in at most bound_reach steps from the band at the start. Farther, and
+  /// reached in at most the mesh's bound_reach steps from the band at the start. Farther, and
   /// everywhere with no tolerance (the input's edges are then creases, constraints), an input
   /// face's own small angle bounds the faces made from it, which are held to that instead: a face
   /// below the bound is mended only by splitting its edges, which changes the faces beyond, and
   /// where those are below it in the input too (an anisotropic mesh) each step needs the next.
   double angle_bound(std::size_t m, F f) const {
-    return s_.tolerance > 0 && s_.meshes[m].reach_of(f) <= s_.options.bound_reach ? s_.options.min_angle_deg
+    return s_.tolerance > 0 && s_.meshes[m].reach_of(f) <= s_.meshes[m].bound_reach ? s_.options.min_angle_deg
                                                                                          : s_.target_angle(m, f);
   }
   /// A face held to ImproveOptions::max_area (MeshState::area_bounded) and larger.

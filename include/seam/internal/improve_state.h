@@ -138,10 +138,13 @@ template <class K> struct ImproveState {
     /// to reach it. 0: it held a face of the band at the start (crossed by a curve, or touching a
     /// curve point); k: it joined the band as the face beyond a border edge of a face of reach k-1;
     /// unreached (beyond the vector, or 255): not in the band. Faces of reach 0 are held to max_area;
-    /// faces of reach up to ImproveOptions::bound_reach to the angle bound, faces farther
+    /// faces of reach up to bound_reach (below) to the angle bound, faces farther
     /// to their input face's smallest angle where that is lower (target_angle; see angle_bound).
     std::vector<std::uint8_t> reach;
     static constexpr std::uint8_t unreached = 255;
+    /// The largest reach held to the angle bound in this mesh (ImproveOptions::bound_reach,
+    /// automatic resolved; 254: no limit).
+    std::uint8_t bound_reach = 254;
     std::uint8_t reach_of(F f) const { return source[f] < reach.size() ? reach[source[f]] : unreached; }
     void set_reach(F f, std::uint8_t r) {
       if (reach.size() <= source[f]) reach.resize(std::size_t(source[f]) + 1, unreached);
