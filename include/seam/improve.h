@@ -12,7 +12,11 @@
 // fixed. (How far it grows is not bounded by a distance: each face joins at most once, so at
 // most the whole mesh.) Every face the stage makes is in the band. Constraints: curve segments
 // and the band's border (a mesh's own border included). Old mesh edges inside the band are not
-// constraints: grazing crossings stop being forced.
+// constraints: grazing crossings stop being forced. Each input face records its reach: 0 in the
+// band at the start, k + 1 when it joins from a face of reach k. Beyond `bound_reach`, a face whose
+// input face is below the bound is held to that input face's smallest angle instead (on a mesh
+// whose faces are mostly below the bound, each face the band reaches would otherwise need the
+// next; by default per mesh, see ImproveOptions::bound_reach).
 //
 // The algorithm: Ruppert's Delaunay refinement, on the surface.
 //   0. Curve points closer than `min_separation` merge (the curves may then pass twice through a
@@ -93,7 +97,8 @@
 //
 // The bound. In the plane, Ruppert's algorithm with diametral balls ends with every angle at
 // least arcsin(1/(2 sqrt 2)) = 20.7 degrees where the input's angles between constraints are at
-// least 60 degrees. Every face of the band is held to `min_angle_deg`; every new face of the band
+// least 60 degrees. Every face of the band is held to `min_angle_deg` (or, beyond `bound_reach`,
+// to its input face's smaller angle); every new face of the band
 // below it at the end is reported with its cause (ImproveStats::shortfalls):
 //   input_angle       it is no worse than the input face it comes from, which is below the bound;
 //   constraint_angle  its smallest angle lies between two constraints (two curve segments, a curve
