@@ -157,6 +157,12 @@ def _number(name, value, low=0.0, high=_math.inf, auto=False, integer=False, not
     return int(x) if integer else x
 
 
+def _bound_reach(value):
+    """bound_reach as --bound-reach takes it: 'auto' (-1) or an integer >= 0 (254 or more: no limit)."""
+    reach = _number("bound_reach", value, 0, 1e9, auto=True, integer=True, note="faces")
+    return -1 if reach < 0 else int(min(reach, 254))
+
+
 def _flag(name, value):
     if not isinstance(value, (bool, _np.bool_)):
         raise InputError(f"{name}={value!r}: must be True or False")
@@ -274,8 +280,8 @@ class TextileResult:
 
 # ---------------------------------------------------------------- operations
 
-def pair(VA, FA, VB, FB, *, curves=None, snap_tol="auto", min_angle=20.0, max_area=0.0, improve=True,
-         kernel="exact") -> PairResult:
+def pair(VA, FA, VB, FB, *, curves=None, snap_tol="auto", min_angle=20.0, max_area=0.0, bound_reach="auto",
+         improve=True, kernel="exact") -> PairResult:
     """Makes meshes A (VA, FA) and B (VB, FB) conform along their intersection curves (`seam pair`).
 
     Computes the intersection curves exactly, embeds the same curves into both, refines the faces
@@ -291,6 +297,10 @@ def pair(VA, FA, VB, FB, *, curves=None, snap_tol="auto", min_angle=20.0, max_ar
     min_angle: the angle bound in degrees, 0..60.
     max_area: largest area of a new triangle within the faces the curves cross or touch (the
         re-triangulation and the quality stage refine to it); 0: no bound.
+    bound_reach: how far (in faces, from those the curves cross) faces whose input faces are below
+        the angle bound are held to it; farther, to their input face's smallest angle. 'auto'
+        (per mesh: no limit where at least half of its faces meet the bound, else 1) or an
+        integer >= 0 (254 or more: no limit). `--bound-reach`.
     improve: run the quality stage (False: `--no-improve`).
     kernel: 'exact' (default), 'filtered' or 'float'.
 
@@ -303,7 +313,8 @@ def pair(VA, FA, VB, FB, *, curves=None, snap_tol="auto", min_angle=20.0, max_ar
     r = _seam.pair(VA, FA, VB, FB, kernel=_kernel(kernel),
                    snap_tol=_number("snap_tol", snap_tol, auto=True),
                    min_angle=_number("min_angle", min_angle, 0, 60, note="degrees"),
-                   max_area=_number("max_area", max_area), improve=_flag("improve", improve), curves=given)
+                   max_area=_number("max_area", max_area), bound_reach=_bound_reach(bound_reach),
+                   improve=_flag("improve", improve), curves=given)
     a, b = r["a"], r["b"]
     return PairResult(a["V"], a["F"], b["V"], b["F"], r["curves"], a["source_face"], a["new_face"],
                       b["source_face"], b["new_face"], _report(r["report"]))
@@ -354,16 +365,16 @@ def check(A, B, A2, B2, curves, *, tol="auto", kernel="exact") -> CheckResult:
     return CheckResult(bool(r["ok"]), list(r["problems"]), _report(r["report"]))
 
 
-def textile(tows, *, names=None, snap_tol="auto", min_angle=20.0, max_area=0.0, improve=True, threads=0,
-            kernel="exact") -> TextileResult:
+def textile(tows, *, names=None, snap_tol="auto", min_angle=20.0, max_area=0.0, bound_reach="auto", improve=True,
+            threads=0, kernel="exact") -> TextileResult:
     """Makes every interpenetrating pair among N tows conform at once, in parallel (`seam textile`).
 
     tows: a list of meshes, each (V, F) or an object with V and F; names: one string per tow, for
         messages and the report (default "tow0", "tow1", ...).
     snap_tol: 'auto' (1e-10 x the smallest bounding-box diagonal) or >= 0.
-    min_angle, max_area: as for embed(). improve: run the quality stage on the faces along the
-        curves of all tows at once (False: `--no-improve`). threads: worker threads, 0 (every
-        core) to 1024; the result is the same for any number.
+    min_angle, max_area: as for embed(). bound_reach: as for pair(). improve: run the quality
+        stage on the faces along the curves of all tows at once (False: `--no-improve`).
+        threads: worker threads, 0 (every core) to 1024; the result is the same for any number.
     Returns the tows made conforming and, for each pair that meets, its curves (every point a
     vertex of both tows); every pair is verified as written (seam.check passes at
     report["verify_tolerance"]).
@@ -381,7 +392,8 @@ def textile(tows, *, names=None, snap_tol="auto", min_angle=20.0, max_area=0.0, 
     names = [str(n) for n in names]
     r = _seam.textile(meshes, names, kernel=_kernel(kernel), snap_tol=_number("snap_tol", snap_tol, auto=True),
                       min_angle=_number("min_angle", min_angle, 0, 60, note="degrees"),
-                      max_area=_number("max_area", max_area), improve=_flag("improve", improve),
+                      max_area=_number("max_area", max_area), bound_reach=_bound_reach(bound_reach),
+                      improve=_flag("improve", improve),
                       threads=_number("threads", threads, 0, 1024, integer=True, note="0: every core"))
     return TextileResult([Tow(t["V"], t["F"], t["source_face"], t["new_face"]) for t in r["tows"]],
                          [TextilePair(p["a"], p["b"], p["curves"]) for p in r["pairs"]], _report(r["report"]))

@@ -156,6 +156,7 @@ PairOut pair(const MeshView& av, const MeshView& bv, const PairArgs& args) {
     options.embed.snap_tol = args.snap_tol;
     options.embed.min_angle_deg = args.min_angle;
     options.embed.max_area = args.max_area;
+    options.quality.bound_reach = args.bound_reach;
     options.improve = args.improve;
     seam::validate_options(options.embed);
     seam::TriangleSoup soup_a, soup_b;
@@ -275,6 +276,7 @@ TextileOut textile(const std::vector<MeshView>& views, const std::vector<std::st
     options.embed.min_angle_deg = args.min_angle;
     options.embed.max_area = args.max_area;
     options.threads = args.threads;
+    options.quality.bound_reach = args.bound_reach;
     options.improve = args.improve;
     seam::validate_options(options.embed);
     std::vector<seam::TriangleSoup> soups;

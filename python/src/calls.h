@@ -57,6 +57,7 @@ struct Kernel {
 struct PairArgs {
   Kernel kernel;
   double snap_tol = -1, min_angle = 20, max_area = 0;
+  long bound_reach = -1;  ///< ImproveOptions::bound_reach; -1: auto
   bool improve = true;
   bool given_curves = false;  ///< use `curves` (seam::pair_with_curves) instead of the computed ones
   std::vector<CurveView> curves;
@@ -92,6 +93,7 @@ CheckOut check(const MeshView& a, const MeshView& b, const MeshView& a2, const M
 struct TextileArgs {
   Kernel kernel;
   double snap_tol = -1, min_angle = 20, max_area = 0;
+  long bound_reach = -1;  ///< ImproveOptions::bound_reach; -1: auto
   bool improve = true;
   int threads = 0;
 };

@@ -117,14 +117,15 @@ py::dict mesh_dict(MeshOut&& m) {
 }
 
 py::dict py_pair(const py::array& VA, const py::array& FA, const py::array& VB, const py::array& FB,
-                 const std::string& kernel, double snap_tol, double min_angle, double max_area, bool improve,
-                 const std::optional<std::vector<py::array>>& curves) {
+                 const std::string& kernel, double snap_tol, double min_angle, double max_area, long bound_reach,
+                 bool improve, const std::optional<std::vector<py::array>>& curves) {
   const MeshView a = mesh_view(VA, FA, "VA", "FA"), b = mesh_view(VB, FB, "VB", "FB");
   PairArgs args;
   args.kernel.name = kernel;
   args.snap_tol = snap_tol;
   args.min_angle = min_angle;
   args.max_area = max_area;
+  args.bound_reach = bound_reach;
   args.improve = improve;
   if (curves) {
     args.given_curves = true;
@@ -190,8 +191,8 @@ py::dict py_check(const py::array& VA, const py::array& FA, const py::array& VB,
 }
 
 py::dict py_textile(const std::vector<std::pair<py::array, py::array>>& tows, const std::vector<std::string>& names,
-                    const std::string& kernel, double snap_tol, double min_angle, double max_area, bool improve,
-                    int threads) {
+                    const std::string& kernel, double snap_tol, double min_angle, double max_area, long bound_reach,
+                    bool improve, int threads) {
   std::vector<MeshView> views;
   for (std::size_t i = 0; i < tows.size(); ++i) {
     const std::string name = "tows[" + std::to_string(i) + "]";
@@ -202,6 +203,7 @@ py::dict py_textile(const std::vector<std::pair<py::array, py::array>>& tows, co
   args.snap_tol = snap_tol;
   args.min_angle = min_angle;
   args.max_area = max_area;
+  args.bound_reach = bound_reach;
   args.improve = improve;
   args.threads = threads;
   TextileOut out;
@@ -281,13 +283,13 @@ PYBIND11_MODULE(_seam, m) {
 
   using namespace pybind11::literals;
   m.def("pair", &py_pair, "VA"_a, "FA"_a, "VB"_a, "FB"_a, "kernel"_a, "snap_tol"_a, "min_angle"_a, "max_area"_a,
-        "improve"_a, "curves"_a);
+        "bound_reach"_a, "improve"_a, "curves"_a);
   m.def("embed", &py_embed, "V"_a, "F"_a, "curves"_a, "kernel"_a, "snap_tol"_a, "min_angle"_a, "max_area"_a,
         "max_distance"_a, "curve_tol"_a);
   m.def("check", &py_check, "VA"_a, "FA"_a, "VB"_a, "FB"_a, "VA2"_a, "FA2"_a, "VB2"_a, "FB2"_a, "curves"_a, "tol"_a,
         "kernel"_a);
   m.def("textile", &py_textile, "tows"_a, "names"_a, "kernel"_a, "snap_tol"_a, "min_angle"_a, "max_area"_a,
-        "improve"_a, "threads"_a);
+        "bound_reach"_a, "improve"_a, "threads"_a);
   m.def("make_crossover", &py_make_crossover, "weft_along"_a, "weft_around"_a, "warp_along"_a, "warp_around"_a,
         "warp_section"_a, "warp_height"_a);
 }

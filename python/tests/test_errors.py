@@ -102,6 +102,9 @@ def test_degenerate_and_self_intersecting_meshes_are_refused(meshes):
     (dict(min_angle=True), r"^min_angle=True: not a number"),
     (dict(max_area=-1.0), r"^max_area=-1.0: out of range"),
     (dict(improve="no"), r"^improve='no': must be True or False$"),
+    (dict(bound_reach=-1), r"^bound_reach=-1: out of range \(must be 'auto' or an integer from 0 to 1e\+09, faces\)$"),
+    (dict(bound_reach=1.5), r"^bound_reach=1.5: not an integer"),
+    (dict(bound_reach="1"), r"^bound_reach='1': not a number"),
     (dict(curves=np.zeros((3, 3))), r"^curves: must be a list of \(n, 3\) arrays, got one array"),
     (dict(curves=[np.zeros((3, 2))]), r"^curves\[0\]: must have shape \(n, 3\)"),
     (dict(curves=[np.array([[0, 0, np.nan], [1, 0, 0]])]), r"^curves\[0\]: point 0 has a non-finite coordinate"),
@@ -118,7 +121,7 @@ def test_unknown_options_are_type_errors(meshes):
 def test_the_extension_checks_its_arrays_too(meshes):
     """seam._seam called directly, with arrays the package would have converted: no crash."""
     VA, FA, VB, FB = meshes
-    args = dict(kernel="exact", snap_tol=-1.0, min_angle=20.0, max_area=0.0, improve=True, curves=None)
+    args = dict(kernel="exact", snap_tol=-1.0, min_angle=20.0, max_area=0.0, bound_reach=-1, improve=True, curves=None)
     with pytest.raises(seam.InputError, match=r"^VA: must be an array of dtype float64"):
         seam._seam.pair(VA.astype(np.float32), FA, VB, FB, **args)
     with pytest.raises(seam.InputError, match=r"^FA: must be an array of dtype int64"):

@@ -111,3 +111,17 @@ def test_the_gil_is_released_while_seam_computes(crossover):
     worker.join()
     assert done["seconds"] > 0.05
     assert longest_gap < 0.5 * done["seconds"], (longest_gap, done["seconds"])
+
+
+def test_bound_reach_limits_the_refinement_of_an_anisotropic_crossover():
+    # Tows with about four times as many sections as points around: most input faces below 20
+    # degrees, so 'auto' resolves to 1 for both and makes what bound_reach=1 makes; no limit
+    # (254) refines more of both meshes. Every result is verified by seam.check.
+    weft, warp = seam.make_crossover(150, 16, 125, 16, "lenticular", 0.45)
+    results = {reach: seam.pair(*weft, *warp, bound_reach=reach) for reach in ("auto", 1, 254)}
+    for r in results.values():
+        check_result(weft, warp, r)
+    assert results["auto"].report["improve"]["bound_reach"] == [1, 1]
+    assert results[254].report["improve"]["bound_reach"] == [254, 254]
+    new = {reach: int(r.new_face_a.sum() + r.new_face_b.sum()) for reach, r in results.items()}
+    assert new["auto"] == new[1] < new[254]
