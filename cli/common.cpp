@@ -44,7 +44,7 @@ CLI::Option* add_bound_reach_option(CLI::App* app, NumberText& value) {
 void read_bound_reach_option(const NumberText& value, long& bound_reach) {
   const double reach =
       number_option("--bound-reach", value, {0, 1e9, true, true, "faces"}, double(bound_reach), -1.0);
-  bound_reach = reach < 0 ? -1 : long(std::min(reach, 254.0));
+  bound_reach = long(reach);  // (-1: auto; the library takes 254 and more as no limit)
 }
 
 double number_option(const std::string& name, const NumberText& value, const NumberRange& range, double fallback,

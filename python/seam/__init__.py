@@ -160,7 +160,7 @@ def _number(name, value, low=0.0, high=_math.inf, auto=False, integer=False, not
 def _bound_reach(value):
     """bound_reach as --bound-reach takes it: 'auto' (-1) or an integer >= 0 (254 or more: no limit)."""
     reach = _number("bound_reach", value, 0, 1e9, auto=True, integer=True, note="faces")
-    return -1 if reach < 0 else int(min(reach, 254))
+    return int(reach)  # (-1: auto; the library takes 254 and more as no limit)
 
 
 def _flag(name, value):

@@ -562,7 +562,7 @@ template <class K> Outcome Refiner<K>::split_constraint(std::size_t m, H h) {
     // the edge lies beyond the band (a point encroaches an edge near where it lands), the face
     // being mended.
     const std::uint8_t from = s_.face_in_band(m, g.face(h)) ? s_.meshes[m].reach_of(g.face(h)) : mending_reach_;
-    s_.meshes[m].set_reach(beyond, std::uint8_t(std::min(from + 1, 254)));
+    s_.meshes[m].set_reach(beyond, std::uint8_t(std::min<int>(from + 1, S::MeshState::no_limit)));
     ++s_.stats.faces_absorbed;
     push_if_bad(m, beyond);
     push_encroached(m, beyond);

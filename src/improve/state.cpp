@@ -304,19 +304,20 @@ template <class K> void find_small_curves(ImproveState<K>& s, const SharedCurves
   s.stats.small_curves = s.small_curves.size();
 }
 
-}  // namespace
-
 /// ImproveOptions::bound_reach for one mesh, from its input faces' smallest angles (null: not
 /// known): as given (254 at most), or automatically no limit where at least half of them meet the
 /// bound, 1 where most do not.
+template <class K>
 std::uint8_t bound_reach_of(const ImproveOptions& options, const std::vector<double>* input_angles) {
-  constexpr std::uint8_t no_limit = 254;
+  constexpr std::uint8_t no_limit = ImproveState<K>::MeshState::no_limit;
   if (options.bound_reach >= 0) return std::uint8_t(std::min<long>(options.bound_reach, no_limit));
   if (!input_angles || input_angles->empty()) return no_limit;
   const auto meeting = std::count_if(input_angles->begin(), input_angles->end(),
                                      [&](double a) { return a >= options.min_angle_deg; });
   return 2 * std::size_t(meeting) >= input_angles->size() ? no_limit : 1;
 }
+
+}  // namespace
 
 template <class K>
 void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const SharedCurves<K>& curves,
@@ -334,7 +335,7 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
     for (auto v : ms.mesh->vertices()) fix_rounding(ms.mesh->point(v));
     ms.input = input_surface<K>(meshes[m].input ? *meshes[m].input : *meshes[m].mesh);
     ms.source_min_angle = meshes[m].source_min_angle;
-    ms.bound_reach = bound_reach_of(options, ms.source_min_angle);
+    ms.bound_reach = bound_reach_of<K>(options, ms.source_min_angle);
     s.stats.bound_reach.push_back(ms.bound_reach);
     add_properties<K>(ms);
   }

@@ -142,9 +142,11 @@ template <class K> struct ImproveState {
     /// to their input face's smallest angle where that is lower (target_angle; see angle_bound).
     std::vector<std::uint8_t> reach;
     static constexpr std::uint8_t unreached = 255;
+    /// The largest reach recorded (farther steps count as this): as bound_reach, no limit.
+    static constexpr std::uint8_t no_limit = 254;
     /// The largest reach held to the angle bound in this mesh (ImproveOptions::bound_reach,
-    /// automatic resolved; 254: no limit).
-    std::uint8_t bound_reach = 254;
+    /// automatic resolved; no_limit: none).
+    std::uint8_t bound_reach = no_limit;
     std::uint8_t reach_of(F f) const { return source[f] < reach.size() ? reach[source[f]] : unreached; }
     void set_reach(F f, std::uint8_t r) {
       if (reach.size() <= source[f]) reach.resize(std::size_t(source[f]) + 1, unreached);
