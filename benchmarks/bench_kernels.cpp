@@ -29,6 +29,13 @@
 //
 // --kernels_max_faces=N skips sizes above N (default 1,000,000); --kernels_runs=R.
 //
+// --kernels_defaults: the growth of a whole run with the default options instead (the quality
+// stage on, its tolerance automatic, the outputs verified as written): families
+// defaults/<tool>/faces:<N>/run:<r> and defaults_memory/<tool>/faces:<N>, tool = exact |
+// corefine, with the counters above and improve_s, flat_contacts_s, separate_s and
+// verify_output_s (PairStats::stage_seconds; pair_other_s is then the rest). Like bench_pair's,
+// the read does not check the inputs for self-intersections (the command line does).
+//
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/generate.h>
 #include <seam/io.h>
@@ -68,6 +75,18 @@ struct Size {
   std::string a, b;  // OFF files
   std::size_t input_faces = 0;
 };
+
+/// --kernels_defaults: seam::pair with the default options, not snap_tol 0.
+bool& default_options() {
+  static bool on = false;
+  return on;
+}
+
+seam::PairOptions pair_options() {
+  seam::PairOptions options;
+  if (!default_options()) options.embed.snap_tol = 0;
+  return options;
+}
 
 std::filesystem::path& temp_dir() {
   static std::filesystem::path dir;
@@ -113,7 +132,7 @@ double stage(const std::map<std::string, double>& m, const char* name) {
   return it == m.end() ? 0.0 : it->second;
 }
 
-/// One whole run: read, seam::pair<K> (snap_tol 0), write.
+/// One whole run: read, seam::pair<K> (snap_tol 0, or the defaults), write.
 template <class K> Timings run_seam(const Size& size) {
   Timings t;
   std::optional<seam::Mesh<K>> a, b;
@@ -121,9 +140,7 @@ template <class K> Timings run_seam(const Size& size) {
   read_both<K>(size, a, b);
   t.s["read"] = seconds_since(c);
   c = Clock::now();
-  seam::PairOptions options;
-  options.embed.snap_tol = 0;
-  const seam::PairResult<K> r = seam::pair<K>(*a, *b, options);
+  const seam::PairResult<K> r = seam::pair<K>(*a, *b, pair_options());
   const double pair_s = seconds_since(c);
   c = Clock::now();
   write_both<K>(*a, *b, "seam");
@@ -142,8 +159,12 @@ template <class K> Timings run_seam(const Size& size) {
   // embedding's share of the pair call is the longer of the two.
   t.s["embed_rest"] = stage(st, "embed_a") + stage(st, "embed_b") - embed_stages;
   t.s["embed_wall"] = std::max(stage(st, "embed_a"), stage(st, "embed_b"));
-  t.s["pair_other"] = pair_s - stage(st, "intersect") - stage(st, "snap") - t.s["embed_wall"] -
-                      stage(st, "collapse") - stage(st, "remesh");
+  double after_embedding = 0;
+  for (const char* name : {"flat_contacts", "improve", "separate", "verify_output"}) {
+    t.s[name] = stage(st, name);
+    after_embedding += t.s[name];
+  }
+  t.s["pair_other"] = pair_s - stage(st, "intersect") - stage(st, "snap") - t.s["embed_wall"] - after_embedding;
   t.curve_vertices = r.stats.curve_vertices;
   t.output_faces = a->number_of_faces() + b->number_of_faces();
   return t;
@@ -224,9 +245,7 @@ int memory_child(const std::string& tool, const std::string& fa, const std::stri
         return;
       }
     }
-    seam::PairOptions options;
-    options.embed.snap_tol = 0;
-    seam::pair<K>(*a, *b, options);
+    seam::pair<K>(*a, *b, pair_options());
     write_both<K>(*a, *b, "memory");
   };
   if (tool == "filtered") run(seam::Filtered{});
@@ -241,7 +260,7 @@ int memory_child(const std::string& tool, const std::string& fa, const std::stri
 void BM_memory(benchmark::State& state, std::string tool, const Size* size) {
   for (auto _ : state) {
     const std::string cmd = "/proc/self/exe --kernels_memory_child=" + tool + "," + size->a + "," + size->b + "," +
-                            temp_dir().string();
+                            temp_dir().string() + (default_options() ? " --kernels_defaults" : "");
     // /proc/self/exe of the shell would be the shell: resolve ours.
     char self[4096];
     const ssize_t n = ::readlink("/proc/self/exe", self, sizeof self - 1);
@@ -276,6 +295,8 @@ int main(int argc, char** argv) {
   int runs = 3;
   long max_faces = 1000000;
   std::vector<char*> args;
+  for (int i = 1; i < argc; ++i)  // (before a memory child's run, which takes it too)
+    if (std::strcmp(argv[i], "--kernels_defaults") == 0) default_options() = true;
   for (int i = 0; i < argc; ++i) {
     if (i > 0 && std::strncmp(argv[i], "--kernels_memory_child=", 23) == 0) {
       std::stringstream s(argv[i] + 23);
@@ -291,6 +312,7 @@ int main(int argc, char** argv) {
         return 1;
       }
     }
+    if (i > 0 && std::strcmp(argv[i], "--kernels_defaults") == 0) continue;
     if (i > 0 && std::strncmp(argv[i], "--kernels_runs=", 15) == 0) {
       runs = std::max(1, std::atoi(argv[i] + 15));
       continue;
@@ -317,15 +339,18 @@ int main(int argc, char** argv) {
     status = 1;
   }
   if (status == 0) {
-    const std::vector<std::string> tools = {"exact", "filtered", "float", "corefine"};
+    const std::vector<std::string> tools = default_options() ? std::vector<std::string>{"exact", "corefine"}
+                                                             : std::vector<std::string>{"exact", "filtered", "float", "corefine"};
+    const std::string family = default_options() ? "defaults" : "kernels";
+    const std::string memory_family = default_options() ? "defaults_memory" : "memory";
     for (const Size& s : sizes) {
       const std::string f = "/faces:" + std::to_string(s.faces);
       for (int r = 1; r <= runs; ++r)
         for (const auto& tool : tools)
-          benchmark::RegisterBenchmark(("kernels/" + tool + f + "/run:" + std::to_string(r)).c_str(), BM_run, tool, &s)
+          benchmark::RegisterBenchmark((family + "/" + tool + f + "/run:" + std::to_string(r)).c_str(), BM_run, tool, &s)
               ->Iterations(1)->UseManualTime()->Unit(benchmark::kMillisecond);
       for (const auto& tool : tools)
-        benchmark::RegisterBenchmark(("memory/" + tool + f).c_str(), BM_memory, tool, &s)
+        benchmark::RegisterBenchmark((memory_family + "/" + tool + f).c_str(), BM_memory, tool, &s)
             ->Iterations(1)->UseManualTime()->Unit(benchmark::kMillisecond);
     }
     benchmark::RunSpecifiedBenchmarks();
