@@ -89,6 +89,17 @@ fs::path canonical_or_empty(const fs::path& p) {
   return ec ? fs::path() : c;
 }
 
+/// The outputs in DIR: tow i's mesh, and the curves of the pair (a, b).
+std::string mesh_output(const fs::path& dir, const std::vector<std::string>& names, std::size_t i) {
+  return (dir / (names[i] + ".off")).string();
+}
+std::string curves_file_name(const std::vector<std::string>& names, std::size_t a, std::size_t b) {
+  return names[a] + "__" + names[b] + ".polylines.txt";
+}
+std::string curves_output(const fs::path& dir, const std::vector<std::string>& names, std::size_t a, std::size_t b) {
+  return (dir / curves_file_name(names, a, b)).string();
+}
+
 /// Refuses, before any work, a curves file name DIR/<A>__<B>.polylines.txt that two pairs share,
 /// that is an input (a tow or the --tows list, also through a symbolic link in DIR) or the
 /// report, or that exists and is not a regular file. Every pair A < B is checked, whether it will
@@ -109,7 +120,7 @@ void check_curve_outputs(const fs::path& dir, const std::vector<std::string>& na
   std::map<std::string, std::pair<std::size_t, std::size_t>> by_name;
   for (std::size_t a = 0; a < names.size(); ++a)
     for (std::size_t b = a + 1; b < names.size(); ++b) {
-      const std::string name = names[a] + "__" + names[b] + ".polylines.txt";
+      const std::string name = curves_file_name(names, a, b);
       const std::string path = (dir / name).string();
       const auto [it, inserted] = by_name.emplace(name, std::make_pair(a, b));
       if (!inserted)
@@ -221,6 +232,36 @@ void print_summary(const seam::TextileResult<K>& result, const TextileArgs& args
   std::cout << "; outputs in " << args.out_dir << "\n";
 }
 
+/// The report: the library's, with each tow's files, each pair's curves file and what --resolve
+/// did to it.
+template <class K>
+nlohmann::json textile_report(const seam::TextileResult<K>& result, const TextileArgs& args,
+                              const std::vector<std::string>& inputs, const std::vector<std::string>& names,
+                              const std::vector<std::pair<std::size_t, std::size_t>>& resolved_pairs,
+                              const std::vector<seam::ResolveStats>& resolved) {
+  const fs::path dir = args.out_dir;
+  nlohmann::json j = textile_report_json<K>(result, names);
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    j["tows"][i]["file"] = inputs[i];
+    j["tows"][i]["out"] = mesh_output(dir, names, i);
+  }
+  for (std::size_t k = 0; k < result.pairs.size(); ++k) {
+    const auto& s = result.pairs[k].stats;
+    const bool has_file = s.curves + s.contact_points > 0 && !args.resolve;
+    j["pairs"][k]["polylines"] = has_file ? nlohmann::json(curves_output(dir, names, s.a, s.b)) : nlohmann::json(nullptr);
+    const auto done = std::find(resolved_pairs.begin(), resolved_pairs.end(), std::make_pair(s.a, s.b));
+    if (done != resolved_pairs.end()) {
+      const seam::ResolveStats& rs = resolved[std::size_t(done - resolved_pairs.begin())];
+      nlohmann::json r = resolve_report_json(seam::kernel_traits<seam::Exact>::kind, rs, {});
+      r.erase("verified");
+      r.erase("check");
+      r["keeper"] = names[rs.keeper == seam::Keeper::a ? s.a : s.b];
+      j["pairs"][k]["resolve"] = r;
+    }
+  }
+  return j;
+}
+
 int run_textile(TextileArgs& args) {
   // Every option before any work.
   seam::EmbedOptions& o = args.options.embed;
@@ -240,9 +281,7 @@ int run_textile(TextileArgs& args) {
 
   const std::vector<std::string> names = output_names(inputs);
   const fs::path dir = args.out_dir;
-  auto mesh_out = [&](std::size_t i) { return (dir / (names[i] + ".off")).string(); };
-  auto curves_name = [&](std::size_t a, std::size_t b) { return names[a] + "__" + names[b] + ".polylines.txt"; };
-  auto curves_out = [&](std::size_t a, std::size_t b) { return (dir / curves_name(a, b)).string(); };
+  auto mesh_out = [&](std::size_t i) { return mesh_output(dir, names, i); };
   std::vector<std::string> all_inputs = inputs;
   if (!args.tows_list.empty()) all_inputs.push_back(args.tows_list);
   {
@@ -309,7 +348,7 @@ int run_textile(TextileArgs& args) {
     for (const auto& p : result.pairs)
       if (!p.curves.empty() && !args.resolve) {
         out_curves.push_back(seam::to_doubles<K>(p.curves));
-        curve_file.push_back(files.add(curves_out(p.stats.a, p.stats.b)));
+        curve_file.push_back(files.add(curves_output(dir, names, p.stats.a, p.stats.b)));
       }
     const std::size_t n = out_soups.size() + out_curves.size();
     parallel_indices(arena, n, [&](std::size_t i) {
@@ -321,25 +360,7 @@ int run_textile(TextileArgs& args) {
     });
     st.stage_seconds["write"] = std::chrono::duration<double>(Clock::now() - t1).count();
     if (report_file != no_output) {
-      nlohmann::json j = textile_report_json<K>(result, names);
-      for (std::size_t i = 0; i < meshes.size(); ++i) {
-        j["tows"][i]["file"] = inputs[i];
-        j["tows"][i]["out"] = mesh_out(i);
-      }
-      for (std::size_t k = 0; k < result.pairs.size(); ++k) {
-        const auto& s = result.pairs[k].stats;
-        const bool has_file = s.curves + s.contact_points > 0 && !args.resolve;
-        j["pairs"][k]["polylines"] = has_file ? nlohmann::json(curves_out(s.a, s.b)) : nlohmann::json(nullptr);
-        const auto done = std::find(resolved_pairs.begin(), resolved_pairs.end(), std::make_pair(s.a, s.b));
-        if (done != resolved_pairs.end()) {
-          const seam::ResolveStats& rs = resolved[std::size_t(done - resolved_pairs.begin())];
-          nlohmann::json r = resolve_report_json(seam::kernel_traits<seam::Exact>::kind, rs, {});
-          r.erase("verified");
-          r.erase("check");
-          r["keeper"] = names[rs.keeper == seam::Keeper::a ? s.a : s.b];
-          j["pairs"][k]["resolve"] = r;
-        }
-      }
+      const nlohmann::json j = textile_report<K>(result, args, inputs, names, resolved_pairs, resolved);
       files.write(report_file, [&](std::ostream& os) { write_json(j, os); });
     }
     files.commit();

@@ -460,6 +460,39 @@ void check_vertex_separation(std::initializer_list<const Mesh<K>*> input_meshes,
                                   first, ")"));
 }
 
+/// The faces of a mesh as exact triangles of their corners rounded to doubles (the coordinates
+/// as written).
+template <class K> std::vector<Exact::Triangle_3> exact_triangles_of_doubles(const Mesh<K>& m) {
+  std::vector<Exact::Triangle_3> result;
+  result.reserve(m.number_of_faces());
+  auto exact = [](const typename K::Point_3& p) {
+    const Filtered::Point_3 q = to_filtered(p);
+    return Exact::Point_3(q.x(), q.y(), q.z());
+  };
+  for (auto f : m.faces()) {
+    const auto h = m.halfedge(f);
+    result.emplace_back(exact(m.point(m.source(h))), exact(m.point(m.target(h))), exact(m.point(m.target(m.next(h)))));
+  }
+  return result;
+}
+
+/// How far from the curves check 6 allows a sample of the intersection of faces s and t: tol
+/// where they are coplanar (a flat contact does not move), else 2 tol / sin(angle between them),
+/// how far their line of intersection moves when each face moves by tol (a grazing crossing moves
+/// far along the surfaces when snapping moves them a little). The sine in doubles.
+double coverage_allowance(const Exact::Triangle_3& s, const Exact::Triangle_3& t, double tol) {
+  if (CGAL::coplanar(s[0], s[1], s[2], t[0]) && CGAL::coplanar(s[0], s[1], s[2], t[1]) &&
+      CGAL::coplanar(s[0], s[1], s[2], t[2]))
+    return tol;
+  auto normal = [](const Exact::Triangle_3& x) {
+    const Filtered::Point_3 p = to_filtered(x[0]), q = to_filtered(x[1]), r = to_filtered(x[2]);
+    return CGAL::cross_product(q - p, r - p);
+  };
+  const auto u = normal(s), v = normal(t);
+  const double sine = std::sqrt(CGAL::cross_product(u, v).squared_length() / (u.squared_length() * v.squared_length()));
+  return sine > 0 ? 2 * tol / sine : std::numeric_limits<double>::infinity();
+}
+
 /// Check 6: the curves cover the intersection of the inputs. Every face pair of A and B that
 /// meets is intersected exactly (Epeck, on the input coordinates as doubles: a rounded
 /// construction can put a touching point far off in a degenerate configuration) and sampled (a
@@ -474,21 +507,7 @@ void check_coverage(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyli
   using EP = Exact::Point_3;
   using ET3 = Exact::Triangle_3;
   using ES = Exact::Segment_3;
-  auto triangles = [](const Mesh<K>& m) {
-    std::vector<ET3> result;
-    result.reserve(m.number_of_faces());
-    auto exact = [](const typename K::Point_3& p) {
-      const FP q = to_filtered(p);
-      return EP(q.x(), q.y(), q.z());
-    };
-    for (auto f : m.faces()) {
-      const auto h = m.halfedge(f);
-      result.emplace_back(exact(m.point(m.source(h))), exact(m.point(m.target(h))),
-                          exact(m.point(m.target(m.next(h)))));
-    }
-    return result;
-  };
-  const std::vector<ET3> ta = triangles(a), tb = triangles(b);
+  const std::vector<ET3> ta = exact_triangles_of_doubles<K>(a), tb = exact_triangles_of_doubles<K>(b);
   std::vector<FS> segments;
   std::vector<FP> lone_points;  // curves of one point (an isolated contact)
   CGAL::Bbox_3 box;
@@ -525,29 +544,13 @@ void check_coverage(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyli
   };
   std::size_t uncovered = 0;
   std::string first;
-  // The distance allowed for a sample of faces s and t: tol where they are coplanar (a flat
-  // contact does not move), else 2 tol / sin(angle between them), how far their line of
-  // intersection moves when each face moves by tol (a grazing crossing moves far along the
-  // surfaces when snapping moves them a little).
-  double allowed = tol;
+  double allowed = tol;  // for the pair of faces being sampled: coverage_allowance
   auto sample = [&](const FP& p) {
     ++report.intersection_samples;
     const double d = distance(p);
     if (d <= allowed + slack) return;
     if (uncovered++ == 0) first = say(point_text(p), ", ", d, " from the curves (allowed there: ", allowed, ")");
     report.max_uncovered_distance = std::max(report.max_uncovered_distance, d);
-  };
-  auto allowed_for = [&](const ET3& s, const ET3& t) {
-    if (CGAL::coplanar(s[0], s[1], s[2], t[0]) && CGAL::coplanar(s[0], s[1], s[2], t[1]) &&
-        CGAL::coplanar(s[0], s[1], s[2], t[2]))
-      return tol;
-    auto normal = [](const ET3& x) {
-      const FP p = to_filtered(x[0]), q = to_filtered(x[1]), r = to_filtered(x[2]);
-      return CGAL::cross_product(q - p, r - p);
-    };
-    const auto u = normal(s), v = normal(t);
-    const double sine = std::sqrt(CGAL::cross_product(u, v).squared_length() / (u.squared_length() * v.squared_length()));
-    return sine > 0 ? 2 * tol / sine : std::numeric_limits<double>::infinity();
   };
   std::vector<Box> boxes_a, boxes_b;
   for (std::size_t i = 0; i < ta.size(); ++i) boxes_a.emplace_back(ta[i].bbox(), std::uint32_t(i));
@@ -558,7 +561,7 @@ void check_coverage(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyli
                              if (!CGAL::do_intersect(s, t)) return;
                              const auto meet = CGAL::intersection(s, t);
                              if (!meet) return;
-                             allowed = allowed_for(s, t);
+                             allowed = coverage_allowance(s, t, tol);
                              if (const EP* p = boost::get<EP>(&*meet)) {
                                sample(rounded(*p));
                              } else if (const ES* g = boost::get<ES>(&*meet)) {

@@ -12,6 +12,33 @@ namespace {
 
 using SegmentKey = std::pair<int, int>;  // point ids, smaller first
 SegmentKey key_of(int x, int y) { return {std::min(x, y), std::max(x, y)}; }
+using Covering = std::map<SegmentKey, std::vector<std::pair<std::size_t, std::size_t>>>;  // (pair, curve)s
+
+/// Where a curve that shares segments with others is cut into pieces (the indices of the pieces'
+/// first segments, ascending): where the curves running along its segments change (so where the
+/// tows holding them may change, and where another curve joins, leaves or ends), so that every
+/// curve along a stretch is cut at the same points. A closed curve with no such place is cut at
+/// its smallest point, the same in every curve that runs along it. `ids`: the curve's point ids.
+template <class K, class Less>
+std::vector<std::size_t> piece_starts(const Polyline<K>& curve, const std::vector<int>& ids, const Covering& covering,
+                                      const Less& less) {
+  const bool closed = is_closed(curve);
+  const std::size_t n = closed ? curve.size() - 1 : curve.size();  // distinct points
+  const std::size_t segments = closed ? n : n - 1;
+  auto curves_along = [&](std::size_t s) -> const std::vector<std::pair<std::size_t, std::size_t>>& {
+    return covering.at(key_of(ids[s % n], ids[(s + 1) % n]));
+  };
+  std::vector<std::size_t> starts;
+  for (std::size_t s = 0; s < segments; ++s)
+    if ((s == 0 && !closed) || curves_along(s) != curves_along((s + segments - 1) % segments)) starts.push_back(s);
+  if (starts.empty()) {
+    std::size_t smallest = 0;
+    for (std::size_t i = 1; i < n; ++i)
+      if (less(curve[i], curve[smallest])) smallest = i;
+    starts.push_back(smallest);
+  }
+  return starts;
+}
 
 }  // namespace
 
@@ -23,7 +50,7 @@ template <class K> CurvePieces<K> cut_into_pieces(const std::vector<PairCurveRef
   // Every curve's point ids, and every segment's tows (sorted) and number of curves.
   std::vector<std::vector<std::vector<int>>> id(pairs.size());
   std::map<SegmentKey, std::vector<std::size_t>> holders;
-  std::map<SegmentKey, std::vector<std::pair<std::size_t, std::size_t>>> covering;  // (pair, curve)s
+  Covering covering;
   std::map<SegmentKey, int> curves_of;
   for (std::size_t p = 0; p < pairs.size(); ++p)
     for (std::size_t c = 0; c < pairs[p].curves->size(); ++c) {
@@ -75,25 +102,10 @@ template <class K> CurvePieces<K> cut_into_pieces(const std::vector<PairCurveRef
         out.whole[p].push_back(1);
         continue;
       }
-      // Cut where the curves running along the segments change (so where the tows holding them
-      // may change, and where another curve joins, leaves or ends): every curve along a stretch
-      // is cut at the same points. A closed curve with no such place is cut at its smallest
-      // point, the same in every curve that runs along it.
       const bool closed = is_closed(curve);
       const std::size_t n = closed ? curve.size() - 1 : curve.size();  // distinct points
       const std::size_t segments = closed ? n : n - 1;
-      auto curves_along = [&](std::size_t s) -> const std::vector<std::pair<std::size_t, std::size_t>>& {
-        return covering[key_of(ci[s % n], ci[(s + 1) % n])];
-      };
-      std::vector<std::size_t> starts;
-      for (std::size_t s = 0; s < segments; ++s)
-        if ((s == 0 && !closed) || curves_along(s) != curves_along((s + segments - 1) % segments)) starts.push_back(s);
-      if (starts.empty()) {
-        std::size_t smallest = 0;
-        for (std::size_t i = 1; i < n; ++i)
-          if (less(curve[i], curve[smallest])) smallest = i;
-        starts.push_back(smallest);
-      }
+      const std::vector<std::size_t> starts = piece_starts<K>(curve, ci, covering, less);
       out.whole[p].push_back(0);
       auto& uses = out.uses[p].emplace_back();
       for (std::size_t k = 0; k < starts.size(); ++k) {

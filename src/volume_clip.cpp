@@ -122,6 +122,28 @@ std::vector<std::array<std::size_t, 3>> triangulate_cut(const std::array<Point3d
   return with(CGAL::Projection_traits_xy_3<Exact>());
 }
 
+/// The candidates of snap_to_planes: each point (a key of `points`) within `snap` of a box plane,
+/// and within `snap` of the box in the other two axes, and where it would go (onto the nearer
+/// plane of each such axis).
+template <class PointMap>
+std::map<Point3d, Point3d> plane_snap_candidates(const PointMap& points, const AxisBox& box, double snap) {
+  std::map<Point3d, Point3d> moved;
+  for (const auto& [p, unused] : points) {
+    Point3d q = p;
+    for (int a = 0; a < 3; ++a) {
+      bool near_box = true;  // within snap of the box in the other two axes
+      for (int b = 0; b < 3; ++b)
+        if (b != a && (p[b] < box.min[b] - snap || p[b] > box.max[b] + snap)) near_box = false;
+      if (!near_box) continue;
+      const double to_min = std::abs(p[a] - box.min[a]), to_max = std::abs(p[a] - box.max[a]);
+      const double c = to_min <= to_max ? box.min[a] : box.max[a];
+      if (std::min(to_min, to_max) <= snap) q[a] = c;
+    }
+    if (q != p) moved.emplace(p, q);
+  }
+  return moved;
+}
+
 /// Moves tow vertices near a box plane onto it (see ClippedTows in the header): returns how many
 /// distinct points moved, and the longest move. Every point near a plane is a candidate; each
 /// candidate is tested with all the others moved, and those that fail go back, until all pass:
@@ -136,20 +158,7 @@ std::pair<std::size_t, double> snap_to_planes(std::vector<TriangleSoup>& tows, c
   for (std::size_t i = 0; i < tows.size(); ++i)
     for (std::size_t f = 0; f < tows[i].triangles.size(); ++f)
       for (const std::size_t v : tows[i].triangles[f]) uses[tows[i].points[v]].push_back({i, f});
-  std::map<Point3d, Point3d> moved;  // the candidates still in, point -> where it goes
-  for (const auto& [p, faces] : uses) {
-    Point3d q = p;
-    for (int a = 0; a < 3; ++a) {
-      bool near_box = true;  // within snap of the box in the other two axes
-      for (int b = 0; b < 3; ++b)
-        if (b != a && (p[b] < box.min[b] - snap || p[b] > box.max[b] + snap)) near_box = false;
-      if (!near_box) continue;
-      const double to_min = std::abs(p[a] - box.min[a]), to_max = std::abs(p[a] - box.max[a]);
-      const double c = to_min <= to_max ? box.min[a] : box.max[a];
-      if (std::min(to_min, to_max) <= snap) q[a] = c;
-    }
-    if (q != p) moved.emplace(p, q);
-  }
+  std::map<Point3d, Point3d> moved = plane_snap_candidates(uses, box, snap);  // the candidates still in
   auto now = [&](const Point3d& p) {
     const auto it = moved.find(p);
     return it == moved.end() ? p : it->second;
