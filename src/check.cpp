@@ -36,6 +36,7 @@
 
 #include <sstream>
 #include <type_traits>
+#include <unordered_map>
 #include <utility>
 
 namespace seam {
@@ -460,20 +461,21 @@ void check_vertex_separation(std::initializer_list<const Mesh<K>*> input_meshes,
                                   first, ")"));
 }
 
-/// The faces of a mesh as exact triangles of their corners rounded to doubles (the coordinates
-/// as written).
-template <class K> std::vector<Exact::Triangle_3> exact_triangles_of_doubles(const Mesh<K>& m) {
-  std::vector<Exact::Triangle_3> result;
-  result.reserve(m.number_of_faces());
-  auto exact = [](const typename K::Point_3& p) {
-    const Filtered::Point_3 q = to_filtered(p);
-    return Exact::Point_3(q.x(), q.y(), q.z());
-  };
+/// The corners of face f rounded to doubles (the coordinates as written).
+template <class K> std::array<Filtered::Point_3, 3> corners_in_doubles(const Mesh<K>& m, typename Mesh<K>::Face_index f) {
+  const auto h = m.halfedge(f);
+  return {to_filtered(m.point(m.source(h))), to_filtered(m.point(m.target(h))), to_filtered(m.point(m.target(m.next(h))))};
+}
+
+/// One box per face of the mesh, of its corners rounded to doubles, with its face index.
+template <class K> std::vector<Box> boxes_in_doubles(const Mesh<K>& m) {
+  std::vector<Box> boxes;
+  boxes.reserve(m.number_of_faces());
   for (auto f : m.faces()) {
-    const auto h = m.halfedge(f);
-    result.emplace_back(exact(m.point(m.source(h))), exact(m.point(m.target(h))), exact(m.point(m.target(m.next(h)))));
+    const auto c = corners_in_doubles<K>(m, f);
+    boxes.emplace_back(c[0].bbox() + c[1].bbox() + c[2].bbox(), std::uint32_t(f));
   }
-  return result;
+  return boxes;
 }
 
 /// How far from the curves check 6 allows a sample of the intersection of faces s and t: tol
@@ -507,7 +509,20 @@ void check_coverage(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyli
   using EP = Exact::Point_3;
   using ET3 = Exact::Triangle_3;
   using ES = Exact::Segment_3;
-  const std::vector<ET3> ta = exact_triangles_of_doubles<K>(a), tb = exact_triangles_of_doubles<K>(b);
+  // The faces' boxes in doubles (the same as the exact triangles' boxes: the corners are
+  // doubles); the exact triangles only for the faces whose boxes meet one of the other mesh's,
+  // once each (an exact triangle of every face took about 130 MB at 100k faces per tow).
+  std::vector<Box> boxes_a = boxes_in_doubles<K>(a), boxes_b = boxes_in_doubles<K>(b);
+  std::unordered_map<std::uint32_t, ET3> exact_a, exact_b;
+  auto exact_of = [](std::unordered_map<std::uint32_t, ET3>& made, const Mesh<K>& m, std::uint32_t f) -> const ET3& {
+    auto it = made.find(f);
+    if (it == made.end()) {
+      const auto c = corners_in_doubles<K>(m, typename Mesh<K>::Face_index(f));
+      auto exact = [](const FP& p) { return EP(p.x(), p.y(), p.z()); };
+      it = made.emplace(f, ET3(exact(c[0]), exact(c[1]), exact(c[2]))).first;
+    }
+    return it->second;
+  };
   std::vector<FS> segments;
   std::vector<FP> lone_points;  // curves of one point (an isolated contact)
   CGAL::Bbox_3 box;
@@ -521,8 +536,8 @@ void check_coverage(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyli
         segments.emplace_back(p, q);
     }
   }
-  for (const auto* t : {&ta, &tb})
-    for (const auto& x : *t) box += x.bbox();
+  for (const auto* boxes : {&boxes_a, &boxes_b})
+    for (const Box& x : *boxes) box += x.bbox();
   auto rounded = [](const EP& p) { return FP(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())); };
   const double scale = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
                                  CGAL::square(box.zmax() - box.zmin()));
@@ -552,12 +567,9 @@ void check_coverage(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyli
     if (uncovered++ == 0) first = say(point_text(p), ", ", d, " from the curves (allowed there: ", allowed, ")");
     report.max_uncovered_distance = std::max(report.max_uncovered_distance, d);
   };
-  std::vector<Box> boxes_a, boxes_b;
-  for (std::size_t i = 0; i < ta.size(); ++i) boxes_a.emplace_back(ta[i].bbox(), std::uint32_t(i));
-  for (std::size_t i = 0; i < tb.size(); ++i) boxes_b.emplace_back(tb[i].bbox(), std::uint32_t(i));
   CGAL::box_intersection_d(boxes_a.begin(), boxes_a.end(), boxes_b.begin(), boxes_b.end(),
                            [&](const Box& x, const Box& y) {
-                             const ET3 &s = ta[x.info()], &t = tb[y.info()];
+                             const ET3 &s = exact_of(exact_a, a, x.info()), &t = exact_of(exact_b, b, y.info());
                              if (!CGAL::do_intersect(s, t)) return;
                              const auto meet = CGAL::intersection(s, t);
                              if (!meet) return;

@@ -87,3 +87,45 @@ TEST_CASE("face grid: dead entries are dropped as a cell grows, live ones never"
   CHECK(live_found == std::size_t(std::count(live.begin(), live.end(), true)));
   CHECK(found.size() <= 2 * live_found + 16);  // the dead ones do not pile up
 }
+
+TEST_CASE("face grid: deferred entries are found as if inserted at once, dead ones not", "[improve]") {
+  std::mt19937 rng(11);
+  for (double typical : {1e-3, 0.7, 300.0}) {
+    FaceGrid grid(typical);
+    std::vector<std::pair<FaceGrid::Entry, CGAL::Bbox_3>> stored;
+    std::vector<bool> live, deferred;
+    grid.set_deferred({[&](const FaceGrid::Entry& e) { return stored[e.face].second; },
+                       [&](const FaceGrid::Entry& e) { return bool(live[e.face]); }});
+    std::uniform_int_distribution<int> coin(0, 3);
+    for (std::uint32_t i = 0; i < 3000; ++i) {
+      CGAL::Bbox_3 box = random_box(rng);
+      if (i % 3 != 0 && !stored.empty()) {  // most near the last one, of a typical size
+        const CGAL::Bbox_3& last = stored.back().second;
+        const double w = typical * (0.2 + 0.5 * std::abs(std::sin(double(i))));
+        box = CGAL::Bbox_3(last.xmin() + w, last.ymin() - w, last.zmin(), last.xmin() + 2 * w, last.ymin(), last.zmin() + w);
+      }
+      const FaceGrid::Entry e{i % 2, i, 0};
+      stored.emplace_back(e, box);
+      live.push_back(true);
+      deferred.push_back(coin(rng) != 0);
+      if (deferred.back())
+        grid.defer(e, box);
+      else
+        grid.insert(e, box);
+    }
+    for (int q = 0; q < 400; ++q) {
+      if (q % 50 == 0)  // some deferred entries die between queries (a face an edit removed)
+        for (std::size_t i = 0; i < live.size(); i += 7)
+          if (deferred[i] && coin(rng) == 0) live[i] = false;
+      const CGAL::Bbox_3 box = q % 2 ? random_box(rng) : stored[std::size_t(q) * 7].second;
+      std::vector<FaceGrid::Entry> expected;
+      for (const auto& [e, b] : stored)
+        if (CGAL::do_overlap(b, box) && live[e.face]) expected.push_back(e);
+      std::vector<FaceGrid::Entry> found;
+      for (const auto& e : grid.query(box))  // dead ones a caller skips (those inserted before they died)
+        if (live[e.face]) found.push_back(e);
+      CHECK(found.size() == expected.size());  // each once
+      CHECK(keys(found) == keys(expected));
+    }
+  }
+}

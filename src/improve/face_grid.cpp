@@ -110,7 +110,59 @@ void FaceGrid::insert(const Entry& entry, const CGAL::Bbox_3& box, const Livenes
       }
 }
 
-std::vector<FaceGrid::Entry> FaceGrid::query(const CGAL::Bbox_3& box) const {
+void FaceGrid::defer(const Entry& entry, const CGAL::Bbox_3& box) {
+  const double bucket = std::ldexp(base_, 4);  // bucket_cells base cells
+  static_assert(bucket_cells == 16);
+  Index index{};
+  bool held = std::isfinite(bucket) && deferred_how_.box_of && deferred_how_.is_live;
+  for (std::size_t d = 0; d < 3 && held; ++d)  // (no wider than half a bucket, as computed: than a bucket, exactly)
+    held = box.max(int(d)) - box.min(int(d)) <= 0.5 * bucket && cell_index(box.min(int(d)), bucket, index[d]) &&
+           std::abs(index[d]) < parent_limit;
+  if (!held) return insert(entry, box);
+  buckets_[index].push_back(entry);
+}
+
+void FaceGrid::insert_bucket(std::vector<Entry>& entries) {
+  for (const Entry& e : entries)
+    if (deferred_how_.is_live(e)) insert(e, deferred_how_.box_of(e));
+  entries.clear();
+}
+
+void FaceGrid::insert_deferred_near(const CGAL::Bbox_3& box) {
+  if (buckets_.empty()) return;
+  const double bucket = std::ldexp(base_, 4);
+  Index lo{}, hi{};
+  bool indexed = true;
+  for (std::size_t d = 0; d < 3 && indexed; ++d) {
+    indexed = cell_index(box.min(int(d)), bucket, lo[d]) && cell_index(box.max(int(d)), bucket, hi[d]);
+    lo[d] -= 1;  // a box starting up to a bucket below the query's lowest corner
+  }
+  double count = 1;
+  for (std::size_t d = 0; d < 3 && indexed; ++d) count *= double(hi[d] - lo[d] + 1);
+  if (!indexed || count > double(buckets_.size())) {  // by the buckets, where they are fewer
+    for (auto it = buckets_.begin(); it != buckets_.end();) {
+      bool in_range = true;
+      for (std::size_t d = 0; d < 3 && indexed && in_range; ++d)
+        in_range = it->first[d] >= lo[d] && it->first[d] <= hi[d];
+      if (!in_range) {
+        ++it;
+        continue;
+      }
+      insert_bucket(it->second);
+      it = buckets_.erase(it);
+    }
+    return;
+  }
+  for (std::int64_t i = lo[0]; i <= hi[0]; ++i)
+    for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
+      for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
+        if (const auto it = buckets_.find({i, j, k}); it != buckets_.end()) {
+          insert_bucket(it->second);
+          buckets_.erase(it);
+        }
+}
+
+std::vector<FaceGrid::Entry> FaceGrid::query(const CGAL::Bbox_3& box) {
   const std::vector<Item> items = query_items(box);
   std::vector<Entry> found;
   found.reserve(items.size());
@@ -118,7 +170,8 @@ std::vector<FaceGrid::Entry> FaceGrid::query(const CGAL::Bbox_3& box) const {
   return found;
 }
 
-std::vector<FaceGrid::Item> FaceGrid::query_items(const CGAL::Bbox_3& box) const {
+std::vector<FaceGrid::Item> FaceGrid::query_items(const CGAL::Bbox_3& box) {
+  insert_deferred_near(box);
   std::vector<Item> found;
   for (const Item& item : unplaced_.items)
     if (CGAL::do_overlap(item.box, box)) found.push_back(item);

@@ -55,6 +55,7 @@ InputSurface::~InputSurface() = default;
 
 template <class K> std::unique_ptr<InputSurface> input_surface(const Mesh<K>& mesh) {
   std::vector<Filtered::Triangle_3> triangles;
+  triangles.reserve(mesh.number_of_faces());
   for (auto f : mesh.faces()) {
     const auto h = mesh.halfedge(f);
     triangles.emplace_back(to_filtered(mesh.point(mesh.source(h))), to_filtered(mesh.point(mesh.target(h))),
@@ -363,11 +364,18 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
     }
   }
   if (s.stats.band_faces == 0) s.stats.min_angle_deg_before = 0;
-  // The grid: every face (the band may grow anywhere the meshes are not shared or frozen).
+  // The grid: every face (the band may grow anywhere the meshes are not shared or frozen),
+  // deferred: inserted where a query first reaches it, if it is still the face it was (version 0,
+  // its corners where they were: an edit remakes a face it changes).
   s.grid = FaceGrid(s.mean_edge);
+  using F = typename Mesh<K>::Face_index;
+  s.grid.set_deferred({[&s](const FaceGrid::Entry& e) { return s.face_box(e.mesh, F(e.face)); },
+                       [&s](const FaceGrid::Entry& e) {
+                         return !s.mesh(e.mesh).is_removed(F(e.face)) && s.meshes[e.mesh].version[F(e.face)] == e.version;
+                       }});
   for (std::size_t m = 0; m < s.meshes.size(); ++m)
     for (auto f : s.meshes[m].mesh->faces())
-      s.grid.insert({std::uint32_t(m), std::uint32_t(std::size_t(f)), s.meshes[m].version[f]}, s.face_box(m, f));
+      s.grid.defer({std::uint32_t(m), std::uint32_t(std::size_t(f)), s.meshes[m].version[f]}, s.face_box(m, f));
   s.insertions_left = options.max_insertions_per_face * std::max<std::size_t>(s.stats.band_faces, 1);
   if (options.max_area > 0)  // one point per max_area (n points make about 2n faces)
     s.insertions_left += std::size_t(std::min(band_area / options.max_area, 1e9));

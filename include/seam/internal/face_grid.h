@@ -29,6 +29,19 @@
 // than the coarsest level or than the largest double cell width, and inverted boxes go to one
 // list that every query tests box by box.
 //
+// Deferred entries (`defer`): for an index of many faces of which a few regions are asked about
+// (the quality stage indexes every face of both meshes, and asks about the band's
+// neighbourhood: at 1M faces per tow, filling the grid took most of the stage's time and about a
+// quarter of the run's memory). A deferred entry is kept in a bucket, a cube `bucket_cells` base
+// cells wide, by its box's lowest corner (boxes wider than half a bucket, or out of the indices'
+// reach, are inserted at once); a query first inserts the entries of the buckets it could need
+// that are still live (`Deferred::is_live`), each with its box as `Deferred::box_of` gives it
+// then. A box no wider than a bucket that overlaps the query has its lowest corner in a bucket
+// from one below the query's lowest corner's to the query's highest corner's (exact: the bucket
+// width is a power of two), so a query finds what it would have found had every entry been
+// inserted at once, but for entries dead by then, which callers skip anyway. The caller must
+// keep the boxes of live deferred entries as they were when deferred.
+//
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
@@ -55,18 +68,30 @@ class FaceGrid {
     CGAL::Bbox_3 box;
   };
   using Liveness = std::function<bool(const Entry&)>;
+  using BoxOf = std::function<CGAL::Bbox_3(const Entry&)>;
+  /// How deferred entries are inserted (see the top of this file).
+  struct Deferred {
+    BoxOf box_of;
+    Liveness is_live;
+  };
+  static constexpr int bucket_cells = 16;
   FaceGrid() = default;
   /// `typical_width`: the width of a typical face's box (the mean edge length, say); the base
   /// cell is the power of two at or above it.
   explicit FaceGrid(double typical_width);
   /// `is_live` (optional): whether an entry's face is still the one it was made for.
   void insert(const Entry& entry, const CGAL::Bbox_3& box, const Liveness* is_live = nullptr);
+  /// Sets how deferred entries are inserted; before the first `defer`.
+  void set_deferred(Deferred how) { deferred_how_ = std::move(how); }
+  /// Holds the entry (with this box) to be inserted when a query first needs it.
+  void defer(const Entry& entry, const CGAL::Bbox_3& box);
   /// The entries whose boxes overlap `box`, dead ones included. Each entry inserted once is
   /// returned once (taken from one of its cells); the order is the grid's, not a sorted one.
-  std::vector<Entry> query(const CGAL::Bbox_3& box) const;
+  /// (Not const: it first inserts the deferred entries it needs.)
+  std::vector<Entry> query(const CGAL::Bbox_3& box);
   /// The same, with the boxes: a caller with several boxes queries their union once and tests
   /// each of its boxes against these.
-  std::vector<Item> query_items(const CGAL::Bbox_3& box) const;
+  std::vector<Item> query_items(const CGAL::Bbox_3& box);
 
  private:
   struct Cell {
@@ -91,6 +116,12 @@ class FaceGrid {
   Cell& cell_at(int level, const Index& index);
   /// Makes `level` the top level: the cells of each level up to it get their parents.
   void raise_top(int level);
+  /// Deferred entries by bucket (see the top of this file); a bucket goes once inserted.
+  std::unordered_map<Index, std::vector<Entry>, IndexHash> buckets_;
+  Deferred deferred_how_;
+  /// Inserts the deferred entries a query of `box` may find.
+  void insert_deferred_near(const CGAL::Bbox_3& box);
+  void insert_bucket(std::vector<Entry>& entries);
 };
 
 }  // namespace seam::internal

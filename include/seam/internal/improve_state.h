@@ -184,7 +184,9 @@ template <class K> struct ImproveState {
   /// Each curve segment: (smaller point id, larger) -> the node at its start (whose next is the
   /// node at its other end).
   std::map<std::pair<int, int>, int> segment_node;
-  FaceGrid grid;
+  /// Every face's box. Mutable: most faces are deferred (FaceGrid::defer), and a query inserts
+  /// those it may find first, which leaves what any query finds the same.
+  mutable FaceGrid grid;
   ImproveOptions options;
   double tolerance = 0, feature_size = 0, mean_edge = 0;
   /// The small curves (ImproveOptions::small_curve_limit): their boxes (doubles) and the feature
