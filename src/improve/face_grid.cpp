@@ -111,8 +111,7 @@ void FaceGrid::insert(const Entry& entry, const CGAL::Bbox_3& box, const Livenes
 }
 
 void FaceGrid::defer(const Entry& entry, const CGAL::Bbox_3& box) {
-  const double bucket = std::ldexp(base_, 4);  // bucket_cells base cells
-  static_assert(bucket_cells == 16);
+  const double bucket = base_ * bucket_cells;
   Index index{};
   bool held = std::isfinite(bucket) && deferred_how_.box_of && deferred_how_.is_live;
   for (std::size_t d = 0; d < 3 && held; ++d)  // (no wider than half a bucket, as computed: than a bucket, exactly)
@@ -130,7 +129,7 @@ void FaceGrid::insert_bucket(std::vector<Entry>& entries) {
 
 void FaceGrid::insert_deferred_near(const CGAL::Bbox_3& box) {
   if (buckets_.empty()) return;
-  const double bucket = std::ldexp(base_, 4);
+  const double bucket = base_ * bucket_cells;
   Index lo{}, hi{};
   bool indexed = true;
   for (std::size_t d = 0; d < 3 && indexed; ++d) {

@@ -74,7 +74,7 @@ class FaceGrid {
     BoxOf box_of;
     Liveness is_live;
   };
-  static constexpr int bucket_cells = 16;
+  static constexpr int bucket_cells = 4;  ///< a power of two (the bucket width is then exact)
   FaceGrid() = default;
   /// `typical_width`: the width of a typical face's box (the mean edge length, say); the base
   /// cell is the power of two at or above it.
