@@ -312,27 +312,22 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
 
   // Distances of the other output vertices from the input surface.
   max_distance = 0;
-  const bool any_off_input_vertex = std::any_of(m.vertices().begin(), m.vertices().end(), [&](auto v) {
-    return !m.is_isolated(v) && !at_input_vertex[std::size_t(v)];
-  });
-  std::vector<FT3> triangles;
-  std::vector<typename Mesh<K>::Face_index> faces;
-  CGAL::Bbox_3 box;
-  if (any_off_input_vertex) {
-    triangles.reserve(input.number_of_faces());
-    faces.reserve(input.number_of_faces());
+  std::vector<typename Mesh<K>::Vertex_index> off;  // the output vertices to measure
+  for (auto v : m.vertices())
+    if (!m.is_isolated(v) && !at_input_vertex[std::size_t(v)]) off.push_back(v);
+  if (!off.empty() && input.number_of_faces() > 0) {
+    std::vector<FT3> all;  // every input face in doubles, and its face
+    std::vector<typename Mesh<K>::Face_index> all_faces;
+    all.reserve(input.number_of_faces());
+    all_faces.reserve(input.number_of_faces());
+    CGAL::Bbox_3 box;
     for (auto f : input.faces()) {
       const auto h = input.halfedge(f);
-      const FP p = to_filtered(input.point(input.source(h))), q = to_filtered(input.point(input.target(h))),
-               r = to_filtered(input.point(input.target(input.next(h))));
-      triangles.emplace_back(p, q, r);
-      faces.push_back(f);
-      box += triangles.back().bbox();
+      all.emplace_back(to_filtered(input.point(input.source(h))), to_filtered(input.point(input.target(h))),
+                       to_filtered(input.point(input.target(input.next(h)))));
+      all_faces.push_back(f);
+      box += all.back().bbox();
     }
-  }
-  if (!triangles.empty()) {
-    Tree tree(triangles.begin(), triangles.end());
-    tree.accelerate_distance_queries();
     const double scale = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
                                    CGAL::square(box.zmax() - box.zmin()));
     // Rounding of the double distance: relative to the size, and a few units in the last place
@@ -340,18 +335,58 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
     const double magnitude = std::max({std::abs(box.xmin()), std::abs(box.xmax()), std::abs(box.ymin()),
                                        std::abs(box.ymax()), std::abs(box.zmin()), std::abs(box.zmax())});
     const double slack = 1e-12 * scale + 64 * std::numeric_limits<double>::epsilon() * magnitude;
+    // The faces that matter: those whose boxes come within tol + 2 slack of a vertex to measure
+    // (one box search, not a tree of every face: most output vertices are input vertices). A
+    // vertex within tol + slack of the surface has its closest face among them, so its distance
+    // is the same as over every face; a vertex farther is measured again over every face.
+    const double reach = tol + 2 * slack;
+    std::vector<FT3> near;
+    std::vector<typename Mesh<K>::Face_index> near_faces;
+    if (std::isfinite(reach)) {
+      std::vector<Box> input_boxes, vertex_boxes;
+      input_boxes.reserve(all.size());
+      for (std::size_t i = 0; i < all.size(); ++i) input_boxes.emplace_back(all[i].bbox(), std::uint32_t(i));
+      for (std::size_t i = 0; i < off.size(); ++i) {
+        const FP p = to_filtered(m.point(off[i]));
+        vertex_boxes.emplace_back(CGAL::Bbox_3(p.x() - reach, p.y() - reach, p.z() - reach, p.x() + reach,
+                                               p.y() + reach, p.z() + reach),
+                                  std::uint32_t(i));
+      }
+      std::vector<char> taken(all.size(), 0);
+      CGAL::box_intersection_d(input_boxes.begin(), input_boxes.end(), vertex_boxes.begin(), vertex_boxes.end(),
+                               [&](const Box& x, const Box&) { taken[x.info()] = 1; }, box_cutoff);
+      for (std::size_t i = 0; i < all.size(); ++i)
+        if (taken[i]) near.push_back(all[i]), near_faces.push_back(all_faces[i]);
+    }
+    std::optional<Tree> near_tree, all_tree;
+    if (!near.empty()) {
+      near_tree.emplace(near.begin(), near.end());
+      near_tree->accelerate_distance_queries();
+    }
     std::size_t far = 0;
     std::size_t first_far = 0;
     double first_far_distance = 0;
-    for (auto v : m.vertices()) {
-      if (m.is_isolated(v) || at_input_vertex[std::size_t(v)]) continue;
+    for (auto v : off) {
       const FP query = to_filtered(m.point(v));
-      const auto [closest, id] = tree.closest_point_and_primitive(query);
+      const std::vector<FT3>* triangles = &near;
+      const std::vector<typename Mesh<K>::Face_index>* faces = &near_faces;
+      std::optional<std::pair<FP, typename std::vector<FT3>::const_iterator>> found;
+      if (near_tree) found = near_tree->closest_point_and_primitive(query);
+      if (!found || !(std::sqrt(CGAL::squared_distance(query, found->first)) <= tol + slack)) {
+        if (!all_tree) {
+          all_tree.emplace(all.begin(), all.end());
+          all_tree->accelerate_distance_queries();
+        }
+        found = all_tree->closest_point_and_primitive(query);
+        triangles = &all;
+        faces = &all_faces;
+      }
+      const auto& [closest, id] = *found;
       double d = std::sqrt(CGAL::squared_distance(query, closest));
       bool within = d <= tol;
       if (!within && d <= tol + slack) {
         // Decide in the kernel (exactly under the exact kernel) with the closest face found.
-        const auto f = faces[std::size_t(id - triangles.cbegin())];
+        const auto f = (*faces)[std::size_t(id - triangles->cbegin())];
         const auto h = input.halfedge(f);
         const typename K::Triangle_3 t(input.point(input.source(h)), input.point(input.target(h)),
                                        input.point(input.target(input.next(h))));
@@ -374,15 +409,16 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
   }
 
   // Quality: every face's smallest angle; faces that are not input faces (same three points).
-  std::set<std::array<std::uint32_t, 3>> input_faces;
+  std::vector<std::array<std::uint32_t, 3>> input_faces;  // sorted, for binary_search
   for (auto f : input.faces()) {
     const auto h = input.halfedge(f);
     std::array<std::uint32_t, 3> c = {to_out[std::size_t(input.source(h))], to_out[std::size_t(input.target(h))],
                                       to_out[std::size_t(input.target(input.next(h)))]};
     if (c[0] == none || c[1] == none || c[2] == none) continue;
     std::sort(c.begin(), c.end());
-    input_faces.insert(c);
+    input_faces.push_back(c);
   }
+  std::sort(input_faces.begin(), input_faces.end());
   min_angle = 180;
   below_10 = below_20 = new_faces = 0;
   for (auto f : m.faces()) {
@@ -391,7 +427,7 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
     min_angle = std::min(min_angle, angle);
     std::array<std::uint32_t, 3> k = {std::uint32_t(c[0]), std::uint32_t(c[1]), std::uint32_t(c[2])};
     std::sort(k.begin(), k.end());
-    if (input_faces.count(k)) continue;
+    if (std::binary_search(input_faces.begin(), input_faces.end(), k)) continue;
     ++new_faces;
     if (angle < 10) ++below_10;
     if (angle < 20) ++below_20;
