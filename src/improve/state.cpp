@@ -13,6 +13,8 @@
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -331,10 +333,16 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
   s.feature_size = feature_size_of(options, s.tolerance, s.mean_edge);
   s.meshes.resize(meshes.size());
   for (std::size_t m = 0; m < meshes.size(); ++m) {
+    s.meshes[m].mesh = meshes[m].mesh;
+    for (auto v : s.meshes[m].mesh->vertices()) fix_rounding(s.meshes[m].mesh->point(v));
+  }
+  // The input surfaces' trees (after fix_rounding: a tree of the mesh itself rounds its points),
+  // a task per mesh: independent, the same trees in any order.
+  tbb::parallel_for(std::size_t(0), meshes.size(), [&](std::size_t m) {
+    s.meshes[m].input = input_surface<K>(meshes[m].input ? *meshes[m].input : *meshes[m].mesh);
+  });
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
     auto& ms = s.meshes[m];
-    ms.mesh = meshes[m].mesh;
-    for (auto v : ms.mesh->vertices()) fix_rounding(ms.mesh->point(v));
-    ms.input = input_surface<K>(meshes[m].input ? *meshes[m].input : *meshes[m].mesh);
     ms.source_min_angle = meshes[m].source_min_angle;
     ms.bound_reach = bound_reach_of<K>(options, ms.source_min_angle);
     s.stats.bound_reach.push_back(ms.bound_reach);
