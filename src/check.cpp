@@ -321,12 +321,15 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
     all.reserve(input.number_of_faces());
     all_faces.reserve(input.number_of_faces());
     CGAL::Bbox_3 box;
+    double width_sum = 0;  // of the faces' boxes (their largest extent)
     for (auto f : input.faces()) {
       const auto h = input.halfedge(f);
       all.emplace_back(to_filtered(input.point(input.source(h))), to_filtered(input.point(input.target(h))),
                        to_filtered(input.point(input.target(input.next(h)))));
       all_faces.push_back(f);
-      box += all.back().bbox();
+      const CGAL::Bbox_3 b = all.back().bbox();
+      box += b;
+      width_sum += std::max({b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin()});
     }
     const double scale = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
                                    CGAL::square(box.zmax() - box.zmin()));
@@ -338,11 +341,13 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
     // The faces that matter: those whose boxes come within tol + 2 slack of a vertex to measure
     // (one box search, not a tree of every face: most output vertices are input vertices). A
     // vertex within tol + slack of the surface has its closest face among them, so its distance
-    // is the same as over every face; a vertex farther is measured again over every face.
+    // is the same as over every face; a vertex farther is measured again over every face. Not
+    // where the reach is many faces wide (a tolerance far above the default): the box search
+    // would then pair each vertex with many faces.
     const double reach = tol + 2 * slack;
     std::vector<FT3> near;
     std::vector<typename Mesh<K>::Face_index> near_faces;
-    if (std::isfinite(reach)) {
+    if (std::isfinite(reach) && reach <= 8 * width_sum / double(all.size())) {
       std::vector<Box> input_boxes, vertex_boxes;
       input_boxes.reserve(all.size());
       for (std::size_t i = 0; i < all.size(); ++i) input_boxes.emplace_back(all[i].bbox(), std::uint32_t(i));

@@ -57,18 +57,18 @@ template <class K> Mesh<Exact> rounded(const Mesh<K>& mesh) {
 
 }  // namespace
 
-/// Whether rounded<K>(m) would be m itself: an exact-kernel mesh without removed elements whose
-/// coordinates are doubles (as the inputs are, once check_as_written has seen so), so that the
-/// check can take it as it is instead of a copy.
+/// Whether rounded<K>(m) would be m itself, so that the check can take it as it is instead of a
+/// copy: an exact-kernel mesh without removed elements whose points' approximations are their
+/// doubles (as those of a mesh read from a file are).
 template <class K> bool same_as_rounded(const Mesh<K>& m) {
-  return std::is_same_v<K, Exact> && !m.has_garbage();
-}
-
-/// The input as written: itself where same_as_rounded, else its rounded copy.
-template <class K> const Mesh<Exact>& input_as_written(const Mesh<K>& m, const Mesh<Exact>& copy) {
-  if constexpr (std::is_same_v<K, Exact>)
-    if (same_as_rounded<K>(m)) return m;
-  return copy;
+  if constexpr (std::is_same_v<K, Exact>) {
+    if (m.has_garbage()) return false;
+    for (auto v : m.vertices())
+      if (!double_by_approximation(m.point(v))) return false;
+    return true;
+  } else {
+    return false;
+  }
 }
 
 template <class K>
@@ -89,17 +89,25 @@ PairCheckReport check_as_written(const Mesh<K>& a, const Mesh<K>& b, Mesh<K>& a2
   // already are made exact (most output vertices are input vertices, read as doubles: making
   // them exact too cost a rational per coordinate, about 0.5 s and 400 MB at 1M faces per tow).
   Mesh<Exact> ra, rb, ra2, rb2;
+  const bool a_as_is = same_as_rounded<K>(a), b_as_is = same_as_rounded<K>(b);
   tbb::parallel_invoke(
       [&] {
         for (auto v : a2.vertices()) fix_rounding(a2.point(v));
-        if (!same_as_rounded<K>(a)) ra = rounded<K>(a);
+        if (!a_as_is) ra = rounded<K>(a);
         ra2 = rounded<K>(a2);
       },
       [&] {
         for (auto v : b2.vertices()) fix_rounding(b2.point(v));
-        if (!same_as_rounded<K>(b)) rb = rounded<K>(b);
+        if (!b_as_is) rb = rounded<K>(b);
         rb2 = rounded<K>(b2);
       });
+  // The inputs as written: themselves where same_as_rounded, else their rounded copies.
+  const Mesh<Exact>* written_a = &ra;
+  const Mesh<Exact>* written_b = &rb;
+  if constexpr (std::is_same_v<K, Exact>) {
+    if (a_as_is) written_a = &a;
+    if (b_as_is) written_b = &b;
+  }
   std::vector<Polyline<Exact>> rc;
   for (auto& c : curves) {
     rc.emplace_back();
@@ -108,7 +116,7 @@ PairCheckReport check_as_written(const Mesh<K>& a, const Mesh<K>& b, Mesh<K>& a2
       rc.back().emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
     }
   }
-  return check_pair<Exact>(input_as_written<K>(a, ra), input_as_written<K>(b, rb), ra2, rb2, rc, tol);
+  return check_pair<Exact>(*written_a, *written_b, ra2, rb2, rc, tol);
 }
 
 template <class K>
