@@ -19,7 +19,9 @@
 // embed stages of EmbedStats::stage_seconds summed over both meshes), embed_rest_s (rest of the two
 // embed calls), embed_wall_s (the longer of the two embed calls, which run concurrently),
 // pair_other_s (rest of the pair call), pair_s (the whole pair call); corefine:
-// corefine_s. Also input_faces (of both tows), curve_vertices, output_faces.
+// corefine_s. Also input_faces (of both tows), curve_vertices, output_faces. (pair_other_s leaves
+// out the stages after the embedding, flat_contacts_s, improve_s, separate_s and verify_output_s,
+// reported apart since stop 50; before, it held them.)
 //
 // memory/<tool>/faces:<N>: the same run (read, compute, write) in a fresh process (this program
 // re-executed with --kernels_memory_child=...), reporting input_mb, the heap in use once both

@@ -313,8 +313,12 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
   // Distances of the other output vertices from the input surface.
   max_distance = 0;
   std::vector<typename Mesh<K>::Vertex_index> off;  // the output vertices to measure
+  std::vector<FP> off_points;                         // and their points in doubles, taken once
   for (auto v : m.vertices())
-    if (!m.is_isolated(v) && !at_input_vertex[std::size_t(v)]) off.push_back(v);
+    if (!m.is_isolated(v) && !at_input_vertex[std::size_t(v)]) {
+      off.push_back(v);
+      off_points.push_back(to_filtered(m.point(v)));
+    }
   if (!off.empty() && input.number_of_faces() > 0) {
     std::vector<FT3> all;  // every input face in doubles, and its face
     std::vector<typename Mesh<K>::Face_index> all_faces;
@@ -352,7 +356,7 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
       input_boxes.reserve(all.size());
       for (std::size_t i = 0; i < all.size(); ++i) input_boxes.emplace_back(all[i].bbox(), std::uint32_t(i));
       for (std::size_t i = 0; i < off.size(); ++i) {
-        const FP p = to_filtered(m.point(off[i]));
+        const FP& p = off_points[i];
         vertex_boxes.emplace_back(CGAL::Bbox_3(p.x() - reach, p.y() - reach, p.z() - reach, p.x() + reach,
                                                p.y() + reach, p.z() + reach),
                                   std::uint32_t(i));
@@ -371,8 +375,9 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
     std::size_t far = 0;
     std::size_t first_far = 0;
     double first_far_distance = 0;
-    for (auto v : off) {
-      const FP query = to_filtered(m.point(v));
+    for (std::size_t i = 0; i < off.size(); ++i) {
+      const auto v = off[i];
+      const FP& query = off_points[i];
       const std::vector<FT3>* triangles = &near;
       const std::vector<typename Mesh<K>::Face_index>* faces = &near_faces;
       std::optional<std::pair<FP, typename std::vector<FT3>::const_iterator>> found;

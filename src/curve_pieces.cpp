@@ -26,7 +26,9 @@ std::vector<std::size_t> piece_starts(const Polyline<K>& curve, const std::vecto
   const std::size_t n = closed ? curve.size() - 1 : curve.size();  // distinct points
   const std::size_t segments = closed ? n : n - 1;
   auto curves_along = [&](std::size_t s) -> const std::vector<std::pair<std::size_t, std::size_t>>& {
-    return covering.at(key_of(ids[s % n], ids[(s + 1) % n]));
+    const auto it = covering.find(key_of(ids[s % n], ids[(s + 1) % n]));
+    if (it == covering.end()) throw InternalError("textile: a curve segment is missing from the curves along it");
+    return it->second;
   };
   std::vector<std::size_t> starts;
   for (std::size_t s = 0; s < segments; ++s)

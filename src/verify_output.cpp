@@ -31,6 +31,20 @@ template <class P> bool double_by_approximation(const P& p) {
   }
 }
 
+/// Makes p exact where its approximation is not a point (fix_rounding), and where a coordinate is
+/// -0: making it exact turns that into +0, as making every point exact did before, so that what
+/// is written (and checked) is the same.
+template <class P> void settle_for_writing(P& p) {
+  fix_rounding(p);
+  if constexpr (std::is_same_v<typename CGAL::Kernel_traits<P>::Kernel, Exact>) {
+    const auto& q = CGAL::approx(p);
+    auto negative_zero = [](const auto& x) {
+      return (x.inf() == 0 && std::signbit(x.inf())) || (x.sup() == 0 && std::signbit(x.sup()));
+    };
+    if (negative_zero(q.x()) || negative_zero(q.y()) || negative_zero(q.z())) make_exact(p);
+  }
+}
+
 /// The mesh with its coordinates rounded to doubles, as an exact-kernel mesh (the same
 /// connectivity, vertices and faces in the same order). Its points are doubles or made exact
 /// (fix_rounding, see check_as_written): their intervals are then as tight as they get, and
@@ -92,12 +106,12 @@ PairCheckReport check_as_written(const Mesh<K>& a, const Mesh<K>& b, Mesh<K>& a2
   const bool a_as_is = same_as_rounded<K>(a), b_as_is = same_as_rounded<K>(b);
   tbb::parallel_invoke(
       [&] {
-        for (auto v : a2.vertices()) fix_rounding(a2.point(v));
+        for (auto v : a2.vertices()) settle_for_writing(a2.point(v));
         if (!a_as_is) ra = rounded<K>(a);
         ra2 = rounded<K>(a2);
       },
       [&] {
-        for (auto v : b2.vertices()) fix_rounding(b2.point(v));
+        for (auto v : b2.vertices()) settle_for_writing(b2.point(v));
         if (!b_as_is) rb = rounded<K>(b);
         rb2 = rounded<K>(b2);
       });
@@ -112,7 +126,7 @@ PairCheckReport check_as_written(const Mesh<K>& a, const Mesh<K>& b, Mesh<K>& a2
   for (auto& c : curves) {
     rc.emplace_back();
     for (auto& p : c) {
-      fix_rounding(p);
+      settle_for_writing(p);
       rc.back().emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
     }
   }
@@ -122,9 +136,9 @@ PairCheckReport check_as_written(const Mesh<K>& a, const Mesh<K>& b, Mesh<K>& a2
 template <class K>
 EmbedCheckReport check_embedding_as_written(const Mesh<K>& input, Mesh<K>& output, std::vector<Polyline<K>>& curves,
                                             double tol, const std::vector<Polyline<K>>* given) {
-  for (auto v : output.vertices()) fix_rounding(output.point(v));
+  for (auto v : output.vertices()) settle_for_writing(output.point(v));
   for (auto& c : curves)
-    for (auto& p : c) fix_rounding(p);
+    for (auto& p : c) settle_for_writing(p);
   if constexpr (kernel_traits<K>::exact_constructions) {
     for (auto v : input.vertices()) {
       const auto& p = input.point(v);

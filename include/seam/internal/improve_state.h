@@ -112,6 +112,10 @@ struct CreaseMemo {
 };
 
 template <class K> struct ImproveState {
+  ImproveState() = default;
+  /// Not copied: the grid's deferred entries refer to this state (init_state).
+  ImproveState(const ImproveState&) = delete;
+  ImproveState& operator=(const ImproveState&) = delete;
   using M = Mesh<K>;
   using V = typename M::Vertex_index;
   using H = typename M::Halfedge_index;
