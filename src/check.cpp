@@ -289,15 +289,135 @@ void check_mesh(MeshView<K>& view, bool expect_closed, std::vector<std::string>&
   check_self_intersections(view, problems, conflict_faces, focus);
 }
 
+/// The corners of face f rounded to doubles (the coordinates as written).
+template <class K> std::array<Filtered::Point_3, 3> corners_in_doubles(const Mesh<K>& m, typename Mesh<K>::Face_index f) {
+  const auto h = m.halfedge(f);
+  return {to_filtered(m.point(m.source(h))), to_filtered(m.point(m.target(h))), to_filtered(m.point(m.target(m.next(h))))};
+}
+
+/// Input faces as triangles in doubles, with their faces, and a distance tree on them (built at
+/// the first query).
+template <class K> class TrianglesOfInput {
+ public:
+  using FP = Filtered::Point_3;
+  using F = typename Mesh<K>::Face_index;
+  void add(const Filtered::Triangle_3& t, F f) {
+    triangles_.push_back(t);
+    faces_.push_back(f);
+  }
+  bool empty() const { return triangles_.empty(); }
+  std::size_t size() const { return triangles_.size(); }
+  const Filtered::Triangle_3& triangle(std::size_t i) const { return triangles_[i]; }
+  F face(std::size_t i) const { return faces_[i]; }
+  /// The closest point of the triangles to q (doubles), and the input face it lies on.
+  std::pair<FP, F> closest(const FP& q) {
+    if (!tree_) {
+      tree_.emplace(triangles_.begin(), triangles_.end());
+      tree_->accelerate_distance_queries();
+    }
+    const auto [p, it] = tree_->closest_point_and_primitive(q);
+    return {p, faces_[std::size_t(it - triangles_.cbegin())]};
+  }
+
+ private:
+  using Primitive = CGAL::AABB_triangle_primitive<Filtered, std::vector<Filtered::Triangle_3>::const_iterator>;
+  std::vector<Filtered::Triangle_3> triangles_;
+  std::vector<F> faces_;
+  std::optional<CGAL::AABB_tree<CGAL::AABB_traits<Filtered, Primitive>>> tree_;
+};
+
+/// Check 4's distances: of each output vertex in `off` (`points`: its point in doubles) from the
+/// input surface, at most `tol`; their largest in `max_distance`. The tree is built over the
+/// input faces whose boxes come within tol + 2 slack of a vertex to measure (one box search, not a
+/// tree of every face: most output vertices are input vertices, which are not measured). A vertex
+/// within tol + slack of the surface has its closest face among them, so its distance is the same
+/// as over every face; a vertex farther is measured again over every face. Not where the reach is
+/// many faces wide (a tolerance far above the default): the box search would then pair each vertex
+/// with many faces.
+template <class K>
+void check_distances(const Mesh<K>& input, const MeshView<K>& out, const std::vector<typename Mesh<K>::Vertex_index>& off,
+                     const std::vector<Filtered::Point_3>& points, double tol, double& max_distance,
+                     std::vector<std::string>& problems) {
+  using FP = Filtered::Point_3;
+  max_distance = 0;
+  if (off.empty() || input.number_of_faces() == 0) return;
+  TrianglesOfInput<K> all, near;  // every input face; those near a vertex to measure
+  std::vector<Box> input_boxes;   // (index into the input faces in face order)
+  input_boxes.reserve(input.number_of_faces());
+  CGAL::Bbox_3 box;
+  double width_sum = 0;  // of the faces' boxes (their largest extent)
+  for (auto f : input.faces()) {
+    const auto c = corners_in_doubles<K>(input, f);
+    all.add({c[0], c[1], c[2]}, f);
+    const CGAL::Bbox_3 b = all.triangle(all.size() - 1).bbox();
+    input_boxes.emplace_back(b, std::uint32_t(all.size() - 1));
+    box += b;
+    width_sum += std::max({b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin()});
+  }
+  const double scale = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                 CGAL::square(box.zmax() - box.zmin()));
+  // Rounding of the double distance: relative to the size, and a few units in the last place
+  // of the coordinates (which dominate for a small mesh far from the origin).
+  const double magnitude = std::max({std::abs(box.xmin()), std::abs(box.xmax()), std::abs(box.ymin()),
+                                     std::abs(box.ymax()), std::abs(box.zmin()), std::abs(box.zmax())});
+  const double slack = 1e-12 * scale + 64 * std::numeric_limits<double>::epsilon() * magnitude;
+  const double reach = tol + 2 * slack;
+  if (std::isfinite(reach) && reach <= 8 * width_sum / double(all.size())) {
+    std::vector<Box> vertex_boxes;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const FP& p = points[i];
+      vertex_boxes.emplace_back(
+          CGAL::Bbox_3(p.x() - reach, p.y() - reach, p.z() - reach, p.x() + reach, p.y() + reach, p.z() + reach),
+          std::uint32_t(i));
+    }
+    std::vector<char> taken(all.size(), 0);
+    CGAL::box_intersection_d(input_boxes.begin(), input_boxes.end(), vertex_boxes.begin(), vertex_boxes.end(),
+                             [&](const Box& x, const Box&) { taken[x.info()] = 1; }, box_cutoff);
+    for (std::size_t i = 0; i < all.size(); ++i)
+      if (taken[i]) near.add(all.triangle(i), all.face(i));
+  }
+  std::size_t far = 0;
+  std::size_t first_far = 0;
+  double first_far_distance = 0;
+  for (std::size_t i = 0; i < off.size(); ++i) {
+    const FP& query = points[i];
+    std::pair<FP, typename Mesh<K>::Face_index> found;
+    bool near_enough = false;
+    if (!near.empty()) {
+      found = near.closest(query);
+      near_enough = std::sqrt(CGAL::squared_distance(query, found.first)) <= tol + slack;
+    }
+    if (!near_enough) found = all.closest(query);
+    double d = std::sqrt(CGAL::squared_distance(query, found.first));
+    bool within = d <= tol;
+    if (!within && d <= tol + slack) {
+      // Decide in the kernel (exactly under the exact kernel) with the closest face found.
+      const auto h = input.halfedge(found.second);
+      const typename K::Triangle_3 t(input.point(input.source(h)), input.point(input.target(h)),
+                                     input.point(input.target(input.next(h))));
+      const auto d2 = CGAL::squared_distance(out.mesh.point(off[i]), t);
+      // (tol is finite here: d <= tol holds for every d when it is not; an infinite FT is a
+      // CGAL assertion failure)
+      within = d2 <= typename K::FT(tol) * typename K::FT(tol);
+      d = std::min(d, std::sqrt(CGAL::to_double(d2)));
+    }
+    max_distance = std::max(max_distance, d);
+    if (!within && far++ == 0) {
+      first_far = std::size_t(off[i]);
+      first_far_distance = d;
+    }
+  }
+  if (far)
+    problems.push_back(say(out.name, ": ", far, " vertices are farther than the tolerance ", tol,
+                           " from the input surface (first: vertex ", first_far, " at distance ", first_far_distance,
+                           "; largest ", max_distance, ")"));
+}
+
 /// Check 4 and the quality figures for one output mesh against its input.
 template <class K>
 void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double tol, double& max_distance,
                          double& min_angle, std::size_t& below_10, std::size_t& below_20, std::size_t& new_faces,
                          std::vector<std::string>& problems) {
-  using FP = Filtered::Point_3;
-  using FT3 = Filtered::Triangle_3;
-  using Primitive = CGAL::AABB_triangle_primitive<Filtered, typename std::vector<FT3>::const_iterator>;
-  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Filtered, Primitive>>;
   const auto& m = out.mesh;
 
   // Output vertices at an input vertex's exact coordinates: on the input surface (distance 0).
@@ -311,112 +431,14 @@ void check_against_input(const Mesh<K>& input, const MeshView<K>& out, double to
   }
 
   // Distances of the other output vertices from the input surface.
-  max_distance = 0;
-  std::vector<typename Mesh<K>::Vertex_index> off;  // the output vertices to measure
-  std::vector<FP> off_points;                         // and their points in doubles, taken once
+  std::vector<typename Mesh<K>::Vertex_index> off;
+  std::vector<Filtered::Point_3> off_points;  // their points in doubles, taken once
   for (auto v : m.vertices())
     if (!m.is_isolated(v) && !at_input_vertex[std::size_t(v)]) {
       off.push_back(v);
       off_points.push_back(to_filtered(m.point(v)));
     }
-  if (!off.empty() && input.number_of_faces() > 0) {
-    std::vector<FT3> all;  // every input face in doubles, and its face
-    std::vector<typename Mesh<K>::Face_index> all_faces;
-    all.reserve(input.number_of_faces());
-    all_faces.reserve(input.number_of_faces());
-    CGAL::Bbox_3 box;
-    double width_sum = 0;  // of the faces' boxes (their largest extent)
-    for (auto f : input.faces()) {
-      const auto h = input.halfedge(f);
-      all.emplace_back(to_filtered(input.point(input.source(h))), to_filtered(input.point(input.target(h))),
-                       to_filtered(input.point(input.target(input.next(h)))));
-      all_faces.push_back(f);
-      const CGAL::Bbox_3 b = all.back().bbox();
-      box += b;
-      width_sum += std::max({b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin()});
-    }
-    const double scale = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
-                                   CGAL::square(box.zmax() - box.zmin()));
-    // Rounding of the double distance: relative to the size, and a few units in the last place
-    // of the coordinates (which dominate for a small mesh far from the origin).
-    const double magnitude = std::max({std::abs(box.xmin()), std::abs(box.xmax()), std::abs(box.ymin()),
-                                       std::abs(box.ymax()), std::abs(box.zmin()), std::abs(box.zmax())});
-    const double slack = 1e-12 * scale + 64 * std::numeric_limits<double>::epsilon() * magnitude;
-    // The faces that matter: those whose boxes come within tol + 2 slack of a vertex to measure
-    // (one box search, not a tree of every face: most output vertices are input vertices). A
-    // vertex within tol + slack of the surface has its closest face among them, so its distance
-    // is the same as over every face; a vertex farther is measured again over every face. Not
-    // where the reach is many faces wide (a tolerance far above the default): the box search
-    // would then pair each vertex with many faces.
-    const double reach = tol + 2 * slack;
-    std::vector<FT3> near;
-    std::vector<typename Mesh<K>::Face_index> near_faces;
-    if (std::isfinite(reach) && reach <= 8 * width_sum / double(all.size())) {
-      std::vector<Box> input_boxes, vertex_boxes;
-      input_boxes.reserve(all.size());
-      for (std::size_t i = 0; i < all.size(); ++i) input_boxes.emplace_back(all[i].bbox(), std::uint32_t(i));
-      for (std::size_t i = 0; i < off.size(); ++i) {
-        const FP& p = off_points[i];
-        vertex_boxes.emplace_back(CGAL::Bbox_3(p.x() - reach, p.y() - reach, p.z() - reach, p.x() + reach,
-                                               p.y() + reach, p.z() + reach),
-                                  std::uint32_t(i));
-      }
-      std::vector<char> taken(all.size(), 0);
-      CGAL::box_intersection_d(input_boxes.begin(), input_boxes.end(), vertex_boxes.begin(), vertex_boxes.end(),
-                               [&](const Box& x, const Box&) { taken[x.info()] = 1; }, box_cutoff);
-      for (std::size_t i = 0; i < all.size(); ++i)
-        if (taken[i]) near.push_back(all[i]), near_faces.push_back(all_faces[i]);
-    }
-    std::optional<Tree> near_tree, all_tree;
-    if (!near.empty()) {
-      near_tree.emplace(near.begin(), near.end());
-      near_tree->accelerate_distance_queries();
-    }
-    std::size_t far = 0;
-    std::size_t first_far = 0;
-    double first_far_distance = 0;
-    for (std::size_t i = 0; i < off.size(); ++i) {
-      const auto v = off[i];
-      const FP& query = off_points[i];
-      const std::vector<FT3>* triangles = &near;
-      const std::vector<typename Mesh<K>::Face_index>* faces = &near_faces;
-      std::optional<std::pair<FP, typename std::vector<FT3>::const_iterator>> found;
-      if (near_tree) found = near_tree->closest_point_and_primitive(query);
-      if (!found || !(std::sqrt(CGAL::squared_distance(query, found->first)) <= tol + slack)) {
-        if (!all_tree) {
-          all_tree.emplace(all.begin(), all.end());
-          all_tree->accelerate_distance_queries();
-        }
-        found = all_tree->closest_point_and_primitive(query);
-        triangles = &all;
-        faces = &all_faces;
-      }
-      const auto& [closest, id] = *found;
-      double d = std::sqrt(CGAL::squared_distance(query, closest));
-      bool within = d <= tol;
-      if (!within && d <= tol + slack) {
-        // Decide in the kernel (exactly under the exact kernel) with the closest face found.
-        const auto f = (*faces)[std::size_t(id - triangles->cbegin())];
-        const auto h = input.halfedge(f);
-        const typename K::Triangle_3 t(input.point(input.source(h)), input.point(input.target(h)),
-                                       input.point(input.target(input.next(h))));
-        const auto d2 = CGAL::squared_distance(m.point(v), t);
-        // (tol is finite here: d <= tol holds for every d when it is not; an infinite FT is a
-        // CGAL assertion failure)
-        within = d2 <= typename K::FT(tol) * typename K::FT(tol);
-        d = std::min(d, std::sqrt(CGAL::to_double(d2)));
-      }
-      max_distance = std::max(max_distance, d);
-      if (!within && far++ == 0) {
-        first_far = std::size_t(v);
-        first_far_distance = d;
-      }
-    }
-    if (far)
-      problems.push_back(say(out.name, ": ", far, " vertices are farther than the tolerance ", tol,
-                             " from the input surface (first: vertex ", first_far, " at distance ", first_far_distance,
-                             "; largest ", max_distance, ")"));
-  }
+  check_distances<K>(input, out, off, off_points, tol, max_distance, problems);
 
   // Quality: every face's smallest angle; faces that are not input faces (same three points).
   std::vector<std::array<std::uint32_t, 3>> input_faces;  // sorted, for binary_search
@@ -505,12 +527,6 @@ void check_vertex_separation(std::initializer_list<const Mesh<K>*> input_meshes,
                                   " (", min_vertex_separation,
                                   " of the diagonal: a volume mesher such as TetGen takes them for one point; first: ",
                                   first, ")"));
-}
-
-/// The corners of face f rounded to doubles (the coordinates as written).
-template <class K> std::array<Filtered::Point_3, 3> corners_in_doubles(const Mesh<K>& m, typename Mesh<K>::Face_index f) {
-  const auto h = m.halfedge(f);
-  return {to_filtered(m.point(m.source(h))), to_filtered(m.point(m.target(h))), to_filtered(m.point(m.target(m.next(h))))};
 }
 
 /// One box per face of the mesh, of its corners rounded to doubles, with its face index.

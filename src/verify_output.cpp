@@ -19,18 +19,6 @@ namespace seam::internal {
 
 namespace {
 
-/// Whether every coordinate of the point is a double exactly, known from its approximation alone
-/// (under Exact: an interval that is a point holds the exact value, which is then that double;
-/// a wider interval says nothing, and false is returned). True for the other kernels.
-template <class P> bool double_by_approximation(const P& p) {
-  if constexpr (std::is_same_v<typename CGAL::Kernel_traits<P>::Kernel, Exact>) {
-    const auto& q = CGAL::approx(p);
-    return q.x().inf() == q.x().sup() && q.y().inf() == q.y().sup() && q.z().inf() == q.z().sup();
-  } else {
-    return true;
-  }
-}
-
 /// Makes p exact where its approximation is not a point (fix_rounding), and where a coordinate is
 /// -0: making it exact turns that into +0, as making every point exact did before, so that what
 /// is written (and checked) is the same.
@@ -71,31 +59,22 @@ template <class K> Mesh<Exact> rounded(const Mesh<K>& mesh) {
 
 }  // namespace
 
-/// Whether rounded<K>(m) would be m itself, so that the check can take it as it is instead of a
-/// copy: an exact-kernel mesh without removed elements whose points' approximations are their
-/// doubles (as those of a mesh read from a file are).
-template <class K> bool same_as_rounded(const Mesh<K>& m) {
-  if constexpr (std::is_same_v<K, Exact>) {
-    if (m.has_garbage()) return false;
-    for (auto v : m.vertices())
-      if (!double_by_approximation(m.point(v))) return false;
-    return true;
-  } else {
-    return false;
-  }
-}
-
 template <class K>
 PairCheckReport check_as_written(const Mesh<K>& a, const Mesh<K>& b, Mesh<K>& a2, Mesh<K>& b2,
                                  std::vector<Polyline<K>>& curves, double tol) {
   // Inputs whose coordinates are not all doubles (exact ones made in memory, not read from a
   // file) cannot be written as given either: then the outputs are checked as they are.
+  // Where an exact-kernel input has no removed elements and every point's approximation is its
+  // double (as for a mesh read from a file), rounded<K> would give it back as it is: the check
+  // takes it so, instead of a copy.
+  bool as_is[2] = {std::is_same_v<K, Exact> && !a.has_garbage(), std::is_same_v<K, Exact> && !b.has_garbage()};
   if constexpr (kernel_traits<K>::exact_constructions) {
-    for (const Mesh<K>* m : {&a, &b})
-      for (auto v : m->vertices()) {
-        const auto& p = m->point(v);
-        if (!double_by_approximation(p) &&
-            !(typename K::Point_3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())) == p))
+    for (const int k : {0, 1})
+      for (auto v : (k == 0 ? a : b).vertices()) {
+        const auto& p = (k == 0 ? a : b).point(v);
+        if (is_double_by_approximation(p)) continue;
+        as_is[k] = false;
+        if (!(typename K::Point_3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())) == p))
           return check_pair<K>(a, b, a2, b2, curves, tol, nullptr, false);
       }
   }
@@ -103,24 +82,23 @@ PairCheckReport check_as_written(const Mesh<K>& a, const Mesh<K>& b, Mesh<K>& a2
   // already are made exact (most output vertices are input vertices, read as doubles: making
   // them exact too cost a rational per coordinate, about 0.5 s and 400 MB at 1M faces per tow).
   Mesh<Exact> ra, rb, ra2, rb2;
-  const bool a_as_is = same_as_rounded<K>(a), b_as_is = same_as_rounded<K>(b);
   tbb::parallel_invoke(
       [&] {
         for (auto v : a2.vertices()) settle_for_writing(a2.point(v));
-        if (!a_as_is) ra = rounded<K>(a);
+        if (!as_is[0]) ra = rounded<K>(a);
         ra2 = rounded<K>(a2);
       },
       [&] {
         for (auto v : b2.vertices()) settle_for_writing(b2.point(v));
-        if (!b_as_is) rb = rounded<K>(b);
+        if (!as_is[1]) rb = rounded<K>(b);
         rb2 = rounded<K>(b2);
       });
-  // The inputs as written: themselves where same_as_rounded, else their rounded copies.
+  // The inputs as written: themselves where as_is, else their rounded copies.
   const Mesh<Exact>* written_a = &ra;
   const Mesh<Exact>* written_b = &rb;
   if constexpr (std::is_same_v<K, Exact>) {
-    if (a_as_is) written_a = &a;
-    if (b_as_is) written_b = &b;
+    if (as_is[0]) written_a = &a;
+    if (as_is[1]) written_b = &b;
   }
   std::vector<Polyline<Exact>> rc;
   for (auto& c : curves) {
@@ -142,7 +120,7 @@ EmbedCheckReport check_embedding_as_written(const Mesh<K>& input, Mesh<K>& outpu
   if constexpr (kernel_traits<K>::exact_constructions) {
     for (auto v : input.vertices()) {
       const auto& p = input.point(v);
-      if (!double_by_approximation(p) &&
+      if (!is_double_by_approximation(p) &&
           !(typename K::Point_3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())) == p))
         return check_embedding<K>(input, output, curves, tol, given);
     }

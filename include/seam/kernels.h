@@ -75,14 +75,26 @@ template <class T> inline void make_exact(T& x) {
   if constexpr (std::is_same_v<typename CGAL::Kernel_traits<T>::Kernel, Exact>) CGAL::exact(x);
 }
 
+/// Whether every coordinate of `p` is a double exactly, known from its approximation alone: under
+/// the exact kernel an interval approximation that is a point holds the exact value, which is
+/// then that double (a wider interval says nothing: false). True for the other kernels, whose
+/// coordinates are doubles.
+template <class P> inline bool is_double_by_approximation(const P& p) {
+  if constexpr (std::is_same_v<typename CGAL::Kernel_traits<P>::Kernel, Exact>) {
+    const auto& q = CGAL::approx(p);
+    return q.x().inf() == q.x().sup() && q.y().inf() == q.y().sup() && q.z().inf() == q.z().sup();
+  } else {
+    return true;
+  }
+}
+
 /// Under the exact kernel: makes `p` exact unless its interval approximation is a point (a
 /// double already). Its rounding (to_filtered: the middle of the approximation) is then a function
 /// of its value alone, not of which computations happened to refine it first. A no-op for the
 /// other kernels.
 template <class P> inline void fix_rounding(P& p) {
   if constexpr (std::is_same_v<typename CGAL::Kernel_traits<P>::Kernel, Exact>) {
-    const auto& q = CGAL::approx(p);
-    if (q.x().inf() != q.x().sup() || q.y().inf() != q.y().sup() || q.z().inf() != q.z().sup()) CGAL::exact(p);
+    if (!is_double_by_approximation(p)) CGAL::exact(p);
   }
 }
 

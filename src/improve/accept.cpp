@@ -54,13 +54,6 @@ template <class K, class PK = K> struct Tri {
   }
 };
 
-/// Whether the point's coordinates are doubles exactly (under Exact: intervals that are points,
-/// which then are the exact values; a wider interval says no, conservatively).
-template <class P> bool is_double_point(const P& p) {
-  const certified::IP ip = certified::interval_point(p);
-  return std::all_of(ip.begin(), ip.end(), [](const certified::I& x) { return x.inf() == x.sup(); });
-}
-
 /// Whether (x, y) is a curve segment once the edit is made, held by meshes m1 and m2.
 template <class K>
 bool segment_after(const ImproveState<K>& s, const Edit<K>& edit, int x, int y, std::size_t m1, std::size_t m2) {
@@ -161,7 +154,7 @@ Tri<K, PK> existing_tri(const ImproveState<K>& s, std::size_t m, typename Mesh<K
     const auto& p = s.mesh(m).point(c[i]);
     t.p[i] = point_in<PK>(p);
     t.id[i] = {m, c[i], false, s.meshes[m].point[c[i]]};
-    t.doubles = t.doubles && is_double_point(p);
+    t.doubles = t.doubles && is_double_by_approximation(p);
   }
   t.intervals();
   return t;
@@ -176,7 +169,7 @@ Tri<K, PK> new_tri(const ImproveState<K>& s, const Edit<K>& edit, const EditPart
     const auto& c = part.added[i][k];
     t.p[k] = point_in<PK>(c.p);
     t.id[k] = {part.mesh, c.v, c.fresh, c.fresh ? fresh_id : s.meshes[part.mesh].point[c.v]};
-    t.doubles = t.doubles && is_double_point(c.p);
+    t.doubles = t.doubles && is_double_by_approximation(c.p);
   }
   t.intervals();
   return t;
@@ -231,9 +224,7 @@ template <class K> NearbyFaces nearby_faces(const ImproveState<K>& s, const Edit
     for (std::size_t i = 0; i < edit.parts[k].added.size(); ++i) box += new_face_box(edit.parts[k], i);
     for (const FaceGrid::Item& item : s.grid.query_items(box)) {
       const typename Mesh<K>::Face_index f(item.entry.face);
-      if (s.mesh(item.entry.mesh).is_removed(f) || s.meshes[item.entry.mesh].version[f] != item.entry.version ||
-          removed(item.entry.mesh, f))
-        continue;
+      if (!s.is_live(item.entry) || removed(item.entry.mesh, f)) continue;
       near[k].push_back(item);
     }
   }
@@ -299,8 +290,7 @@ template <class K> bool removes_a_written_crossing(const ImproveState<K>& s, con
       for (const auto& p : t.p) box += p.bbox();  // conservative: from the intervals under Exact
       for (const auto& e : s.grid.query(box)) {
         const typename Mesh<K>::Face_index f(e.face);
-        if ((e.mesh == part.mesh && f == f0) || s.mesh(e.mesh).is_removed(f) || s.meshes[e.mesh].version[f] != e.version)
-          continue;
+        if ((e.mesh == part.mesh && f == f0) || !s.is_live(e)) continue;
         if (!meet_as_allowed<K, Filtered>(s, none, t, existing_tri<K, Filtered>(s, e.mesh, f))) return true;
       }
     }
@@ -316,7 +306,7 @@ template <class K> bool too_near_a_vertex(const ImproveState<K>& s, const Edit<K
   const CGAL::Bbox_3 box(p.x() - sep, p.y() - sep, p.z() - sep, p.x() + sep, p.y() + sep, p.z() + sep);
   for (const auto& e : s.grid.query(box)) {
     const typename Mesh<K>::Face_index f(e.face);
-    if (s.mesh(e.mesh).is_removed(f) || s.meshes[e.mesh].version[f] != e.version) continue;
+    if (!s.is_live(e)) continue;
     for (const auto v : s.corners(e.mesh, f))
       if (CGAL::squared_distance(p, s.fpoint(e.mesh, v)) < sep * sep) return true;
   }

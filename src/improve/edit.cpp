@@ -160,10 +160,7 @@ template <class K> Applied<K> apply_edit(ImproveState<K>& s, const Edit<K>& edit
   using V = typename M::Vertex_index;
   using F = typename M::Face_index;
   Applied<K> made;
-  const FaceGrid::Liveness is_live = [&s](const FaceGrid::Entry& e) {
-    const F f(e.face);
-    return !s.mesh(e.mesh).is_removed(f) && s.meshes[e.mesh].version[f] == e.version;
-  };
+  const FaceGrid::Liveness is_live = [&s](const FaceGrid::Entry& e) { return s.is_live(e); };
   int fresh_id = -1;
   if (edit.has_fresh && edit.fresh_curve_point) {
     fresh_id = int(s.points.size());

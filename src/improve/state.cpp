@@ -378,9 +378,7 @@ void init_state(ImproveState<K>& s, std::vector<ImproveMesh<K>>& meshes, const S
   s.grid = FaceGrid(s.mean_edge);
   using F = typename Mesh<K>::Face_index;
   s.grid.set_deferred({[&s](const FaceGrid::Entry& e) { return s.face_box(e.mesh, F(e.face)); },
-                       [&s](const FaceGrid::Entry& e) {
-                         return !s.mesh(e.mesh).is_removed(F(e.face)) && s.meshes[e.mesh].version[F(e.face)] == e.version;
-                       }});
+                       [&s](const FaceGrid::Entry& e) { return s.is_live(e); }});
   for (std::size_t m = 0; m < s.meshes.size(); ++m)
     for (auto f : s.meshes[m].mesh->faces())
       s.grid.defer({std::uint32_t(m), std::uint32_t(std::size_t(f)), s.meshes[m].version[f]}, s.face_box(m, f));

@@ -229,6 +229,11 @@ template <class K> struct ImproveState {
   /// The box of a face, holding it: under Exact, from the interval approximations of its corners
   /// (fpoint's doubles are their midpoints, which may lie outside; FaceGrid's overlap test needs
   /// boxes that hold the exact faces and their roundings).
+  /// Whether a grid entry's face is still the face it was made for (not removed, not remade).
+  bool is_live(const FaceGrid::Entry& e) const {
+    const F f(e.face);
+    return !mesh(e.mesh).is_removed(f) && meshes[e.mesh].version[f] == e.version;
+  }
   CGAL::Bbox_3 face_box(std::size_t m, F f) const {
     CGAL::Bbox_3 box;
     for (V v : corners(m, f)) box += mesh(m).point(v).bbox();
