@@ -46,9 +46,9 @@ template <class K> class Tracer {
     if (region) region_ = *region;
   }
 
-  /// Projects q onto the closest face and classifies the projection. `distance` gets the
-  /// (rounded) distance from q to the surface.
-  SP locate(const Point& q, double& distance) const {
+  /// The face closest to q (searched in doubles), the (rounded) distance from q to the surface in
+  /// `distance`, and the face's squared area (doubles).
+  F closest_face(const Point& q, double& distance, double& squared_area) const {
     const auto dq = to_filtered(q);
     if (!near_) near_ = build_search(region_ ? &*region_ : nullptr);  // on the first node searched for
     const Search* search = near_.get();
@@ -66,7 +66,47 @@ template <class K> class Tracer {
         distance = std::sqrt(CGAL::to_double(CGAL::squared_distance(dq, dp)));
       }
     }
-    F f = search->face_of[std::size_t(it - search->triangles.begin())];
+    squared_area = CGAL::to_double(it->squared_area());
+    return search->face_of[std::size_t(it - search->triangles.begin())];
+  }
+
+  /// locate() for a point that lies on the surface exactly (under exact constructions): the face
+  /// holding q is found among the closest face and the faces around its corners (locate's
+  /// candidates) by exact predicates on q itself, instead of by constructing q's projection onto
+  /// each and comparing it with q (which needs the projections' exact values). The same answer
+  /// as locate's where q lies on one of those faces (what q lies on does not depend on which face
+  /// holding it is tested first); otherwise locate().
+  SP locate_on_surface(const Point& q, double& distance) const {
+    double squared_area = 0;
+    const F f = closest_face(q, distance, squared_area);
+    if (distance <= 1e-9 * std::sqrt(squared_area)) {
+      auto holds = [&](F g) {  // q in the closed face g (a face with collinear corners: left to locate)
+        auto h = m_.halfedge(g);
+        const Point &a = m_.point(m_.source(h)), &b = m_.point(m_.target(h)), &c = m_.point(m_.target(m_.next(h)));
+        return !CGAL::collinear(a, b, c) && CGAL::orientation(a, b, c, q) == CGAL::COPLANAR &&
+               CGAL::coplanar_orientation(a, b, c, q) != CGAL::NEGATIVE &&
+               CGAL::coplanar_orientation(b, c, a, q) != CGAL::NEGATIVE &&
+               CGAL::coplanar_orientation(c, a, b, q) != CGAL::NEGATIVE;
+      };
+      F found = holds(f) ? f : Mesh<K>::null_face();
+      for (V w : CGAL::vertices_around_face(m_.halfedge(f), m_)) {
+        if (found != Mesh<K>::null_face()) break;
+        for (F g : CGAL::faces_around_target(m_.halfedge(w), m_))
+          if (g != Mesh<K>::null_face() && g != f && holds(g)) {
+            found = g;
+            break;
+          }
+      }
+      if (found != Mesh<K>::null_face()) return classify_in_face(found, q);
+    }
+    return locate(q, distance);
+  }
+
+  /// Projects q onto the closest face and classifies the projection. `distance` gets the
+  /// (rounded) distance from q to the surface.
+  SP locate(const Point& q, double& distance) const {
+    double squared_area = 0;
+    F f = closest_face(q, distance, squared_area);
     auto project = [&](F g) { return typename K::Construct_projected_point_3()(triangle(g), q); };
     // The closest point of the triangle, constructed in the kernel (exact under Epeck).
     // Not made exact here: most located nodes are dropped by coarsening, and forcing the exact
@@ -77,7 +117,7 @@ template <class K> class Tracer {
       // A point lying exactly on the surface (a computed intersection point): the search on
       // doubles may return a neighbour of the face that contains it. Look for that face among
       // the faces around the found one, so that such a point is located exactly where it is.
-      if (distance <= 1e-9 * std::sqrt(CGAL::to_double(it->squared_area())) && !(p == q)) {
+      if (distance <= 1e-9 * std::sqrt(squared_area) && !(p == q)) {
         for (V w : CGAL::vertices_around_face(m_.halfedge(f), m_))
           for (F g : CGAL::faces_around_target(m_.halfedge(w), m_))
             if (g != Mesh<K>::null_face() && g != f && project(g) == q) {
@@ -90,22 +130,9 @@ template <class K> class Tracer {
     auto h = m_.halfedge(f);
     const V va = m_.source(h), vb = m_.target(h), vc = m_.target(m_.next(h));
     const Point &a = m_.point(va), &b = m_.point(vb), &c = m_.point(vc);
+    if (std::optional<SP> on_boundary = classify_on_boundary(f, p)) return *on_boundary;
     SP sp;
     sp.p = p;
-    if (p == a || p == b || p == c) {
-      sp.where = Where::vertex;
-      sp.v = (p == a) ? va : (p == b) ? vb : vc;
-      sp.p = m_.point(sp.v);
-      return sp;
-    }
-    const std::pair<V, V> sides[3] = {{va, vb}, {vb, vc}, {vc, va}};
-    for (const auto& [s, t] : sides) {
-      if (CGAL::collinear(m_.point(s), m_.point(t), p)) {
-        sp.where = Where::edge;
-        sp.e = m_.edge(m_.halfedge(s, t));
-        return sp;
-      }
-    }
     if (!kernel_traits<K>::exact_constructions || (feature_tol_ > 0 && !(p == q))) {
       // Rounded constructions: a projection onto the boundary of the triangle comes back a
       // rounding error off it, so the exact tests above miss it. Classify by barycentric
@@ -149,6 +176,40 @@ template <class K> class Tracer {
         return sp;
       }
     }
+    sp.where = Where::face;
+    sp.f = f;
+    return sp;
+  }
+
+  /// Point p of the closed face f (exact tests) where it is a corner or on a side of f.
+  std::optional<SP> classify_on_boundary(F f, const Point& p) const {
+    auto h = m_.halfedge(f);
+    const V va = m_.source(h), vb = m_.target(h), vc = m_.target(m_.next(h));
+    const Point &a = m_.point(va), &b = m_.point(vb), &c = m_.point(vc);
+    SP sp;
+    sp.p = p;
+    if (p == a || p == b || p == c) {
+      sp.where = Where::vertex;
+      sp.v = (p == a) ? va : (p == b) ? vb : vc;
+      sp.p = m_.point(sp.v);
+      return sp;
+    }
+    const std::pair<V, V> sides[3] = {{va, vb}, {vb, vc}, {vc, va}};
+    for (const auto& [s, t] : sides) {
+      if (CGAL::collinear(m_.point(s), m_.point(t), p)) {
+        sp.where = Where::edge;
+        sp.e = m_.edge(m_.halfedge(s, t));
+        return sp;
+      }
+    }
+    return std::nullopt;
+  }
+
+  /// Point p of the closed face f (exact tests): a corner, a side or the face.
+  SP classify_in_face(F f, const Point& p) const {
+    if (std::optional<SP> on_boundary = classify_on_boundary(f, p)) return *on_boundary;
+    SP sp;
+    sp.p = p;
     sp.where = Where::face;
     sp.f = f;
     return sp;
@@ -399,7 +460,10 @@ std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<
     if (const SurfacePoint<K>* site = known ? known->find(curve[i]) : nullptr) return *site;
     const auto t = Clock::now();
     double distance = 0;
-    SurfacePoint<K> sp = tracer.locate(curve[i], distance);
+    // (A node on the surface under exact constructions: located by exact predicates on it.)
+    SurfacePoint<K> sp = nodes_on_surface && kernel_traits<K>::exact_constructions
+                             ? tracer.locate_on_surface(curve[i], distance)
+                             : tracer.locate(curve[i], distance);
     if (nodes_on_surface && sp.where != Where::vertex) sp.p = curve[i];
     locate_seconds += std::chrono::duration<double>(Clock::now() - t).count();
     if (!(distance <= max_distance)) {

@@ -74,3 +74,61 @@ TEST_CASE("trace: every step's face holds both its points, on a terraced tow wit
   // that needed one, and the face left behind, came from a CT tow: scripts/real_tows_embed.py,
   // row 4.)
 }
+
+// Nodes that lie on the surface exactly (nodes_on_surface) are located by exact predicates on
+// the node itself; other nodes by the exact projection onto the closest face. Both must give the
+// same place: corners, points on sides, interior points, and points a hair from a side (whose
+// closest face in doubles may be the neighbour).
+TEST_CASE("trace: nodes on the surface are located as by their projections", "[embed][trace]") {
+  using K = seam::Exact;
+  using FT = K::FT;
+  seam::TowOptions tow;
+  tow.segments_along = 16;
+  tow.segments_around = 10;
+  tow.crimp_amplitude = 0.3;
+  const auto mesh = seam::mesh_from_soup<K>(seam::make_tow(tow), "tow");
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> kind(0, 4);
+  std::vector<seam::Polyline<K>> curves;
+  for (auto f : mesh.faces()) {
+    const auto h = mesh.halfedge(f);
+    const K::Point_3 a = mesh.point(mesh.source(h)), b = mesh.point(mesh.target(h)),
+                     c = mesh.point(mesh.target(mesh.next(h)));
+    auto at = [&](const FT& s, const FT& t) { return a + (b - a) * s + (c - a) * t; };
+    const FT hair = FT(1) / FT(1e17);
+    seam::Polyline<K> curve;
+    // Three nodes in the closed face, one of each kind drawn, then back to the first.
+    for (int k = 0; k < 3; ++k) {
+      switch (kind(rng)) {
+        case 0: curve.push_back(k == 0 ? a : k == 1 ? b : c); break;        // a corner
+        case 1: curve.push_back(at(FT(1) / FT(3), FT(1) / FT(7) * k)); break;  // inside (a side for k = 0)
+        case 2: curve.push_back(at(FT(k + 1) / FT(5), FT(0))); break;        // on side ab
+        case 3: curve.push_back(at(FT(1) / FT(2), hair * (k + 1))); break;   // a hair inside side ab
+        default: curve.push_back(at(FT(2) / FT(9), FT(3) / FT(8))); break;  // inside
+      }
+    }
+    if (curve[0] == curve[1] || curve[1] == curve[2] || curve[0] == curve[2]) continue;
+    curve.push_back(curve.front());
+    curves.push_back(curve);
+  }
+  REQUIRE(curves.size() > 100);
+  seam::internal::TraceReport on_report, off_report;
+  const auto on = seam::internal::trace_curves<K>(mesh, curves, 1.0, on_report, /*nodes_on_surface=*/true);
+  const auto off = seam::internal::trace_curves<K>(mesh, curves, 1.0, off_report, /*nodes_on_surface=*/false);
+  REQUIRE(on.size() == off.size());
+  std::size_t differ = 0, face_points = 0, edge_points = 0, vertices = 0;
+  for (std::size_t c = 0; c < on.size(); ++c) {
+    REQUIRE(on[c].points.size() == off[c].points.size());
+    for (std::size_t i = 0; i < on[c].points.size(); ++i) {
+      const auto& p = on[c].points[i];
+      differ += !p.same_as(off[c].points[i]);
+      face_points += p.where == seam::internal::Where::face;
+      edge_points += p.where == seam::internal::Where::edge;
+      vertices += p.where == seam::internal::Where::vertex;
+    }
+  }
+  CHECK(differ == 0);
+  CHECK(face_points > 50);  // every kind was met
+  CHECK(edge_points > 50);
+  CHECK(vertices > 50);
+}

@@ -177,11 +177,11 @@ std::vector<FaceGrid::Item> FaceGrid::query_items(const CGAL::Bbox_3& box) {
   if (top_ < min_level) return found;
   // Down from the top level, through the cells that overlap the query's range of cells and
   // exist (hold boxes, or cells below that do).
-  std::vector<std::pair<Index, const Cell*>> cells, below;
+  std::vector<std::pair<Index, Cell*>> cells, below;
   for (int level = top_; level >= min_level; --level) {
     const auto at = levels_.find(level);
     if (at == levels_.end()) break;
-    const Level& here = at->second;
+    Level& here = at->second;
     const double width = std::ldexp(base_, level);
     Index lo{}, hi{};
     bool indexed = true;  // false: the query reaches beyond the indices (all cells are in range)
@@ -196,7 +196,7 @@ std::vector<FaceGrid::Item> FaceGrid::query_items(const CGAL::Bbox_3& box) {
       double count = 1;
       for (std::size_t d = 0; d < 3; ++d) count *= double(hi[d] - lo[d] + 1);
       if (!indexed || count > double(here.size())) {
-        for (const auto& [index, cell] : here)
+        for (auto& [index, cell] : here)
           if (in_range(index)) cells.emplace_back(index, &cell);
       } else {
         for (std::int64_t i = lo[0]; i <= hi[0]; ++i)
@@ -211,7 +211,7 @@ std::vector<FaceGrid::Item> FaceGrid::query_items(const CGAL::Bbox_3& box) {
             std::abs(parent[2]) >= parent_limit)
           continue;  // no cell below it can be indexed
         for (int child = 0; child < 8; ++child) {
-          const Cell* const there = parent_cell->child[std::size_t(child)];
+          Cell* const there = parent_cell->child[std::size_t(child)];
           if (!there) continue;
           const Index c{2 * parent[0] + (child & 1), 2 * parent[1] + ((child >> 1) & 1), 2 * parent[2] + (child >> 2)};
           if (in_range(c)) below.emplace_back(c, there);
@@ -222,14 +222,26 @@ std::vector<FaceGrid::Item> FaceGrid::query_items(const CGAL::Bbox_3& box) {
     // A box is in every cell it overlaps; it is taken from one only: the cell holding the corner
     // of the overlap of its box and the query that is lowest along each axis (exact: the cell
     // width is a power of two).
-    for (const auto& [index, cell] : cells)
-      for (const Item& item : cell->items) {
-        if (!CGAL::do_overlap(item.box, box)) continue;
+    // A dead entry met on the way is dropped from its cell (the live ones keep their order).
+    const Liveness& is_live = deferred_how_.is_live;
+    for (const auto& [index, cell] : cells) {
+      auto& items = cell->items;
+      std::size_t kept = 0;
+      for (std::size_t i = 0; i < items.size(); ++i) {
+        const Item& item = items[i];
+        const bool overlaps = CGAL::do_overlap(item.box, box);
+        if (overlaps && is_live && !is_live(item.entry)) continue;
+        if (kept != i) items[kept] = item;
+        ++kept;
+        if (!overlaps) continue;
         bool here_once = true;
         for (std::size_t d = 0; d < 3 && here_once; ++d)
           here_once = std::floor(std::max(item.box.min(int(d)), box.min(int(d))) / width) == double(index[d]);
         if (here_once) found.push_back(item);
       }
+      items.resize(kept);
+      cell->size_at_purge = std::min(cell->size_at_purge, kept);
+    }
     if (cells.empty()) break;
   }
   return found;

@@ -85,9 +85,11 @@ class FaceGrid {
   void set_deferred(Deferred how) { deferred_how_ = std::move(how); }
   /// Holds the entry (with this box) to be inserted when a query first needs it.
   void defer(const Entry& entry, const CGAL::Bbox_3& box);
-  /// The entries whose boxes overlap `box`, dead ones included. Each entry inserted once is
-  /// returned once (taken from one of its cells); the order is the grid's, not a sorted one.
-  /// (Not const: it first inserts the deferred entries it needs.)
+  /// The entries whose boxes overlap `box`. Each entry inserted once is returned once (taken from
+  /// one of its cells); the order is the grid's, not a sorted one. Dead entries may be among
+  /// them; where the grid has a liveness test (set_deferred), those the query meets are dropped
+  /// from their cells instead (the live ones keep their order). (Not const: it also inserts the
+  /// deferred entries it needs.)
   std::vector<Entry> query(const CGAL::Bbox_3& box);
   /// The same, with the boxes: a caller with several boxes queries their union once and tests
   /// each of its boxes against these.
