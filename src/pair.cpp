@@ -17,6 +17,8 @@
 #include <seam/check.h>
 #include <seam/pair.h>
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -134,12 +136,11 @@ PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     st.note = touching > 0 ? "the meshes touch without crossing: the points of contact are made vertices of both"
                            : "the meshes do not intersect (disjoint, or one inside the other): nothing to embed";
   st.touching_only = curves.empty() && touching > 0;
-  // The two embeddings run one after the other. Run concurrently, they refined shared lazy
-  // numbers in the threads' order, and the same input gave different (each verified) outputs from
-  // run to run: CT rows 5, 6, 9 and 13 of scripts/real_tows.py, up to three in six runs. The
-  // quality stage now fixes its roundings itself (fix_rounding), which may make concurrency safe
-  // again: not measured. It saved about a third of a CT row's embedding time (under a tenth of
-  // its run).
+  // The two embeddings run concurrently where they share nothing that changes: the only objects
+  // both read are the curve points, made exact first, so that neither embedding refines them in
+  // the threads' order (that made the outputs differ from run to run at stop 37: the roundings
+  // taken later are the middles of the interval approximations). Under an area bound they run
+  // one after the other (below: each keeps its Steiner points away from the other's).
   EmbedOptions eo = options.embed;
   eo.snap_tol = 0;
   eo.keep_all_nodes = true;
@@ -167,12 +168,19 @@ PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     result.b = internal::embed_with_known_sites<K>(b, curves, eo, &sites_b, &away);
     seconds_b = seconds_since(ta);
   } else {
-    auto ta = Clock::now();
-    result.a = internal::embed_with_known_sites<K>(a, curves, eo, &sites_a);
-    seconds_a = seconds_since(ta);
-    ta = Clock::now();
-    result.b = internal::embed_with_known_sites<K>(b, curves, eo, &sites_b);
-    seconds_b = seconds_since(ta);
+    for (auto& curve : found.curves)
+      for (auto& p : curve) make_exact(p);
+    tbb::parallel_invoke(
+        [&] {
+          const auto ta = Clock::now();
+          result.a = internal::embed_with_known_sites<K>(a, curves, eo, &sites_a);
+          seconds_a = seconds_since(ta);
+        },
+        [&] {
+          const auto tb = Clock::now();
+          result.b = internal::embed_with_known_sites<K>(b, curves, eo, &sites_b);
+          seconds_b = seconds_since(tb);
+        });
   }
   st.stage_seconds["embed_a"] = seconds_a;
   st.stage_seconds["embed_b"] = seconds_b;
