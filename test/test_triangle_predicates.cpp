@@ -6,7 +6,10 @@
 
 #include <seam/internal/triangle_predicates.h>
 #include <seam/kernels.h>
+#include <seam/quality.h>
 
+#include <algorithm>
+#include <cmath>
 #include <random>
 
 namespace {
@@ -106,4 +109,40 @@ TEST_CASE("only_vertex_along_edges agrees with the general test at a curve point
   CHECK(decided > 1000);
   CHECK(apart > 100);  // both answers occur
   CHECK(meeting > 100);
+}
+
+TEST_CASE("min_angle_deg is the smallest of the three angles, also where it computes one only", "[quality]") {
+  // The three angles as atan2(|u x v|, u . v), the smallest taken (min_angle_deg computes the one
+  // opposite the shortest side alone where that side is clearly the shortest).
+  using P = seam::Filtered::Point_3;
+  auto at = [](const P& a, const P& b, const P& c) {
+    const auto u = b - a, v = c - a;
+    if (u.squared_length() <= 0 || v.squared_length() <= 0) return 0.0;
+    return std::atan2(std::sqrt(CGAL::cross_product(u, v).squared_length()), u * v) * 180.0 / M_PI;
+  };
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  std::size_t differ = 0, one_computed = 0;
+  for (int i = 0; i < 200000; ++i) {
+    const P p(unit(rng), unit(rng), unit(rng)), q(unit(rng), unit(rng), unit(rng));
+    P r(unit(rng), unit(rng), unit(rng));
+    switch (i % 4) {  // slivers, caps and near-isosceles triangles too
+      case 1: r = P(p.x() + (q.x() - p.x()) * 0.5 + 1e-7 * unit(rng), p.y() + (q.y() - p.y()) * 0.5 + 1e-7 * unit(rng), p.z() + (q.z() - p.z()) * 0.5); break;
+      case 2: r = P(q.x() + 1e-6 * unit(rng), q.y() + 1e-6 * unit(rng), q.z() + 1e-6 * unit(rng)); break;
+      case 3: {  // |pr| = |pq| (1 + tiny): two sides nearly equal
+        const double k = 1 + 1e-7 * unit(rng);
+        r = P(p.x() + (q.y() - p.y()) * k, p.y() - (q.x() - p.x()) * k, p.z() + (q.z() - p.z()) * k);
+        break;
+      }
+      default: break;
+    }
+    const double reference = std::min({at(p, q, r), at(q, r, p), at(r, p, q)});
+    double d2[3] = {CGAL::squared_distance(q, r), CGAL::squared_distance(r, p), CGAL::squared_distance(p, q)};
+    std::sort(d2, d2 + 3);
+    one_computed += d2[0] * (1 + 1e-6) < d2[1];  // one side clearly the shortest
+    if (reference < 1e-9 * 180 / M_PI) continue;  // (the bound min_angle_deg states)
+    differ += seam::min_angle_deg(p, q, r) != reference;
+  }
+  CHECK(differ == 0);
+  CHECK(one_computed > 100000);
 }
