@@ -9,6 +9,14 @@
 #include <CGAL/Polygon_mesh_processing/bbox.h>
 #include <CGAL/Polygon_mesh_processing/intersection.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
+#ifndef CGAL_HAS_THREADS
+#error "intersection_curves evaluates lazy exact points on several threads: CGAL must be thread-aware"
+#endif
+
 #include <algorithm>
 #include <array>
 #include <map>
@@ -279,9 +287,14 @@ template <class K> class SegmentClassifier {
       boxes_.emplace_back(segments_[s].first->bbox() + segments_[s].second->bbox(), s);
       all_segments_ += boxes_.back().bbox();
     }
-    candidates_a_ = candidate_faces(a_);
-    candidates_b_ = candidate_faces(b_);
+    tbb::parallel_invoke([&] { candidates_a_ = candidate_faces(a_); }, [&] { candidates_b_ = candidate_faces(b_); });
   }
+
+  std::size_t size() const { return segments_.size(); }
+
+  /// classify is safe on several threads at once: it only reads the meshes and the segments
+  /// (CGAL_HAS_THREADS makes evaluating a shared lazy point safe), builds its own points, and
+  /// answers from exact predicates alone, so the threads' order changes no answer.
 
   SegmentKind classify(std::size_t s) const {
     const Point &p = *segments_[s].first, &q = *segments_[s].second;
@@ -434,6 +447,10 @@ ClassifiedPieces<K> classify_pieces(const Mesh<K>& a, const Mesh<K>& b,
     for (std::size_t i = 0; i + 1 < piece.size(); ++i)
       if (!(piece[i] == piece[i + 1])) segments.emplace_back(&piece[i], &piece[i + 1]);
   const SegmentClassifier<K> classifier(a, b, std::move(segments));
+  std::vector<SegmentKind> kinds(classifier.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, kinds.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) kinds[i] = classifier.classify(i);
+  });
   ClassifiedPieces<K> result;
   std::size_t s = 0;
   for (const auto& piece : pieces) {
@@ -446,7 +463,7 @@ ClassifiedPieces<K> classify_pieces(const Mesh<K>& a, const Mesh<K>& b,
     };
     for (std::size_t i = 0; i + 1 < piece.size(); ++i) {
       if (piece[i] == piece[i + 1]) continue;
-      const SegmentKind kind = classifier.classify(s++);
+      const SegmentKind kind = kinds[s++];
       const int of = kind == SegmentKind::cross || kind == SegmentKind::contact_boundary ? 0
                      : kind == SegmentKind::touch                                        ? 1
                                                                                          : 2;
@@ -558,8 +575,12 @@ IntersectionCurves<K> compute_intersection_curves(const Mesh<K>& a, const Mesh<K
     using Point = typename K::Point_3;
     std::vector<std::vector<Point>> pieces;
     CGAL::Polygon_mesh_processing::surface_intersection(a, b, std::back_inserter(pieces));
+    // Kept points: cut the expression trees once (a piece per task; the exact values, and the
+    // intervals they leave, do not depend on the order).
+    tbb::parallel_for(std::size_t(0), pieces.size(), [&](std::size_t i) {
+      for (auto& p : pieces[i]) make_exact(p);
+    });
     for (auto& piece : pieces) {
-      for (auto& p : piece) make_exact(p);  // kept points: cut the expression trees once
       if (std::all_of(piece.begin(), piece.end(), [&](const Point& p) { return p == piece.front(); })) {
         ++result.touching_points;
         if (std::find(result.contacts.begin(), result.contacts.end(), piece.front()) == result.contacts.end())

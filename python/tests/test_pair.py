@@ -91,8 +91,9 @@ def test_given_curves_are_shared_too(crossover, crossover_pair):
     assert seam.check((VA, FA), (VB, FB), r.a, r.b, r.curves, tol=r.report["verify_tolerance"])
 
 
-def test_the_gil_is_released_while_seam_computes(crossover):
-    (VA, FA), (VB, FB) = crossover
+def test_the_gil_is_released_while_seam_computes():
+    # A crossover large enough that the computation takes well over the 0.05 s asserted below.
+    (VA, FA), (VB, FB) = seam.make_crossover(60, 24, 50, 24)
     done = {}
 
     def run():
