@@ -70,7 +70,10 @@ double seconds_since(Clock::time_point t) { return std::chrono::duration<double>
 // exception: inside a pair task, internal::general_position_curves reads the task's two tow
 // copies from several TBB workers at once. Their points are leaves made from doubles or exact
 // rationals, whose intervals are already as tight as they get, so no worker's evaluation changes
-// what another sees; the points it constructs are each made by one worker.)
+// what another sees; the points it constructs are each made by one worker. Where it gives way
+// to CGAL's surface_intersection, the pieces' points are made exact on several workers (the exact
+// values, and the intervals they leave, do not depend on the order) and only then classified on
+// several workers, by exact predicates.)
 
 using ExactNT = std::decay_t<decltype(CGAL::exact(std::declval<const Exact::FT&>()))>;
 
