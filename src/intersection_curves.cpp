@@ -292,10 +292,9 @@ template <class K> class SegmentClassifier {
 
   std::size_t size() const { return segments_.size(); }
 
-  /// classify is safe on several threads at once: it only reads the meshes and the segments
-  /// (CGAL_HAS_THREADS makes evaluating a shared lazy point safe), builds its own points, and
-  /// answers from exact predicates alone, so the threads' order changes no answer.
-
+  /// The kind of segment s. Safe on several threads at once: it only reads the meshes and the
+  /// segments (CGAL_HAS_THREADS makes evaluating a shared lazy point safe), builds its own points,
+  /// and answers from exact predicates alone, so the threads' order changes no answer.
   SegmentKind classify(std::size_t s) const {
     const Point &p = *segments_[s].first, &q = *segments_[s].second;
     if (surely_crossing(s)) return SegmentKind::cross;
@@ -448,7 +447,8 @@ ClassifiedPieces<K> classify_pieces(const Mesh<K>& a, const Mesh<K>& b,
       if (!(piece[i] == piece[i + 1])) segments.emplace_back(&piece[i], &piece[i + 1]);
   const SegmentClassifier<K> classifier(a, b, std::move(segments));
   std::vector<SegmentKind> kinds(classifier.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, kinds.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
+  using Range = tbb::blocked_range<std::size_t>;
+  tbb::parallel_for(Range(0, kinds.size(), 64), [&](const Range& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i) kinds[i] = classifier.classify(i);
   });
   ClassifiedPieces<K> result;
