@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <exception>
 #include <map>
 #include <new>
 #include <optional>
@@ -136,11 +137,13 @@ PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     st.note = touching > 0 ? "the meshes touch without crossing: the points of contact are made vertices of both"
                            : "the meshes do not intersect (disjoint, or one inside the other): nothing to embed";
   st.touching_only = curves.empty() && touching > 0;
-  // The two embeddings run concurrently where they share nothing that changes: the only objects
-  // both read are the curve points, made exact first, so that neither embedding refines them in
-  // the threads' order (that made the outputs differ from run to run at stop 37: the roundings
-  // taken later are the middles of the interval approximations). Under an area bound they run
-  // one after the other (below: each keeps its Steiner points away from the other's).
+  // The two embeddings run concurrently where they share nothing that changes: the curve points
+  // (read by both) and every vertex that is not a double (a caller's meshes may share lazy
+  // numbers) are made exact first, so that neither embedding refines a shared number in the
+  // threads' order (that made the outputs differ from run to run at stop 37: the roundings taken
+  // later are the middles of the interval approximations). An error is reported as if they had
+  // run one after the other: A's first. Under an area bound they do run one after the other
+  // (below: each keeps its Steiner points away from the other's).
   EmbedOptions eo = options.embed;
   eo.snap_tol = 0;
   eo.keep_all_nodes = true;
@@ -169,18 +172,24 @@ PairResult<K> embed_into_both(Mesh<K>& a, Mesh<K>& b, const PairOptions& options
     seconds_b = seconds_since(ta);
   } else {
     for (auto& curve : found.curves)
-      for (auto& p : curve) make_exact(p);
-    tbb::parallel_invoke(
-        [&] {
-          const auto ta = Clock::now();
-          result.a = internal::embed_with_known_sites<K>(a, curves, eo, &sites_a);
-          seconds_a = seconds_since(ta);
-        },
-        [&] {
-          const auto tb = Clock::now();
-          result.b = internal::embed_with_known_sites<K>(b, curves, eo, &sites_b);
-          seconds_b = seconds_since(tb);
-        });
+      for (auto& p : curve) fix_rounding(p);
+    for (Mesh<K>* m : {&a, &b})
+      for (auto v : m->vertices()) fix_rounding(m->point(v));
+    std::exception_ptr failed_a, failed_b;
+    auto embed_one = [&](Mesh<K>& m, const internal::KnownSites<K>& sites, EmbedResult<K>& out, double& seconds,
+                         std::exception_ptr& failed) {
+      try {
+        const auto t0 = Clock::now();
+        out = internal::embed_with_known_sites<K>(m, curves, eo, &sites);
+        seconds = seconds_since(t0);
+      } catch (...) {
+        failed = std::current_exception();
+      }
+    };
+    tbb::parallel_invoke([&] { embed_one(a, sites_a, result.a, seconds_a, failed_a); },
+                         [&] { embed_one(b, sites_b, result.b, seconds_b, failed_b); });
+    if (failed_a) std::rethrow_exception(failed_a);
+    if (failed_b) std::rethrow_exception(failed_b);
   }
   st.stage_seconds["embed_a"] = seconds_a;
   st.stage_seconds["embed_b"] = seconds_b;

@@ -693,7 +693,6 @@ TEST_CASE("pair: the same inputs give the same outputs on every run", "[pair][im
   seam::TowOptions turned = tow, shifted = tow;
   turned.translate = {0.0, 0.2, 0.1};
   turned.rotate_z = 2 * M_PI / 180;
-  shifted.crimp_amplitude = tow.crimp_amplitude;
   shifted.translate = {0.125, 0, 0.05};
   const std::vector<std::pair<seam::Mesh<K>, seam::Mesh<K>>> cases = {
       {seam::mesh_from_soup<K>(jittered(seam::make_tow(tow), 0.01, 5), "tow"),

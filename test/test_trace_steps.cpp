@@ -128,6 +128,8 @@ TEST_CASE("trace: nodes on the surface are located as by their projections", "[e
     }
   }
   CHECK(differ == 0);
+  CHECK(on_report.located_by_predicates > curves.size());  // the new path was taken
+  CHECK(off_report.located_by_predicates == 0);
   CHECK(face_points > 50);  // every kind was met
   CHECK(edge_points > 50);
   CHECK(vertices > 50);

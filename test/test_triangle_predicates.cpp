@@ -145,4 +145,11 @@ TEST_CASE("min_angle_deg is the smallest of the three angles, also where it comp
   }
   CHECK(differ == 0);
   CHECK(one_computed > 100000);
+  // Degenerate triangles: 0 (a corner twice, three corners on a line, one point).
+  const P o(0, 0, 0), x(1, 0, 0), y(2, 0, 0), z(0.5, 0.25, 3);
+  CHECK(seam::min_angle_deg(o, x, x) == 0);
+  CHECK(seam::min_angle_deg(z, o, z) == 0);
+  CHECK(seam::min_angle_deg(o, x, y) == 0);
+  CHECK(seam::min_angle_deg(x, o, y) == 0);
+  CHECK(seam::min_angle_deg(o, o, o) == 0);
 }

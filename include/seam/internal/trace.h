@@ -29,6 +29,9 @@ namespace seam::internal {
 struct TraceReport {
   double locate_seconds = 0, cross_seconds = 0;
   std::size_t retries = 0;  ///< segments that needed a second cutting plane
+  /// Nodes on the surface (nodes_on_surface, exact kernel) found on a face by exact predicates on
+  /// the node, without a projection (the others: projected).
+  std::size_t located_by_predicates = 0;
 };
 
 /// Follows each curve on the mesh. Throws InvalidInput when a node is farther than
