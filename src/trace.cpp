@@ -470,10 +470,8 @@ std::vector<TracedCurve<K>> trace_curves(const Mesh<K>& mesh, const std::vector<
     if (const SurfacePoint<K>* site = known ? known->find(curve[i]) : nullptr) return *site;
     const auto t = Clock::now();
     double distance = 0;
-    // (A node on the surface under exact constructions: located by exact predicates on it.)
-    SurfacePoint<K> sp = nodes_on_surface && kernel_traits<K>::exact_constructions
-                             ? tracer.locate_on_surface(curve[i], distance)
-                             : tracer.locate(curve[i], distance);
+    const bool on_surface = nodes_on_surface && kernel_traits<K>::exact_constructions;  // (exact predicates)
+    SurfacePoint<K> sp = on_surface ? tracer.locate_on_surface(curve[i], distance) : tracer.locate(curve[i], distance);
     if (nodes_on_surface && sp.where != Where::vertex) sp.p = curve[i];
     locate_seconds += std::chrono::duration<double>(Clock::now() - t).count();
     if (!(distance <= max_distance)) {
