@@ -19,6 +19,7 @@
 #include <CGAL/box_intersection_d.h>
 #include <CGAL/boost/graph/helpers.h>
 
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
@@ -562,6 +563,12 @@ double coverage_allowance(const Exact::Triangle_3& s, const Exact::Triangle_3& t
 /// construction can put a touching point far off in a degenerate configuration) and sampled (a
 /// point; a segment's ends and middle; a flat contact's corners and centroid), the samples
 /// rounded to doubles; each must lie within tol of a curve or of a shared face of the outputs.
+///
+/// The pairs whose boxes overlap are listed first (in box_intersection_d's order), then
+/// intersected and sampled in blocks on all cores, and the blocks' findings are taken in that
+/// order: the report is the same as one pass in order would give. Each pair's exact triangles are
+/// its own, made from the doubles, so that no lazy number is shared between threads (and none is
+/// refined by another pair's test: the rounded samples do not depend on the threads' order).
 template <class K>
 void check_coverage(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyline<K>>& curves,
                     const std::vector<Filtered::Triangle_3>& shared_triangles, double tol, PairCheckReport& report) {
@@ -571,19 +578,15 @@ void check_coverage(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyli
   using EP = Exact::Point_3;
   using ET3 = Exact::Triangle_3;
   using ES = Exact::Segment_3;
-  // The faces' boxes in doubles (the same as the exact triangles' boxes: the corners are
-  // doubles); the exact triangles only for the faces whose boxes meet one of the other mesh's,
-  // once each (an exact triangle of every face took about 130 MB at 100k faces per tow).
+  // The faces' boxes in doubles (the same as the exact triangles' boxes: the corners are doubles).
   std::vector<Box> boxes_a = boxes_in_doubles<K>(a), boxes_b = boxes_in_doubles<K>(b);
-  std::unordered_map<std::uint32_t, ET3> exact_a, exact_b;
-  auto exact_of = [](std::unordered_map<std::uint32_t, ET3>& made, const Mesh<K>& m, std::uint32_t f) -> const ET3& {
-    auto it = made.find(f);
-    if (it == made.end()) {
-      const auto c = corners_in_doubles<K>(m, typename Mesh<K>::Face_index(f));
-      auto exact = [](const FP& p) { return EP(p.x(), p.y(), p.z()); };
-      it = made.emplace(f, ET3(exact(c[0]), exact(c[1]), exact(c[2]))).first;
-    }
-    return it->second;
+  auto triangle_in_doubles = [](const Mesh<K>& m, std::uint32_t f) {
+    const auto c = corners_in_doubles<K>(m, typename Mesh<K>::Face_index(f));
+    return FT3(c[0], c[1], c[2]);
+  };
+  auto exact = [](const FT3& t) {
+    auto point = [](const FP& p) { return EP(p.x(), p.y(), p.z()); };
+    return ET3(point(t[0]), point(t[1]), point(t[2]));
   };
   std::vector<FS> segments;
   std::vector<FP> lone_points;  // curves of one point (an isolated contact)
@@ -610,6 +613,7 @@ void check_coverage(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyli
       CGAL::AABB_traits<Filtered, CGAL::AABB_triangle_primitive<Filtered, std::vector<FT3>::const_iterator>>>;
   SegmentTree segment_tree(segments.begin(), segments.end());
   TriangleTree shared_tree(shared_triangles.begin(), shared_triangles.end());
+  // Built here, before the threads query them (CGAL builds them under a lock otherwise).
   if (!segments.empty()) segment_tree.accelerate_distance_queries();
   if (!shared_triangles.empty()) shared_tree.accelerate_distance_queries();
   auto distance = [&](const FP& p) {
@@ -619,49 +623,75 @@ void check_coverage(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyli
     for (const auto& q : lone_points) d2 = std::min(d2, CGAL::squared_distance(p, q));
     return std::sqrt(d2);
   };
-  std::size_t uncovered = 0;
-  std::string first;
-  double allowed = tol;  // for the pair of faces being sampled: coverage_allowance
-  auto sample = [&](const FP& p) {
-    ++report.intersection_samples;
-    const double d = distance(p);
-    if (d <= allowed + slack) return;
-    if (uncovered++ == 0) first = say(point_text(p), ", ", d, " from the curves (allowed there: ", allowed, ")");
-    report.max_uncovered_distance = std::max(report.max_uncovered_distance, d);
-  };
+
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   CGAL::box_intersection_d(boxes_a.begin(), boxes_a.end(), boxes_b.begin(), boxes_b.end(),
-                           [&](const Box& x, const Box& y) {
-                             const ET3 &s = exact_of(exact_a, a, x.info()), &t = exact_of(exact_b, b, y.info());
-                             if (!CGAL::do_intersect(s, t)) return;
-                             const auto meet = CGAL::intersection(s, t);
-                             if (!meet) return;
-                             allowed = coverage_allowance(s, t, tol);
-                             if (const EP* p = boost::get<EP>(&*meet)) {
-                               sample(rounded(*p));
-                             } else if (const ES* g = boost::get<ES>(&*meet)) {
-                               sample(rounded(g->source()));
-                               sample(rounded(g->target()));
-                               sample(rounded(CGAL::midpoint(g->source(), g->target())));
-                             } else if (const ET3* u = boost::get<ET3>(&*meet)) {
-                               for (int k = 0; k < 3; ++k) sample(rounded(u->vertex(k)));
-                               sample(rounded(CGAL::centroid(u->vertex(0), u->vertex(1), u->vertex(2))));
-                             } else if (const auto* poly = boost::get<std::vector<EP>>(&*meet)) {
-                               double x0 = 0, y0 = 0, z0 = 0;
-                               for (const auto& q : *poly) {
-                                 const FP r = rounded(q);
-                                 sample(r);
-                                 x0 += r.x(), y0 += r.y(), z0 += r.z();
-                               }
-                               if (!poly->empty()) {
-                                 const double n = double(poly->size());
-                                 sample(FP(x0 / n, y0 / n, z0 / n));
-                               }
-                             }
-                           }, box_cutoff);
-  report.uncovered_samples = uncovered;
-  if (uncovered)
-    report.problems.push_back(say(uncovered, " points of the intersection of A and B are farther than the tolerance ",
-                                  tol, " (2 tol / sin of the faces' angle where they cross) from the curves and the shared",
+                           [&](const Box& x, const Box& y) { pairs.emplace_back(x.info(), y.info()); }, box_cutoff);
+
+  struct Uncovered {
+    FP p;
+    double distance, allowed;
+  };
+  struct Block {  // what a block of pairs found, in the pairs' order
+    std::size_t samples = 0;
+    std::vector<Uncovered> uncovered;
+  };
+  constexpr std::size_t block_size = 256;
+  std::vector<Block> blocks((pairs.size() + block_size - 1) / block_size);
+  tbb::parallel_for(std::size_t(0), blocks.size(), [&](std::size_t k) {
+    Block& block = blocks[k];
+    double allowed = tol;  // for the pair of faces being sampled: coverage_allowance
+    auto sample = [&](const FP& p) {
+      ++block.samples;
+      const double d = distance(p);
+      if (!(d <= allowed + slack)) block.uncovered.push_back({p, d, allowed});
+    };
+    for (std::size_t i = k * block_size; i < std::min(pairs.size(), (k + 1) * block_size); ++i) {
+      // Whether they meet: Epick's exact predicates on the doubles (the exact triangles are made
+      // only for the pairs that meet, most do not).
+      const FT3 fs = triangle_in_doubles(a, pairs[i].first), ft = triangle_in_doubles(b, pairs[i].second);
+      if (!CGAL::do_intersect(fs, ft)) continue;
+      const ET3 s = exact(fs), t = exact(ft);
+      const auto meet = CGAL::intersection(s, t);
+      if (!meet) continue;
+      allowed = coverage_allowance(s, t, tol);
+      if (const EP* p = boost::get<EP>(&*meet)) {
+        sample(rounded(*p));
+      } else if (const ES* g = boost::get<ES>(&*meet)) {
+        sample(rounded(g->source()));
+        sample(rounded(g->target()));
+        sample(rounded(CGAL::midpoint(g->source(), g->target())));
+      } else if (const ET3* u = boost::get<ET3>(&*meet)) {
+        for (int j = 0; j < 3; ++j) sample(rounded(u->vertex(j)));
+        sample(rounded(CGAL::centroid(u->vertex(0), u->vertex(1), u->vertex(2))));
+      } else if (const auto* poly = boost::get<std::vector<EP>>(&*meet)) {
+        double x0 = 0, y0 = 0, z0 = 0;
+        for (const auto& q : *poly) {
+          const FP r = rounded(q);
+          sample(r);
+          x0 += r.x(), y0 += r.y(), z0 += r.z();
+        }
+        if (!poly->empty()) {
+          const double n = double(poly->size());
+          sample(FP(x0 / n, y0 / n, z0 / n));
+        }
+      }
+    }
+  });
+
+  std::string first;
+  for (const Block& block : blocks) {
+    report.intersection_samples += block.samples;
+    for (const Uncovered& u : block.uncovered) {
+      if (report.uncovered_samples++ == 0)
+        first = say(point_text(u.p), ", ", u.distance, " from the curves (allowed there: ", u.allowed, ")");
+      report.max_uncovered_distance = std::max(report.max_uncovered_distance, u.distance);
+    }
+  }
+  if (report.uncovered_samples)
+    report.problems.push_back(say(report.uncovered_samples,
+                                  " points of the intersection of A and B are farther than the tolerance ", tol,
+                                  " (2 tol / sin of the faces' angle where they cross) from the curves and the shared",
                                   " faces: parts of the intersection are missing from the curves (first: ", first,
                                   "; largest distance ", report.max_uncovered_distance, ")"));
 }

@@ -4,6 +4,7 @@
 //
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <seam/check.h>
+#include <seam/generate.h>
 #include <seam/io.h>
 
 #include <catch2/catch.hpp>
@@ -75,6 +76,11 @@ std::string all(const seam::PairCheckReport& r) {
 
 bool any_contains(const seam::PairCheckReport& r, const std::string& what) {
   return all(r).find(what) != std::string::npos;
+}
+
+E::Triangle_3 triangle_of(const seam::Mesh<E>& m, seam::Mesh<E>::Face_index f) {
+  const auto h = m.halfedge(f);
+  return {m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h)))};
 }
 
 seam::Mesh<E>::Vertex_index vertex_at(const seam::Mesh<E>& m, const E::Point_3& p) {
@@ -395,6 +401,65 @@ CheckRun run_check(const seam_test::TempDir& dir, const std::vector<std::string>
 }
 
 }  // namespace
+
+TEST_CASE("check_pair: the coverage check finds a missing curve, the same on every run", "[check]") {
+  // Two crossing tows corefined by CGAL: many face pairs of the inputs meet (the coverage check
+  // works through them in blocks on all cores).
+  const auto tows = seam::make_crossover(200, 40, 150, 32, seam::Section::lenticular, 0.45);
+  Corefined c;
+  c.a = seam::mesh_from_soup<E>(seam::make_tow(tows.weft), "weft");
+  c.b = seam::mesh_from_soup<E>(seam::make_tow(tows.warp), "warp");
+  c.a2 = c.a;
+  c.b2 = c.b;
+  PMP::surface_intersection(c.a, c.b, std::back_inserter(c.curves));
+  PMP::corefine(c.a2, c.b2);
+  REQUIRE(!c.curves.empty());
+  REQUIRE(c.curves[0].size() > 20);
+
+  const auto whole = seam::check_pair<E>(c.a, c.b, c.a2, c.b2, c.curves, 1e-9);
+  INFO(all(whole));
+  CHECK(whole.ok());
+  // The samples counted one pair of faces at a time, every pair tried (a point: 1 sample; a
+  // segment: 3; a polygon of n corners: n + 1).
+  std::size_t samples = 0, meeting = 0;
+  auto boxes = [](const seam::Mesh<E>& m) {
+    std::vector<std::pair<CGAL::Bbox_3, seam::Mesh<E>::Face_index>> out;
+    for (auto f : m.faces()) out.emplace_back(triangle_of(m, f).bbox(), f);
+    return out;
+  };
+  const auto boxes_a = boxes(c.a), boxes_b = boxes(c.b);
+  for (const auto& [box_f, f] : boxes_a)
+    for (const auto& [box_g, g] : boxes_b) {
+      if (!CGAL::do_overlap(box_f, box_g)) continue;
+      const auto s = triangle_of(c.a, f), t = triangle_of(c.b, g);
+      if (!CGAL::do_intersect(s, t)) continue;
+      ++meeting;
+      const auto meet = CGAL::intersection(s, t);
+      if (boost::get<E::Point_3>(&*meet)) samples += 1;
+      if (boost::get<E::Segment_3>(&*meet)) samples += 3;
+      if (boost::get<E::Triangle_3>(&*meet)) samples += 4;
+      if (const auto* poly = boost::get<std::vector<E::Point_3>>(&*meet)) samples += poly->size() + 1;
+    }
+  CHECK(meeting > 256);  // the check's blocks hold 256 pairs whose boxes overlap: two or more
+  CHECK(whole.intersection_samples == samples);
+  CHECK(whole.uncovered_samples == 0);
+
+  // Without the second half of the first curve: that part of the intersection is uncovered
+  // (other checks may fail too; the coverage check names it).
+  std::vector<seam::Polyline<E>> fewer = c.curves;
+  fewer[0].resize(fewer[0].size() / 2);
+  const auto first = seam::check_pair<E>(c.a, c.b, c.a2, c.b2, fewer, 1e-9);
+  CHECK(first.intersection_samples == whole.intersection_samples);  // the samples do not depend on the curves
+  CHECK(first.uncovered_samples > 0);
+  CHECK(first.max_uncovered_distance > 1e-3);
+  CHECK(any_contains(first, "missing from the curves"));
+  for (int run = 0; run < 3; ++run) {
+    const auto again = seam::check_pair<E>(c.a, c.b, c.a2, c.b2, fewer, 1e-9);
+    CHECK(again.problems == first.problems);
+    CHECK(again.uncovered_samples == first.uncovered_samples);
+    CHECK(again.max_uncovered_distance == first.max_uncovered_distance);
+  }
+}
 
 TEST_CASE("seam check on files", "[check][cli]") {
   const Corefined c = corefined_cubes();
