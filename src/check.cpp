@@ -19,6 +19,7 @@
 #include <CGAL/box_intersection_d.h>
 #include <CGAL/boost/graph/helpers.h>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
@@ -818,14 +819,11 @@ std::vector<char> check_no_intersection_off_curves(MeshView<K>& va, MeshView<K>&
     if (report.intersecting_face_pairs_off_curve++ < max_examples)
       examples.push_back(say("A2 face ", std::size_t(fa), " / B2 face ", std::size_t(fb), " ", why));
   };
-  auto callback = [&](const Box& box_a, const Box& box_b) {
-    ++report.candidate_face_pairs;
-    const F fa(box_a.info()), fb(box_b.info());
-    const auto ca = va.corners(fa), cb = vb.corners(fb);
-    // Corners at the same point: ia[k] is the corner of fa equal to corner k of fb, or -1.
-    int ia[3] = {-1, -1, -1};
+  // Corners at the same point: ia[k] is the corner of fa equal to corner k of fb, or -1.
+  auto common_corners = [&](const auto& ca, const auto& cb, int (&ia)[3]) {
     int shared = 0;
     for (int k = 0; k < 3; ++k) {
+      ia[k] = -1;
       const std::uint32_t w = b_to_a[std::size_t(cb[k])];
       if (w == none) continue;
       for (int j = 0; j < 3; ++j)
@@ -834,20 +832,52 @@ std::vector<char> check_no_intersection_off_curves(MeshView<K>& va, MeshView<K>&
           ++shared;
         }
     }
-    if (shared == 3) return;  // the same triangle: a shared face (counted above)
+    return shared;
+  };
+  // The pairs whose boxes overlap, in box_intersection_d's order; how each pair meets is decided
+  // in blocks on all cores (exact predicates only: the answers do not depend on the threads'
+  // order), then the pairs are counted and reported in that order.
+  std::vector<std::pair<F, F>> pairs;
+  auto collect = [&](const Box& box_a, const Box& box_b) { pairs.emplace_back(F(box_a.info()), F(box_b.info())); };
+  if (restricted) {
+    // The pairs with a face in focus: A2's in focus against all of B2, the rest of A2 against
+    // B2's in focus.
+    std::vector<Box> focused_a = face_boxes(va, focus_a, 1), all_b = face_boxes(vb);
+    CGAL::box_intersection_d(focused_a.begin(), focused_a.end(), all_b.begin(), all_b.end(), collect, box_cutoff);
+    std::vector<Box> rest_a = face_boxes(va, focus_a, 0), focused_b = face_boxes(vb, focus_b, 1);
+    CGAL::box_intersection_d(rest_a.begin(), rest_a.end(), focused_b.begin(), focused_b.end(), collect, box_cutoff);
+  } else {
+    std::vector<Box> boxes_a = face_boxes(va), boxes_b = face_boxes(vb);
+    CGAL::box_intersection_d(boxes_a.begin(), boxes_a.end(), boxes_b.begin(), boxes_b.end(), collect, box_cutoff);
+  }
+  std::vector<Meet> meets(pairs.size(), Meet::apart);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      const auto ca = va.corners(pairs[i].first), cb = vb.corners(pairs[i].second);
+      int ia[3];
+      const int shared = common_corners(ca, cb, ia);
+      if (shared < 3) meets[i] = meet<K>(va.geometry(ca), vb.geometry(cb), ia, shared);
+    }
+  });
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    ++report.candidate_face_pairs;
+    const auto [fa, fb] = pairs[i];
+    const auto ca = va.corners(fa), cb = vb.corners(fb);
+    int ia[3];
+    const int shared = common_corners(ca, cb, ia);
+    if (shared == 3) continue;  // the same triangle: a shared face (counted above)
     // Two shared faces may meet in any common vertex or edge (inside a flat contact); every
     // other meeting must be a curve point or segment.
     const bool both_shared = shared_a[std::size_t(fa)] && shared_b[std::size_t(fb)];
-    const Meet how = meet<K>(va.geometry(ca), vb.geometry(cb), ia, shared);
-    switch (how) {
+    switch (meets[i]) {
       case Meet::apart:
-        return;
+        break;
       case Meet::beyond:
         off_curve(fa, fb,
                   coplanar_faces(va.geometry(ca), vb.geometry(cb))
                       ? "overlap in a common plane (a flat contact that is not one common triangulation)"
                       : beyond_text(shared));
-        return;
+        break;
       case Meet::at_vertex: {
         int k = 0;
         while (ia[k] < 0) ++k;
@@ -855,7 +885,7 @@ std::vector<char> check_no_intersection_off_curves(MeshView<K>& va, MeshView<K>&
           ++report.face_pairs_on_curve;
         else
           off_curve(fa, fb, "touch at a vertex that is not a curve point");
-        return;
+        break;
       }
       case Meet::along_edge: {
         int k = 0;
@@ -865,20 +895,9 @@ std::vector<char> check_no_intersection_off_curves(MeshView<K>& va, MeshView<K>&
           ++report.face_pairs_on_curve;
         else
           off_curve(fa, fb, "share an edge that is not a curve segment");
-        return;
+        break;
       }
     }
-  };
-  if (restricted) {
-    // The pairs with a face in focus: A2's in focus against all of B2, the rest of A2 against
-    // B2's in focus.
-    std::vector<Box> focused_a = face_boxes(va, focus_a, 1), all_b = face_boxes(vb);
-    CGAL::box_intersection_d(focused_a.begin(), focused_a.end(), all_b.begin(), all_b.end(), callback, box_cutoff);
-    std::vector<Box> rest_a = face_boxes(va, focus_a, 0), focused_b = face_boxes(vb, focus_b, 1);
-    CGAL::box_intersection_d(rest_a.begin(), rest_a.end(), focused_b.begin(), focused_b.end(), callback, box_cutoff);
-  } else {
-    std::vector<Box> boxes_a = face_boxes(va), boxes_b = face_boxes(vb);
-    CGAL::box_intersection_d(boxes_a.begin(), boxes_a.end(), boxes_b.begin(), boxes_b.end(), callback, box_cutoff);
   }
   if (report.intersecting_face_pairs_off_curve) {
     std::string list;

@@ -402,7 +402,7 @@ CheckRun run_check(const seam_test::TempDir& dir, const std::vector<std::string>
 
 }  // namespace
 
-TEST_CASE("check_pair: the coverage check finds a missing curve, the same on every run", "[check]") {
+TEST_CASE("check_pair: the coverage check finds a missing curve; checks 3 and 6 the same on every run", "[check]") {
   // Two crossing tows corefined by CGAL: many face pairs of the inputs meet (the coverage check
   // works through them in blocks on all cores).
   const auto tows = seam::make_crossover(200, 40, 150, 32, seam::Section::lenticular, 0.45);
@@ -458,6 +458,21 @@ TEST_CASE("check_pair: the coverage check finds a missing curve, the same on eve
     CHECK(again.problems == first.problems);
     CHECK(again.uncovered_samples == first.uncovered_samples);
     CHECK(again.max_uncovered_distance == first.max_uncovered_distance);
+  }
+
+  // The inputs as outputs (they cross off any curve): check 3, also decided in blocks on all
+  // cores, tries every pair whose boxes overlap and names the same pairs on every run.
+  std::size_t overlapping = 0;
+  for (const auto& [box_f, f] : boxes_a)
+    for (const auto& [box_g, g] : boxes_b) overlapping += CGAL::do_overlap(box_f, box_g) ? 1 : 0;
+  const auto crossing = seam::check_pair<E>(c.a, c.b, c.a, c.b, {}, 1e-9);
+  CHECK(crossing.candidate_face_pairs == overlapping);
+  CHECK(crossing.intersecting_face_pairs_off_curve == meeting);
+  CHECK(any_contains(crossing, "A2 and B2 intersect off the curves"));
+  for (int run = 0; run < 3; ++run) {
+    const auto again = seam::check_pair<E>(c.a, c.b, c.a, c.b, {}, 1e-9);
+    CHECK(again.problems == crossing.problems);
+    CHECK(again.conflict_faces_a == crossing.conflict_faces_a);
   }
 }
 
