@@ -559,6 +559,36 @@ double coverage_allowance(const Exact::Triangle_3& s, const Exact::Triangle_3& t
   return sine > 0 ? 2 * tol / sine : std::numeric_limits<double>::infinity();
 }
 
+/// The samples of an exact intersection of two triangles, rounded to doubles, passed to `sample`:
+/// a point; a segment's ends and middle; a triangle's corners and centroid; a polygon's corners
+/// and the mean of their rounded positions.
+template <class Meet, class Sample> void sample_intersection(const Meet& meet, Sample&& sample) {
+  using FP = Filtered::Point_3;
+  using EP = Exact::Point_3;
+  auto rounded = [](const EP& p) { return FP(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())); };
+  if (const EP* p = boost::get<EP>(&meet)) {
+    sample(rounded(*p));
+  } else if (const auto* g = boost::get<Exact::Segment_3>(&meet)) {
+    sample(rounded(g->source()));
+    sample(rounded(g->target()));
+    sample(rounded(CGAL::midpoint(g->source(), g->target())));
+  } else if (const auto* u = boost::get<Exact::Triangle_3>(&meet)) {
+    for (int j = 0; j < 3; ++j) sample(rounded(u->vertex(j)));
+    sample(rounded(CGAL::centroid(u->vertex(0), u->vertex(1), u->vertex(2))));
+  } else if (const auto* poly = boost::get<std::vector<EP>>(&meet)) {
+    double x0 = 0, y0 = 0, z0 = 0;
+    for (const auto& q : *poly) {
+      const FP r = rounded(q);
+      sample(r);
+      x0 += r.x(), y0 += r.y(), z0 += r.z();
+    }
+    if (!poly->empty()) {
+      const double n = double(poly->size());
+      sample(FP(x0 / n, y0 / n, z0 / n));
+    }
+  }
+}
+
 /// Check 6: the curves cover the intersection of the inputs. Every face pair of A and B that
 /// meets is intersected exactly (Epeck, on the input coordinates as doubles: a rounded
 /// construction can put a touching point far off in a degenerate configuration) and sampled (a
@@ -578,7 +608,6 @@ void check_coverage(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyli
   using FS = Filtered::Segment_3;
   using EP = Exact::Point_3;
   using ET3 = Exact::Triangle_3;
-  using ES = Exact::Segment_3;
   // The faces' boxes in doubles (the same as the exact triangles' boxes: the corners are doubles).
   std::vector<Box> boxes_a = boxes_in_doubles<K>(a), boxes_b = boxes_in_doubles<K>(b);
   auto triangle_in_doubles = [](const Mesh<K>& m, std::uint32_t f) {
@@ -604,7 +633,6 @@ void check_coverage(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyli
   }
   for (const auto* boxes : {&boxes_a, &boxes_b})
     for (const Box& x : *boxes) box += x.bbox();
-  auto rounded = [](const EP& p) { return FP(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())); };
   const double scale = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
                                  CGAL::square(box.zmax() - box.zmin()));
   const double slack = 1e-12 * (scale + 1.0);  // rounding of the samples and the distances
@@ -656,27 +684,7 @@ void check_coverage(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyli
       const auto meet = CGAL::intersection(s, t);
       if (!meet) continue;
       allowed = coverage_allowance(s, t, tol);
-      if (const EP* p = boost::get<EP>(&*meet)) {
-        sample(rounded(*p));
-      } else if (const ES* g = boost::get<ES>(&*meet)) {
-        sample(rounded(g->source()));
-        sample(rounded(g->target()));
-        sample(rounded(CGAL::midpoint(g->source(), g->target())));
-      } else if (const ET3* u = boost::get<ET3>(&*meet)) {
-        for (int j = 0; j < 3; ++j) sample(rounded(u->vertex(j)));
-        sample(rounded(CGAL::centroid(u->vertex(0), u->vertex(1), u->vertex(2))));
-      } else if (const auto* poly = boost::get<std::vector<EP>>(&*meet)) {
-        double x0 = 0, y0 = 0, z0 = 0;
-        for (const auto& q : *poly) {
-          const FP r = rounded(q);
-          sample(r);
-          x0 += r.x(), y0 += r.y(), z0 += r.z();
-        }
-        if (!poly->empty()) {
-          const double n = double(poly->size());
-          sample(FP(x0 / n, y0 / n, z0 / n));
-        }
-      }
+      sample_intersection(*meet, sample);
     }
   });
 
