@@ -78,7 +78,7 @@ using internal::certified::surely_only_vertex;
 
 /// How two faces meet. Their common corners are given: for corner k of the second face, ia[k] is
 /// the corner of the first face at the same point, or -1.
-enum class Meet { apart, at_vertex, along_edge, beyond };
+enum class Meet : unsigned char { apart, at_vertex, along_edge, beyond };
 
 template <class K> struct Corners {
   std::array<const typename K::Point_3*, 3> p;
