@@ -41,6 +41,10 @@
 #include <unordered_map>
 #include <utility>
 
+#if !defined(CGAL_HAS_THREADS)
+#error "seam check decides face pairs on several threads: it needs CGAL_HAS_THREADS (build with -pthread)"
+#endif
+
 namespace seam {
 
 namespace {
@@ -642,9 +646,10 @@ void check_coverage(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyli
       CGAL::AABB_traits<Filtered, CGAL::AABB_triangle_primitive<Filtered, std::vector<FT3>::const_iterator>>>;
   SegmentTree segment_tree(segments.begin(), segments.end());
   TriangleTree shared_tree(shared_triangles.begin(), shared_triangles.end());
-  // Built here, before the threads query them (CGAL builds them under a lock otherwise).
-  if (!segments.empty()) segment_tree.accelerate_distance_queries();
-  if (!shared_triangles.empty()) shared_tree.accelerate_distance_queries();
+  // Both trees and their search trees built here, before the threads query them (CGAL would
+  // build them at the first query, under a lock).
+  if (!segments.empty()) segment_tree.build(), segment_tree.accelerate_distance_queries();
+  if (!shared_triangles.empty()) shared_tree.build(), shared_tree.accelerate_distance_queries();
   auto distance = [&](const FP& p) {
     double d2 = std::numeric_limits<double>::infinity();
     if (!segments.empty()) d2 = std::min(d2, segment_tree.squared_distance(p));
@@ -661,9 +666,10 @@ void check_coverage(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyli
     FP p;
     double distance, allowed;
   };
-  struct Block {  // what a block of pairs found, in the pairs' order
-    std::size_t samples = 0;
-    std::vector<Uncovered> uncovered;
+  struct Block {  // what a block of pairs found: its first uncovered sample in the pairs' order
+    std::size_t samples = 0, uncovered = 0;
+    std::optional<Uncovered> first;
+    double max_distance = 0;
   };
   constexpr std::size_t block_size = 256;
   std::vector<Block> blocks((pairs.size() + block_size - 1) / block_size);
@@ -673,7 +679,9 @@ void check_coverage(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyli
     auto sample = [&](const FP& p) {
       ++block.samples;
       const double d = distance(p);
-      if (!(d <= allowed + slack)) block.uncovered.push_back({p, d, allowed});
+      if (d <= allowed + slack) return;
+      if (block.uncovered++ == 0) block.first = Uncovered{p, d, allowed};
+      block.max_distance = std::max(block.max_distance, d);
     };
     for (std::size_t i = k * block_size; i < std::min(pairs.size(), (k + 1) * block_size); ++i) {
       // Whether they meet: Epick's exact predicates on the doubles (the exact triangles are made
@@ -691,11 +699,11 @@ void check_coverage(const Mesh<K>& a, const Mesh<K>& b, const std::vector<Polyli
   std::string first;
   for (const Block& block : blocks) {
     report.intersection_samples += block.samples;
-    for (const Uncovered& u : block.uncovered) {
-      if (report.uncovered_samples++ == 0)
-        first = say(point_text(u.p), ", ", u.distance, " from the curves (allowed there: ", u.allowed, ")");
-      report.max_uncovered_distance = std::max(report.max_uncovered_distance, u.distance);
-    }
+    if (block.first && report.uncovered_samples == 0)
+      first = say(point_text(block.first->p), ", ", block.first->distance, " from the curves (allowed there: ",
+                  block.first->allowed, ")");
+    report.uncovered_samples += block.uncovered;
+    report.max_uncovered_distance = std::max(report.max_uncovered_distance, block.max_distance);
   }
   if (report.uncovered_samples)
     report.problems.push_back(say(report.uncovered_samples,
@@ -843,8 +851,10 @@ std::vector<char> check_no_intersection_off_curves(MeshView<K>& va, MeshView<K>&
     return shared;
   };
   // The pairs whose boxes overlap, in box_intersection_d's order; how each pair meets is decided
-  // in blocks on all cores (exact predicates only: the answers do not depend on the threads'
-  // order), then the pairs are counted and reported in that order.
+  // in blocks on all cores (each answer depends on that pair's corners only; under the exact
+  // kernel every point that is not a double was made exact first, see check_pair_unguarded, so
+  // no thread refines a number another reads), then the pairs are counted and reported in that
+  // order.
   std::vector<std::pair<F, F>> pairs;
   auto collect = [&](const Box& box_a, const Box& box_b) { pairs.emplace_back(F(box_a.info()), F(box_b.info())); };
   if (restricted) {
@@ -928,6 +938,13 @@ PairCheckReport check_pair_unguarded(const Mesh<K>& a, const Mesh<K>& b, const M
   const std::vector<char>* focus_b = restricted ? &focus->faces_b : nullptr;
   PairCheckReport report;
   auto& problems = report.problems;
+  // Under the exact kernel, the points that are not doubles made exact first (serially): the
+  // checks then read them on several threads, and a number refined by one thread's test while
+  // another reads it would make the roundings (checks 4 and 5) depend on the threads' order.
+  if constexpr (std::is_same_v<K, Exact>)
+    for (const Mesh<K>* m : {&a, &b, &a2, &b2})
+      for (auto v : m->vertices())
+        if (!is_double_by_approximation(m->point(v))) CGAL::exact(m->point(v));
   report.tolerance = tol;
   report.vertices_a2 = a2.number_of_vertices();
   report.faces_a2 = a2.number_of_faces();

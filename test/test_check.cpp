@@ -9,6 +9,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
+
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Polygon_mesh_processing/intersection.h>
 #include <CGAL/boost/graph/Euler_operations.h>
@@ -18,6 +21,7 @@
 #include <cstdlib>
 #include <random>
 #include <type_traits>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -402,9 +406,10 @@ CheckRun run_check(const seam_test::TempDir& dir, const std::vector<std::string>
 
 }  // namespace
 
-TEST_CASE("check_pair: the coverage check finds a missing curve; checks 3 and 6 the same on every run", "[check]") {
-  // Two crossing tows corefined by CGAL: many face pairs of the inputs meet (the coverage check
-  // works through them in blocks on all cores).
+TEST_CASE("check_pair: checks 3 and 6 on all cores give the report of one thread and find what a brute force finds",
+          "[check]") {
+  // Two crossing tows corefined by CGAL: many face pairs of the inputs meet (checks 3 and 6 work
+  // through them in blocks of 256 on all cores).
   const auto tows = seam::make_crossover(200, 40, 150, 32, seam::Section::lenticular, 0.45);
   Corefined c;
   c.a = seam::mesh_from_soup<E>(seam::make_tow(tows.weft), "weft");
@@ -415,65 +420,69 @@ TEST_CASE("check_pair: the coverage check finds a missing curve; checks 3 and 6 
   PMP::corefine(c.a2, c.b2);
   REQUIRE(!c.curves.empty());
   REQUIRE(c.curves[0].size() > 20);
+  if (tbb::this_task_arena::max_concurrency() < 2) WARN("one core: the parallel paths run on one thread");
 
-  const auto whole = seam::check_pair<E>(c.a, c.b, c.a2, c.b2, c.curves, 1e-9);
-  INFO(all(whole));
-  CHECK(whole.ok());
-  // The samples counted one pair of faces at a time, every pair tried (a point: 1 sample; a
-  // segment: 3; a polygon of n corners: n + 1).
-  std::size_t samples = 0, meeting = 0;
-  auto boxes = [](const seam::Mesh<E>& m) {
-    std::vector<std::pair<CGAL::Bbox_3, seam::Mesh<E>::Face_index>> out;
-    for (auto f : m.faces()) out.emplace_back(triangle_of(m, f).bbox(), f);
-    return out;
-  };
-  const auto boxes_a = boxes(c.a), boxes_b = boxes(c.b);
-  for (const auto& [box_f, f] : boxes_a)
+  // Brute force over every pair of input faces: the pairs whose boxes overlap, the pairs that
+  // meet (their faces), and check 6's samples (a point: 1; a segment: 3; a triangle: 4; a polygon
+  // of n corners: n + 1).
+  std::size_t overlapping = 0, meeting = 0, samples = 0;
+  std::set<std::size_t> meeting_a, meeting_b;
+  std::vector<std::pair<CGAL::Bbox_3, seam::Mesh<E>::Face_index>> boxes_b;
+  for (auto g : c.b.faces()) boxes_b.emplace_back(triangle_of(c.b, g).bbox(), g);
+  for (auto f : c.a.faces()) {
+    const auto s = triangle_of(c.a, f);
+    const auto box_f = s.bbox();
     for (const auto& [box_g, g] : boxes_b) {
       if (!CGAL::do_overlap(box_f, box_g)) continue;
-      const auto s = triangle_of(c.a, f), t = triangle_of(c.b, g);
+      ++overlapping;
+      const auto t = triangle_of(c.b, g);
       if (!CGAL::do_intersect(s, t)) continue;
       ++meeting;
+      meeting_a.insert(std::size_t(f));
+      meeting_b.insert(std::size_t(g));
       const auto meet = CGAL::intersection(s, t);
       if (boost::get<E::Point_3>(&*meet)) samples += 1;
       if (boost::get<E::Segment_3>(&*meet)) samples += 3;
       if (boost::get<E::Triangle_3>(&*meet)) samples += 4;
       if (const auto* poly = boost::get<std::vector<E::Point_3>>(&*meet)) samples += poly->size() + 1;
     }
-  CHECK(meeting > 256);  // the check's blocks hold 256 pairs whose boxes overlap: two or more
+  }
+  CHECK(meeting > 256);  // two blocks or more
+
+  const auto whole = seam::check_pair<E>(c.a, c.b, c.a2, c.b2, c.curves, 1e-9);
+  INFO(all(whole));
+  CHECK(whole.ok());
   CHECK(whole.intersection_samples == samples);
   CHECK(whole.uncovered_samples == 0);
 
   // Without the second half of the first curve: that part of the intersection is uncovered
-  // (other checks may fail too; the coverage check names it).
+  // (other checks fail too; the coverage check names it). The inputs as outputs: they cross off
+  // any curve (check 3 names every meeting pair).
   std::vector<seam::Polyline<E>> fewer = c.curves;
   fewer[0].resize(fewer[0].size() / 2);
-  const auto first = seam::check_pair<E>(c.a, c.b, c.a2, c.b2, fewer, 1e-9);
-  CHECK(first.intersection_samples == whole.intersection_samples);  // the samples do not depend on the curves
-  CHECK(first.uncovered_samples > 0);
-  CHECK(first.max_uncovered_distance > 1e-3);
-  CHECK(any_contains(first, "missing from the curves"));
-  for (int run = 0; run < 3; ++run) {
-    const auto again = seam::check_pair<E>(c.a, c.b, c.a2, c.b2, fewer, 1e-9);
-    CHECK(again.problems == first.problems);
-    CHECK(again.uncovered_samples == first.uncovered_samples);
-    CHECK(again.max_uncovered_distance == first.max_uncovered_distance);
-  }
-
-  // The inputs as outputs (they cross off any curve): check 3, also decided in blocks on all
-  // cores, tries every pair whose boxes overlap and names the same pairs on every run.
-  std::size_t overlapping = 0;
-  for (const auto& [box_f, f] : boxes_a)
-    for (const auto& [box_g, g] : boxes_b) overlapping += CGAL::do_overlap(box_f, box_g) ? 1 : 0;
+  const auto uncovered = seam::check_pair<E>(c.a, c.b, c.a2, c.b2, fewer, 1e-9);
+  CHECK(uncovered.intersection_samples == samples);  // the samples do not depend on the curves
+  CHECK(uncovered.uncovered_samples > 0);
+  CHECK(uncovered.max_uncovered_distance > 1e-3);
+  CHECK(any_contains(uncovered, "missing from the curves"));
   const auto crossing = seam::check_pair<E>(c.a, c.b, c.a, c.b, {}, 1e-9);
+  REQUIRE(crossing.shared_faces == 0);  // no vertex of A is one of B: every meeting is off the curves
   CHECK(crossing.candidate_face_pairs == overlapping);
   CHECK(crossing.intersecting_face_pairs_off_curve == meeting);
+  CHECK(std::set<std::size_t>(crossing.conflict_faces_a.begin(), crossing.conflict_faces_a.end()) == meeting_a);
+  CHECK(std::set<std::size_t>(crossing.conflict_faces_b.begin(), crossing.conflict_faces_b.end()) == meeting_b);
   CHECK(any_contains(crossing, "A2 and B2 intersect off the curves"));
-  for (int run = 0; run < 3; ++run) {
-    const auto again = seam::check_pair<E>(c.a, c.b, c.a, c.b, {}, 1e-9);
-    CHECK(again.problems == crossing.problems);
-    CHECK(again.conflict_faces_a == crossing.conflict_faces_a);
-  }
+
+  // The same reports on one thread (the pairs named, the first uncovered point, every figure).
+  tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
+  const auto serial_uncovered = seam::check_pair<E>(c.a, c.b, c.a2, c.b2, fewer, 1e-9);
+  CHECK(serial_uncovered.problems == uncovered.problems);
+  CHECK(serial_uncovered.uncovered_samples == uncovered.uncovered_samples);
+  CHECK(serial_uncovered.max_uncovered_distance == uncovered.max_uncovered_distance);
+  const auto serial_crossing = seam::check_pair<E>(c.a, c.b, c.a, c.b, {}, 1e-9);
+  CHECK(serial_crossing.problems == crossing.problems);
+  CHECK(serial_crossing.conflict_faces_a == crossing.conflict_faces_a);
+  CHECK(serial_crossing.conflict_faces_b == crossing.conflict_faces_b);
 }
 
 TEST_CASE("seam check on files", "[check][cli]") {
