@@ -877,18 +877,19 @@ std::vector<char> check_no_intersection_off_curves(MeshView<K>& va, MeshView<K>&
       if (shared < 3) meets[i] = meet<K>(va.geometry(ca), vb.geometry(cb), ia, shared);
     }
   });
+  report.candidate_face_pairs += pairs.size();
   for (std::size_t i = 0; i < pairs.size(); ++i) {
-    ++report.candidate_face_pairs;
+    // Apart, or the same triangle (a shared face, counted above; left apart in `meets`): nothing.
+    if (meets[i] == Meet::apart) continue;
     const auto [fa, fb] = pairs[i];
     const auto ca = va.corners(fa), cb = vb.corners(fb);
     int ia[3];
     const int shared = common_corners(ca, cb, ia);
-    if (shared == 3) continue;  // the same triangle: a shared face (counted above)
     // Two shared faces may meet in any common vertex or edge (inside a flat contact); every
     // other meeting must be a curve point or segment.
     const bool both_shared = shared_a[std::size_t(fa)] && shared_b[std::size_t(fb)];
     switch (meets[i]) {
-      case Meet::apart:
+      case Meet::apart:  // (skipped above)
         break;
       case Meet::beyond:
         off_curve(fa, fb,
@@ -941,10 +942,8 @@ PairCheckReport check_pair_unguarded(const Mesh<K>& a, const Mesh<K>& b, const M
   // Under the exact kernel, the points that are not doubles made exact first (serially): the
   // checks then read them on several threads, and a number refined by one thread's test while
   // another reads it would make the roundings (checks 4 and 5) depend on the threads' order.
-  if constexpr (std::is_same_v<K, Exact>)
-    for (const Mesh<K>* m : {&a, &b, &a2, &b2})
-      for (auto v : m->vertices())
-        if (!is_double_by_approximation(m->point(v))) CGAL::exact(m->point(v));
+  for (const Mesh<K>* m : {&a, &b, &a2, &b2})
+    for (auto v : m->vertices()) fix_rounding(m->point(v));
   report.tolerance = tol;
   report.vertices_a2 = a2.number_of_vertices();
   report.faces_a2 = a2.number_of_faces();

@@ -91,8 +91,9 @@ template <class P> inline bool is_double_by_approximation(const P& p) {
 /// Under the exact kernel: makes `p` exact unless its interval approximation is a point (a
 /// double already). Its rounding (to_filtered: the middle of the approximation) is then a function
 /// of its value alone, not of which computations happened to refine it first. A no-op for the
-/// other kernels.
-template <class P> inline void fix_rounding(P& p) {
+/// other kernels. (A const point may be given: evaluating it changes only its representation,
+/// shared by every copy, which CGAL keeps mutable.)
+template <class P> inline void fix_rounding(const P& p) {
   if constexpr (std::is_same_v<typename CGAL::Kernel_traits<P>::Kernel, Exact>) {
     if (!is_double_by_approximation(p)) CGAL::exact(p);
   }
